@@ -1,0 +1,37 @@
+// Lets one header be compiled both as GLSL and as C++, so that struct layouts, binding slots, constants and small
+// functions (sky radiance, SH, packing) are written once and shared by the shaders and the host (SPEC §2).
+//
+// Rules for shared headers: std430/std140-safe members only (scalars, vec2, vec4, mat4; no vec3 members, whose
+// alignment differs), every struct followed by SSVGI_CHECK_SIZE, functions written in the common subset of GLSL and
+// glm (no swizzle assignment, no `inout`: use SSVGI_INOUT).
+#ifndef SSVGI_GLSL_CPP_H
+#define SSVGI_GLSL_CPP_H
+
+#ifdef __cplusplus
+#include <glm/glm.hpp>
+#include <glm/gtc/constants.hpp>
+#include <cstdint>
+
+#define SSVGI_SHARED_BEGIN        \
+  namespace ssvgi::shader {       \
+  using namespace glm;            \
+  using uint = uint32_t;
+#define SSVGI_SHARED_END }
+#define SSVGI_CONSTANT(type, name, value) inline constexpr type name = value
+#define SSVGI_CHECK_SIZE(type, bytes) static_assert(sizeof(type) == (bytes), #type " layout changed: update the GLSL users")
+#define SSVGI_INOUT(type) type&
+#define SSVGI_INLINE inline
+#else
+#define SSVGI_SHARED_BEGIN
+#define SSVGI_SHARED_END
+#define SSVGI_CONSTANT(type, name, value) const type name = value
+#define SSVGI_CHECK_SIZE(type, bytes)
+#define SSVGI_INOUT(type) inout type
+#define SSVGI_INLINE
+#endif
+
+SSVGI_SHARED_BEGIN
+SSVGI_CONSTANT(float, kPi, 3.14159265358979f);
+SSVGI_SHARED_END
+
+#endif
