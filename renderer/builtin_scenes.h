@@ -12,7 +12,12 @@ namespace ssvgi::renderer {
 // (a point light over a plane, the analytic test case).
 std::vector<std::string> builtinSceneNames();
 
+struct BuiltinSceneOptions {
+  bool movingObject = false;  // add the scene's moving object (Scene::movingObject) and its geometry
+  bool sunCycle = false;      // let the sun follow a time-of-day cycle (Scene::sunCycle) where the scene has a sun
+};
+
 // The named built-in scene, or nothing when there is no scene of that name.
-std::optional<Scene> makeBuiltinScene(std::string_view name);
+std::optional<Scene> makeBuiltinScene(std::string_view name, const BuiltinSceneOptions& options = {});
 
 }  // namespace ssvgi::renderer
