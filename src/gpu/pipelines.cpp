@@ -1,0 +1,257 @@
+#include "pipelines.h"
+
+#include <algorithm>
+#include <array>
+
+namespace ssvgi::gpu {
+
+namespace {
+
+VkShaderModule createModule(Device& device, const ShaderBinary& shader) {
+  VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+  info.codeSize = shader.words.size_bytes();
+  info.pCode = shader.words.data();
+  VkShaderModule module = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateShaderModule(device.device(), &info, nullptr, &module));
+  return module;
+}
+
+struct Specialization {
+  std::vector<VkSpecializationMapEntry> entries;
+  VkSpecializationInfo info{};
+
+  explicit Specialization(const SpecializationConstants& constants) {
+    for (uint32_t i = 0; i < constants.size(); ++i)
+      entries.push_back({i, static_cast<uint32_t>(i * sizeof(uint32_t)), sizeof(uint32_t)});
+    info.mapEntryCount = static_cast<uint32_t>(entries.size());
+    info.pMapEntries = entries.data();
+    info.dataSize = constants.size() * sizeof(uint32_t);
+    info.pData = constants.data();
+  }
+};
+
+}  // namespace
+
+PipelineLayout::PipelineLayout(Device& device, const std::vector<ShaderReflection>& stages, const std::string& name)
+    : device_(device) {
+  std::vector<VkDescriptorSetLayoutBinding> layoutBindings;
+  for (const ShaderReflection& stage : stages) {
+    stages_ |= stage.stage;
+    pushConstantBytes_ = std::max(pushConstantBytes_, stage.pushConstantBytes);
+    for (const ReflectedBinding& binding : stage.bindings) {
+      auto existing = std::find_if(bindings_.begin(), bindings_.end(),
+                                   [&](const ReflectedBinding& b) { return b.binding == binding.binding; });
+      if (existing != bindings_.end()) {
+        if (existing->type != binding.type)
+          throw GpuError(name + ": binding " + std::to_string(binding.binding) + " has different types in two stages");
+        existing->writable |= binding.writable;
+        layoutBindings[size_t(existing - bindings_.begin())].stageFlags |= stage.stage;
+        continue;
+      }
+      bindings_.push_back(binding);
+      layoutBindings.push_back({binding.binding, binding.type, binding.count, VkShaderStageFlags(stage.stage), nullptr});
+    }
+  }
+  if (pushConstantBytes_ > device.properties().limits.maxPushConstantsSize)
+    throw GpuError(name + ": " + std::to_string(pushConstantBytes_) + " bytes of push constants exceed the device limit");
+
+  VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+  setInfo.bindingCount = static_cast<uint32_t>(layoutBindings.size());
+  setInfo.pBindings = layoutBindings.data();
+  VK_CHECK(vkCreateDescriptorSetLayout(device.device(), &setInfo, nullptr, &setLayout_));
+
+  const VkPushConstantRange range{stages_, 0, pushConstantBytes_};
+  VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+  layoutInfo.setLayoutCount = 1;
+  layoutInfo.pSetLayouts = &setLayout_;
+  layoutInfo.pushConstantRangeCount = pushConstantBytes_ > 0 ? 1 : 0;
+  layoutInfo.pPushConstantRanges = &range;
+  VK_CHECK(vkCreatePipelineLayout(device.device(), &layoutInfo, nullptr, &layout_));
+  device.setName(layout_, VK_OBJECT_TYPE_PIPELINE_LAYOUT, name);
+}
+
+PipelineLayout::~PipelineLayout() {
+  vkDestroyPipelineLayout(device_.device(), layout_, nullptr);
+  vkDestroyDescriptorSetLayout(device_.device(), setLayout_, nullptr);
+}
+
+ComputePipeline::ComputePipeline(Device& device, const ShaderBinary& shader, const SpecializationConstants& constants)
+    : ComputePipeline(device, shader, reflectSpirv(shader.words, shader.name), constants) {}
+
+ComputePipeline::ComputePipeline(Device& device, const ShaderBinary& shader, const ShaderReflection& reflection,
+                                 const SpecializationConstants& constants)
+    : device_(device),
+      name_(shader.name),
+      layout_(device, {reflection}, shader.name),
+      localSize_(reflection.localSize[0], reflection.localSize[1], reflection.localSize[2]) {
+  VkShaderModule module = createModule(device, shader);
+  const Specialization specialization(constants);
+  VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+  info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+  info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+  info.stage.module = module;
+  info.stage.pName = "main";
+  info.stage.pSpecializationInfo = constants.empty() ? nullptr : &specialization.info;
+  info.layout = layout_.handle();
+  const VkResult result = vkCreateComputePipelines(device.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_);
+  vkDestroyShaderModule(device.device(), module, nullptr);
+  VK_CHECK(result);
+  device.setName(pipeline_, VK_OBJECT_TYPE_PIPELINE, name_);
+}
+
+ComputePipeline::~ComputePipeline() { vkDestroyPipeline(device_.device(), pipeline_, nullptr); }
+
+namespace {
+std::vector<ShaderReflection> reflectStages(const GraphicsPipelineDesc& desc) {
+  if (!desc.vertexShader) throw GpuError("graphics pipeline without a vertex shader");
+  std::vector<ShaderReflection> stages{reflectSpirv(desc.vertexShader->words, desc.vertexShader->name)};
+  if (desc.fragmentShader) stages.push_back(reflectSpirv(desc.fragmentShader->words, desc.fragmentShader->name));
+  return stages;
+}
+}  // namespace
+
+GraphicsPipeline::GraphicsPipeline(Device& device, const GraphicsPipelineDesc& desc)
+    : device_(device),
+      name_(std::string(desc.vertexShader ? desc.vertexShader->name : "?") + (desc.fragmentShader ? std::string("+") + desc.fragmentShader->name : "")),
+      layout_(device, reflectStages(desc), name_) {
+  const Specialization specialization(desc.constants);
+  std::vector<VkShaderModule> modules{createModule(device, *desc.vertexShader)};
+  std::vector<VkPipelineShaderStageCreateInfo> stages(1, {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO});
+  stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
+  stages[0].module = modules[0];
+  stages[0].pName = "main";
+  stages[0].pSpecializationInfo = desc.constants.empty() ? nullptr : &specialization.info;
+  if (desc.fragmentShader) {
+    modules.push_back(createModule(device, *desc.fragmentShader));
+    stages.push_back(stages[0]);
+    stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
+    stages[1].module = modules[1];
+  }
+
+  const VkVertexInputBindingDescription vertexBinding{0, desc.vertexStride, VK_VERTEX_INPUT_RATE_VERTEX};
+  std::vector<VkVertexInputAttributeDescription> attributes;
+  for (const VertexAttribute& attribute : desc.vertexAttributes)
+    attributes.push_back({attribute.location, 0, attribute.format, attribute.offset});
+  VkPipelineVertexInputStateCreateInfo vertexInput{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+  vertexInput.vertexBindingDescriptionCount = desc.vertexStride ? 1 : 0;
+  vertexInput.pVertexBindingDescriptions = &vertexBinding;
+  vertexInput.vertexAttributeDescriptionCount = static_cast<uint32_t>(attributes.size());
+  vertexInput.pVertexAttributeDescriptions = attributes.data();
+
+  VkPipelineInputAssemblyStateCreateInfo inputAssembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+  inputAssembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+  VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+  viewport.viewportCount = 1;
+  viewport.scissorCount = 1;
+  VkPipelineRasterizationStateCreateInfo rasterization{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+  rasterization.polygonMode = VK_POLYGON_MODE_FILL;
+  rasterization.cullMode = desc.cullMode;
+  rasterization.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+  rasterization.depthBiasEnable = desc.depthBias ? VK_TRUE : VK_FALSE;
+  rasterization.lineWidth = 1.0f;
+  VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+  multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+  VkPipelineDepthStencilStateCreateInfo depthStencil{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+  depthStencil.depthTestEnable = desc.depthFormat != VK_FORMAT_UNDEFINED;
+  depthStencil.depthWriteEnable = desc.depthFormat != VK_FORMAT_UNDEFINED;
+  depthStencil.depthCompareOp = desc.depthCompare;
+  std::vector<VkPipelineColorBlendAttachmentState> blendAttachments(desc.colorFormats.size());
+  for (auto& attachment : blendAttachments) attachment.colorWriteMask = 0xf;
+  VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+  blend.attachmentCount = static_cast<uint32_t>(blendAttachments.size());
+  blend.pAttachments = blendAttachments.data();
+  std::vector<VkDynamicState> dynamicStates{VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+  if (desc.depthBias) dynamicStates.push_back(VK_DYNAMIC_STATE_DEPTH_BIAS);
+  VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+  dynamic.dynamicStateCount = static_cast<uint32_t>(dynamicStates.size());
+  dynamic.pDynamicStates = dynamicStates.data();
+
+  VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
+  rendering.colorAttachmentCount = static_cast<uint32_t>(desc.colorFormats.size());
+  rendering.pColorAttachmentFormats = desc.colorFormats.data();
+  rendering.depthAttachmentFormat = desc.depthFormat;
+
+  VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO, &rendering};
+  info.stageCount = static_cast<uint32_t>(stages.size());
+  info.pStages = stages.data();
+  info.pVertexInputState = &vertexInput;
+  info.pInputAssemblyState = &inputAssembly;
+  info.pViewportState = &viewport;
+  info.pRasterizationState = &rasterization;
+  info.pMultisampleState = &multisample;
+  info.pDepthStencilState = &depthStencil;
+  info.pColorBlendState = &blend;
+  info.pDynamicState = &dynamic;
+  info.layout = layout_.handle();
+  const VkResult result = vkCreateGraphicsPipelines(device.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_);
+  for (VkShaderModule module : modules) vkDestroyShaderModule(device.device(), module, nullptr);
+  VK_CHECK(result);
+  device.setName(pipeline_, VK_OBJECT_TYPE_PIPELINE, name_);
+}
+
+GraphicsPipeline::~GraphicsPipeline() { vkDestroyPipeline(device_.device(), pipeline_, nullptr); }
+
+Bindings& Bindings::buffer(uint32_t slot, const Buffer& buffer) {
+  entries_.push_back({slot, &buffer});
+  return *this;
+}
+
+Bindings& Bindings::image(uint32_t slot, const Image& image) {
+  entries_.push_back({slot, nullptr, &image, image.view()});
+  return *this;
+}
+
+Bindings& Bindings::imageMip(uint32_t slot, const Image& image, uint32_t mip) {
+  entries_.push_back({slot, nullptr, &image, image.mipView(mip)});
+  return *this;
+}
+
+Bindings& Bindings::sampled(uint32_t slot, const Image& image, VkSampler sampler) {
+  entries_.push_back({slot, nullptr, &image, image.view(), sampler});
+  return *this;
+}
+
+DescriptorArena::DescriptorArena(Device& device) : device_(device) { pools_.push_back(newPool()); }
+
+DescriptorArena::~DescriptorArena() {
+  for (VkDescriptorPool pool : pools_) vkDestroyDescriptorPool(device_.device(), pool, nullptr);
+}
+
+VkDescriptorPool DescriptorArena::newPool() {
+  constexpr uint32_t kSets = 512;
+  const std::array<VkDescriptorPoolSize, 5> sizes{{
+      {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kSets * 8},
+      {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, kSets * 2},
+      {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, kSets * 4},
+      {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, kSets * 8},
+      {VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, kSets * 2},
+  }};
+  VkDescriptorPoolCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+  info.maxSets = kSets;
+  info.poolSizeCount = static_cast<uint32_t>(sizes.size());
+  info.pPoolSizes = sizes.data();
+  VkDescriptorPool pool = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateDescriptorPool(device_.device(), &info, nullptr, &pool));
+  return pool;
+}
+
+VkDescriptorSet DescriptorArena::allocate(VkDescriptorSetLayout layout) {
+  for (;;) {
+    VkDescriptorSetAllocateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    info.descriptorPool = pools_[current_];
+    info.descriptorSetCount = 1;
+    info.pSetLayouts = &layout;
+    VkDescriptorSet set = VK_NULL_HANDLE;
+    const VkResult result = vkAllocateDescriptorSets(device_.device(), &info, &set);
+    if (result == VK_SUCCESS) return set;
+    if (result != VK_ERROR_OUT_OF_POOL_MEMORY && result != VK_ERROR_FRAGMENTED_POOL) VK_CHECK(result);
+    if (++current_ == pools_.size()) pools_.push_back(newPool());
+  }
+}
+
+void DescriptorArena::reset() {
+  for (VkDescriptorPool pool : pools_) VK_CHECK(vkResetDescriptorPool(device_.device(), pool, 0));
+  current_ = 0;
+}
+
+}  // namespace ssvgi::gpu

@@ -1,0 +1,305 @@
+#include "resources.h"
+
+#include <utility>
+
+namespace ssvgi::gpu {
+
+namespace {
+
+VkMemoryPropertyFlags memoryFlags(MemoryUsage usage) {
+  switch (usage) {
+    case MemoryUsage::DeviceLocal: return VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
+    case MemoryUsage::HostUpload:
+    case MemoryUsage::HostReadback: return VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+  }
+  return 0;
+}
+
+VkDeviceMemory allocate(Device& device, const VkMemoryRequirements& requirements, VkMemoryPropertyFlags flags) {
+  VkMemoryAllocateInfo info{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  info.allocationSize = requirements.size;
+  info.memoryTypeIndex = device.findMemoryType(requirements.memoryTypeBits, flags);
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  VK_CHECK(vkAllocateMemory(device.device(), &info, nullptr, &memory));
+  return memory;
+}
+
+VkImageView createView(Device& device, const Image& image, VkImageViewType type, uint32_t baseMip, uint32_t mips,
+                       uint32_t baseLayer, uint32_t layers) {
+  VkImageViewCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+  info.image = image.handle();
+  info.viewType = type;
+  info.format = image.desc().format;
+  info.subresourceRange = {image.aspect(), baseMip, mips, baseLayer, layers};
+  VkImageView view = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateImageView(device.device(), &info, nullptr, &view));
+  return view;
+}
+
+}  // namespace
+
+Buffer::Buffer(Device& device, const std::string& name, VkDeviceSize size, VkBufferUsageFlags usage, MemoryUsage memory)
+    : device_(&device), size_(size), name_(name) {
+  if (size == 0) throw GpuError("buffer '" + name + "' has size 0");
+  VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+  info.size = size;
+  info.usage = usage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  VK_CHECK(vkCreateBuffer(device.device(), &info, nullptr, &buffer_));
+  VkMemoryRequirements requirements{};
+  vkGetBufferMemoryRequirements(device.device(), buffer_, &requirements);
+  memory_ = allocate(device, requirements, memoryFlags(memory));
+  VK_CHECK(vkBindBufferMemory(device.device(), buffer_, memory_, 0));
+  if (memory != MemoryUsage::DeviceLocal) VK_CHECK(vkMapMemory(device.device(), memory_, 0, VK_WHOLE_SIZE, 0, &mapped_));
+  device.setName(buffer_, VK_OBJECT_TYPE_BUFFER, name);
+  device.trackAllocation(name, size_);
+}
+
+Buffer::~Buffer() { release(); }
+
+Buffer::Buffer(Buffer&& other) noexcept { *this = std::move(other); }
+
+Buffer& Buffer::operator=(Buffer&& other) noexcept {
+  if (this != &other) {
+    release();
+    device_ = std::exchange(other.device_, nullptr);
+    buffer_ = std::exchange(other.buffer_, VK_NULL_HANDLE);
+    memory_ = std::exchange(other.memory_, VK_NULL_HANDLE);
+    size_ = std::exchange(other.size_, 0);
+    mapped_ = std::exchange(other.mapped_, nullptr);
+    name_ = std::move(other.name_);
+    state_ = other.state_;
+  }
+  return *this;
+}
+
+void Buffer::release() {
+  if (!buffer_) return;
+  device_->untrackAllocation(name_, size_);
+  vkDestroyBuffer(device_->device(), buffer_, nullptr);
+  vkFreeMemory(device_->device(), memory_, nullptr);
+  buffer_ = VK_NULL_HANDLE;
+}
+
+Image::Image(Device& device, const ImageDesc& desc) : device_(&device), desc_(desc) {
+  VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+  info.imageType = VK_IMAGE_TYPE_2D;
+  info.format = desc.format;
+  info.extent = {desc.width, desc.height, 1};
+  info.mipLevels = desc.mipLevels;
+  info.arrayLayers = desc.layers;
+  info.samples = VK_SAMPLE_COUNT_1_BIT;
+  info.tiling = VK_IMAGE_TILING_OPTIMAL;
+  info.usage = desc.usage | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+  info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  VK_CHECK(vkCreateImage(device.device(), &info, nullptr, &image_));
+  VkMemoryRequirements requirements{};
+  vkGetImageMemoryRequirements(device.device(), image_, &requirements);
+  memory_ = allocate(device, requirements, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  VK_CHECK(vkBindImageMemory(device.device(), image_, memory_, 0));
+  bytes_ = requirements.size;
+
+  const VkImageViewType arrayType = desc.layers > 1 ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D;
+  view_ = createView(device, *this, arrayType, 0, desc.mipLevels, 0, desc.layers);
+  for (uint32_t layer = 0; layer < desc.layers; ++layer)
+    layerViews_.push_back(createView(device, *this, VK_IMAGE_VIEW_TYPE_2D, 0, 1, layer, 1));
+  for (uint32_t mip = 0; mip < desc.mipLevels; ++mip)
+    mipViews_.push_back(createView(device, *this, arrayType, mip, 1, 0, desc.layers));
+  device.setName(image_, VK_OBJECT_TYPE_IMAGE, desc.name);
+  device.trackAllocation(desc.name, bytes_);
+}
+
+Image::~Image() { release(); }
+
+Image::Image(Image&& other) noexcept { *this = std::move(other); }
+
+Image& Image::operator=(Image&& other) noexcept {
+  if (this != &other) {
+    release();
+    device_ = std::exchange(other.device_, nullptr);
+    image_ = std::exchange(other.image_, VK_NULL_HANDLE);
+    memory_ = std::exchange(other.memory_, VK_NULL_HANDLE);
+    view_ = std::exchange(other.view_, VK_NULL_HANDLE);
+    layerViews_ = std::move(other.layerViews_);
+    mipViews_ = std::move(other.mipViews_);
+    bytes_ = std::exchange(other.bytes_, 0);
+    desc_ = std::move(other.desc_);
+    state_ = other.state_;
+  }
+  return *this;
+}
+
+void Image::release() {
+  if (!image_) return;
+  device_->untrackAllocation(desc_.name, bytes_);
+  VkDevice device = device_->device();
+  for (VkImageView view : layerViews_) vkDestroyImageView(device, view, nullptr);
+  for (VkImageView view : mipViews_) vkDestroyImageView(device, view, nullptr);
+  layerViews_.clear();
+  mipViews_.clear();
+  vkDestroyImageView(device, view_, nullptr);
+  vkDestroyImage(device, image_, nullptr);
+  vkFreeMemory(device, memory_, nullptr);
+  image_ = VK_NULL_HANDLE;
+}
+
+VkImageAspectFlags Image::aspect() const {
+  return isDepthFormat(desc_.format) ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT;
+}
+
+Sampler::Sampler(Device& device, const VkSamplerCreateInfo& info, const std::string& name) : device_(&device) {
+  VK_CHECK(vkCreateSampler(device.device(), &info, nullptr, &sampler_));
+  device.setName(sampler_, VK_OBJECT_TYPE_SAMPLER, name);
+}
+
+Sampler::~Sampler() {
+  if (sampler_) vkDestroySampler(device_->device(), sampler_, nullptr);
+}
+
+Sampler::Sampler(Sampler&& other) noexcept { *this = std::move(other); }
+
+Sampler& Sampler::operator=(Sampler&& other) noexcept {
+  if (this != &other) {
+    if (sampler_) vkDestroySampler(device_->device(), sampler_, nullptr);
+    device_ = std::exchange(other.device_, nullptr);
+    sampler_ = std::exchange(other.sampler_, VK_NULL_HANDLE);
+  }
+  return *this;
+}
+
+bool isDepthFormat(VkFormat format) {
+  return format == VK_FORMAT_D32_SFLOAT || format == VK_FORMAT_D16_UNORM || format == VK_FORMAT_D24_UNORM_S8_UINT ||
+         format == VK_FORMAT_D32_SFLOAT_S8_UINT;
+}
+
+uint32_t bytesPerTexel(VkFormat format) {
+  switch (format) {
+    case VK_FORMAT_R8G8B8A8_UNORM:
+    case VK_FORMAT_R8G8B8A8_SRGB:
+    case VK_FORMAT_R32_SFLOAT:
+    case VK_FORMAT_R32_UINT:
+    case VK_FORMAT_D32_SFLOAT:
+    case VK_FORMAT_B10G11R11_UFLOAT_PACK32:
+    case VK_FORMAT_R16G16_SFLOAT:
+      return 4;
+    case VK_FORMAT_R16G16B16A16_SFLOAT:
+    case VK_FORMAT_R32G32_SFLOAT:
+      return 8;
+    case VK_FORMAT_R32G32B32A32_SFLOAT:
+      return 16;
+    default:
+      throw GpuError("bytesPerTexel: unsupported format " + std::to_string(format));
+  }
+}
+
+void uploadBuffer(Device& device, const Buffer& buffer, std::span<const std::byte> data, VkDeviceSize offset) {
+  if (data.empty()) return;
+  if (offset + data.size() > buffer.size()) throw GpuError("upload past the end of buffer '" + buffer.name() + "'");
+  Buffer staging(device, "staging upload", data.size(), VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUsage::HostUpload);
+  std::memcpy(staging.mapped(), data.data(), data.size());
+  device.submitAndWait([&](VkCommandBuffer commandBuffer) {
+    const VkBufferCopy region{0, offset, data.size()};
+    vkCmdCopyBuffer(commandBuffer, staging.handle(), buffer.handle(), 1, &region);
+    // Make the upload visible to every later use; the tracker starts from "written by a transfer".
+    VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    barrier.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
+    vkCmdPipelineBarrier(commandBuffer, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 1, &barrier,
+                         0, nullptr, 0, nullptr);
+  });
+  buffer.state() = {};
+}
+
+std::vector<std::byte> readBuffer(Device& device, const Buffer& buffer) {
+  Buffer staging(device, "staging readback", buffer.size(), VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUsage::HostReadback);
+  device.submitAndWait([&](VkCommandBuffer commandBuffer) {
+    VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    barrier.srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT;
+    barrier.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+    vkCmdPipelineBarrier(commandBuffer, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &barrier,
+                         0, nullptr, 0, nullptr);
+    const VkBufferCopy region{0, 0, buffer.size()};
+    vkCmdCopyBuffer(commandBuffer, buffer.handle(), staging.handle(), 1, &region);
+    barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+    vkCmdPipelineBarrier(commandBuffer, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &barrier, 0,
+                         nullptr, 0, nullptr);
+  });
+  std::vector<std::byte> bytes(buffer.size());
+  std::memcpy(bytes.data(), staging.mapped(), bytes.size());
+  return bytes;
+}
+
+namespace {
+
+// Moves a whole image between layouts inside the blocking transfers, where the tracker is not in use.
+void transitionForTransfer(VkCommandBuffer commandBuffer, const Image& image, VkImageLayout from, VkImageLayout to,
+                           VkAccessFlags srcAccess, VkAccessFlags dstAccess, VkPipelineStageFlags srcStage,
+                           VkPipelineStageFlags dstStage) {
+  VkImageMemoryBarrier barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+  barrier.srcAccessMask = srcAccess;
+  barrier.dstAccessMask = dstAccess;
+  barrier.oldLayout = from;
+  barrier.newLayout = to;
+  barrier.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  barrier.image = image.handle();
+  barrier.subresourceRange = {image.aspect(), 0, VK_REMAINING_MIP_LEVELS, 0, VK_REMAINING_ARRAY_LAYERS};
+  vkCmdPipelineBarrier(commandBuffer, srcStage, dstStage, 0, 0, nullptr, 0, nullptr, 1, &barrier);
+}
+
+VkBufferImageCopy layerCopy(const Image& image, uint32_t layer) {
+  VkBufferImageCopy region{};
+  region.imageSubresource = {image.aspect(), 0, layer, 1};
+  region.imageExtent = {image.desc().width, image.desc().height, 1};
+  return region;
+}
+
+}  // namespace
+
+void uploadImage(Device& device, const Image& image, std::span<const std::byte> texels, uint32_t layer) {
+  const ImageDesc& desc = image.desc();
+  const VkDeviceSize expected = VkDeviceSize(desc.width) * desc.height * bytesPerTexel(desc.format);
+  if (texels.size() != expected) throw GpuError("upload to image '" + desc.name + "' has the wrong size");
+  Buffer staging(device, "staging upload", texels.size(), VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUsage::HostUpload);
+  std::memcpy(staging.mapped(), texels.data(), texels.size());
+  const VkImageLayout current = image.state().layout;
+  device.submitAndWait([&](VkCommandBuffer commandBuffer) {
+    transitionForTransfer(commandBuffer, image, current, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_ACCESS_MEMORY_WRITE_BIT,
+                          VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
+    const VkBufferImageCopy region = layerCopy(image, layer);
+    vkCmdCopyBufferToImage(commandBuffer, staging.handle(), image.handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
+                           &region);
+    transitionForTransfer(commandBuffer, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                          VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT,
+                          VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT);
+  });
+  image.state() = {};
+  image.state().layout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+}
+
+std::vector<std::byte> readImage(Device& device, const Image& image, uint32_t layer) {
+  const ImageDesc& desc = image.desc();
+  const VkDeviceSize size = VkDeviceSize(desc.width) * desc.height * bytesPerTexel(desc.format);
+  Buffer staging(device, "staging readback", size, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUsage::HostReadback);
+  const VkImageLayout current = image.state().layout;
+  if (current == VK_IMAGE_LAYOUT_UNDEFINED) throw GpuError("reading image '" + desc.name + "' that was never written");
+  device.submitAndWait([&](VkCommandBuffer commandBuffer) {
+    transitionForTransfer(commandBuffer, image, current, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_MEMORY_WRITE_BIT,
+                          VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
+    const VkBufferImageCopy region = layerCopy(image, layer);
+    vkCmdCopyImageToBuffer(commandBuffer, image.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging.handle(), 1,
+                           &region);
+    transitionForTransfer(commandBuffer, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, current, 0, 0,
+                          VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT);
+    VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+    vkCmdPipelineBarrier(commandBuffer, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &barrier, 0,
+                         nullptr, 0, nullptr);
+  });
+  std::vector<std::byte> bytes(size);
+  std::memcpy(bytes.data(), staging.mapped(), size);
+  return bytes;
+}
+
+}  // namespace ssvgi::gpu

@@ -1,0 +1,69 @@
+#pragma once
+#include "barriers.h"
+#include "pipelines.h"
+#include "profiler.h"
+
+#include <glm/vec3.hpp>
+
+#include <string>
+
+namespace ssvgi::gpu {
+
+// Records GPU work into a command buffer someone else owns (the host's, for the GI library): labelled and timed
+// scopes, dispatches and draws whose barriers are derived from their bindings, and the few transfers we need.
+class CommandList {
+ public:
+  CommandList(Device& device, VkCommandBuffer commandBuffer, DescriptorArena& descriptors, Profiler* profiler = nullptr);
+
+  VkCommandBuffer handle() const { return commandBuffer_; }
+  Device& device() const { return device_; }
+
+  // A debug label (VK_EXT_debug_utils) and a profiler scope around the commands recorded while it lives.
+  class Scope {
+   public:
+    Scope(CommandList& list, const std::string& label);
+    ~Scope();
+    Scope(const Scope&) = delete;
+    Scope& operator=(const Scope&) = delete;
+
+   private:
+    CommandList& list_;
+    uint32_t profilerScope_ = 0;
+  };
+  Scope scope(const std::string& label) { return Scope(*this, label); }
+
+  void use(const Buffer& buffer, Usage usage) { barriers_.use(buffer, usage); }
+  void use(const Image& image, Usage usage) { barriers_.use(image, usage); }
+  void flushBarriers() { barriers_.flush(commandBuffer_); }
+
+  // One thread per element of `threads`; group counts come from the shader's local size.
+  void dispatch(const ComputePipeline& pipeline, const Bindings& bindings, glm::uvec3 threads, const void* push = nullptr,
+                size_t pushBytes = 0);
+  template <typename Push>
+  void dispatch(const ComputePipeline& pipeline, const Bindings& bindings, glm::uvec3 threads, const Push& push) {
+    dispatch(pipeline, bindings, threads, &push, sizeof(Push));
+  }
+  // Group counts read from `arguments` (VkDispatchIndirectCommand at `offset`).
+  void dispatchIndirect(const ComputePipeline& pipeline, const Bindings& bindings, const Buffer& arguments,
+                        VkDeviceSize offset, const void* push = nullptr, size_t pushBytes = 0);
+
+  // Binds a graphics pipeline and its set 0 (declaring the bindings' usages; flush before beginRendering).
+  void bindGraphics(const GraphicsPipeline& pipeline, const Bindings& bindings);
+  void pushConstants(const PipelineLayout& layout, const void* data, size_t bytes);
+
+  void fillBuffer(const Buffer& buffer, uint32_t value);
+  void clearImage(const Image& image, const VkClearColorValue& value);
+
+ private:
+  VkDescriptorSet writeDescriptors(const PipelineLayout& layout, const std::string& name, const Bindings& bindings,
+                                   bool compute);
+  void bindCompute(const ComputePipeline& pipeline, const Bindings& bindings, const void* push, size_t pushBytes);
+
+  Device& device_;
+  VkCommandBuffer commandBuffer_;
+  DescriptorArena& descriptors_;
+  Profiler* profiler_;
+  BarrierBatch barriers_;
+};
+
+}  // namespace ssvgi::gpu

@@ -1,0 +1,26 @@
+#pragma once
+// One Vulkan device (lavapipe in CI) with validation on, shared by every GPU test of a test executable: creating a
+// device and compiling pipelines dominate the run time on a CPU device. Deriving a test from GpuTest makes any
+// validation error reported during that test fail it.
+#include "gpu/device.h"
+
+#include <gtest/gtest.h>
+
+namespace ssvgi::testing {
+
+gpu::Device& gpuTestDevice();
+
+class GpuTest : public ::testing::Test {
+ protected:
+  void SetUp() override { errorsBefore_ = device().validationErrorCount(); }
+  void TearDown() override {
+    EXPECT_EQ(device().validationErrorCount(), errorsBefore_)
+        << "validation error during the test: " << device().lastValidationError();
+  }
+  static gpu::Device& device() { return gpuTestDevice(); }
+
+ private:
+  uint32_t errorsBefore_ = 0;
+};
+
+}  // namespace ssvgi::testing
