@@ -25,7 +25,8 @@
 #define SSVGI_SHARED_BEGIN
 #define SSVGI_SHARED_END
 #define SSVGI_CONSTANT(type, name, value) const type name = value
-#define SSVGI_CHECK_SIZE(type, bytes)
+// GLSL has no static_assert; declaring the expected size keeps the trailing semicolon legal.
+#define SSVGI_CHECK_SIZE(type, bytes) const uint type##ExpectedBytes = bytes
 #define SSVGI_INOUT(type) inout type
 #define SSVGI_INLINE
 #endif

@@ -14,6 +14,7 @@ class BarrierBatch {
   void use(const Buffer& buffer, Usage usage);
   void use(const Image& image, Usage usage);
   void flush(VkCommandBuffer commandBuffer);
+  bool empty() const { return bufferBarriers_.empty() && imageBarriers_.empty(); }
 
  private:
   VkPipelineStageFlags srcStages_ = 0;

@@ -105,8 +105,55 @@ void CommandList::dispatchIndirect(const ComputePipeline& pipeline, const Bindin
   vkCmdDispatchIndirect(commandBuffer_, arguments.handle(), offset);
 }
 
+void CommandList::beginRendering(const std::vector<Attachment>& colors, const Attachment& depth) {
+  const Image* any = depth.image ? depth.image : colors.at(0).image;
+  const uint32_t width = any->desc().width;
+  const uint32_t height = any->desc().height;
+  std::vector<VkRenderingAttachmentInfo> colorInfos;
+  for (const Attachment& color : colors) {
+    use(*color.image, Usage::ColorAttachment);
+    VkRenderingAttachmentInfo info{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    info.imageView = color.image->layerView(color.layer);
+    info.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    info.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    info.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    info.clearValue = color.clear;
+    colorInfos.push_back(info);
+  }
+  VkRenderingAttachmentInfo depthInfo{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+  if (depth.image) {
+    use(*depth.image, Usage::DepthAttachment);
+    depthInfo.imageView = depth.image->layerView(depth.layer);
+    depthInfo.imageLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+    depthInfo.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    depthInfo.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    depthInfo.clearValue = depth.clear;
+  }
+  flushBarriers();
+  VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
+  info.renderArea = {{0, 0}, {width, height}};
+  info.layerCount = 1;
+  info.colorAttachmentCount = static_cast<uint32_t>(colorInfos.size());
+  info.pColorAttachments = colorInfos.data();
+  info.pDepthAttachment = depth.image ? &depthInfo : nullptr;
+  vkCmdBeginRendering(commandBuffer_, &info);
+  rendering_ = true;
+  const VkViewport viewport{0.0f, float(height), float(width), -float(height), 0.0f, 1.0f};
+  vkCmdSetViewport(commandBuffer_, 0, 1, &viewport);
+  const VkRect2D scissor{{0, 0}, {width, height}};
+  vkCmdSetScissor(commandBuffer_, 0, 1, &scissor);
+}
+
+void CommandList::endRendering() {
+  vkCmdEndRendering(commandBuffer_);
+  rendering_ = false;
+}
+
 void CommandList::bindGraphics(const GraphicsPipeline& pipeline, const Bindings& bindings) {
   const VkDescriptorSet set = writeDescriptors(pipeline.layout(), pipeline.name(), bindings, false);
+  if (rendering_ && !barriers_.empty())
+    throw GpuError(pipeline.name() + ": a binding needs a barrier inside rendering; declare its usage before beginRendering");
+  flushBarriers();
   vkCmdBindPipeline(commandBuffer_, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
   if (set) {
     vkCmdBindDescriptorSets(commandBuffer_, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.layout().handle(), 0, 1, &set, 0,

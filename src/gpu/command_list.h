@@ -47,7 +47,18 @@ class CommandList {
   void dispatchIndirect(const ComputePipeline& pipeline, const Bindings& bindings, const Buffer& arguments,
                         VkDeviceSize offset, const void* push = nullptr, size_t pushBytes = 0);
 
-  // Binds a graphics pipeline and its set 0 (declaring the bindings' usages; flush before beginRendering).
+  // Dynamic rendering into whole images (or one layer of each). Declares the attachment usages, flushes barriers,
+  // sets a viewport with negative height so that NDC +y is up (as in our projection matrices) and a full scissor.
+  struct Attachment {
+    const Image* image = nullptr;
+    uint32_t layer = 0;
+    VkClearValue clear{};
+  };
+  void beginRendering(const std::vector<Attachment>& colors, const Attachment& depth);
+  void endRendering();
+
+  // Binds a graphics pipeline and its set 0. Inside rendering no barrier can be recorded, so every resource the
+  // bindings use must already be in its usage: declare them with use() before beginRendering.
   void bindGraphics(const GraphicsPipeline& pipeline, const Bindings& bindings);
   void pushConstants(const PipelineLayout& layout, const void* data, size_t bytes);
 
@@ -64,6 +75,7 @@ class CommandList {
   DescriptorArena& descriptors_;
   Profiler* profiler_;
   BarrierBatch barriers_;
+  bool rendering_ = false;
 };
 
 }  // namespace ssvgi::gpu

@@ -1,0 +1,135 @@
+#include "commands.h"
+#include "scene_options.h"
+
+#include "gpu/device.h"
+#include "image_io.h"
+#include "renderer.h"
+
+#include <nlohmann/json.hpp>
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
+namespace ssvgi::cli {
+
+namespace {
+
+constexpr float kFrameSeconds = 1.0f / 30.0f;  // animation time step per rendered frame
+
+struct RenderOptions {
+  SceneOptions scene;
+  uint32_t frames = 1;
+  std::string gi = "off";
+  std::string tier = "high";
+  float exposure = 1.0f;
+  std::string out = "out";
+};
+
+void drawProgress(const std::string& label, uint32_t done, uint32_t total) {
+  if (!isatty(STDERR_FILENO)) return;
+  constexpr int kWidth = 30;
+  const int filled = int(kWidth * double(done) / double(total));
+  std::fprintf(stderr, "\r%s [%s%s] %u/%u", label.c_str(), std::string(size_t(filled), '#').c_str(),
+               std::string(size_t(kWidth - filled), ' ').c_str(), done, total);
+  if (done == total) std::fprintf(stderr, "\n");
+}
+
+nlohmann::json statsJson(const gpu::Device& device, const RenderOptions& options, const ResolvedScene& resolved,
+                         const renderer::Renderer& renderer) {
+  nlohmann::json stats;
+  stats["device"] = device.description();
+  stats["scene"] = options.scene.scene;
+  stats["width"] = resolved.width;
+  stats["height"] = resolved.height;
+  stats["frames"] = options.frames;
+  stats["gi"] = options.gi;
+  stats["tier"] = options.tier;
+  size_t triangles = 0;
+  for (const auto& instance : resolved.scene.instances)
+    triangles += resolved.scene.meshes[instance.mesh].indices.size() / 3;
+  stats["sceneTriangles"] = triangles;
+  stats["localLights"] = resolved.scene.lights.size();
+  stats["unshadowedLocalLights"] = renderer.unshadowedLightCount();
+  double frameMilliseconds = 0.0;
+  nlohmann::json passes = nlohmann::json::object();
+  for (const auto& timing : renderer.passTimings()) {
+    passes[timing.name] = timing.milliseconds;
+    frameMilliseconds += timing.milliseconds;
+  }
+  stats["gpuMilliseconds"] = {{"passes", passes}, {"frame", frameMilliseconds}};
+  nlohmann::json memory = nlohmann::json::object();
+  VkDeviceSize total = 0;
+  for (const auto& [name, bytes] : device.allocations()) {
+    memory[name] = bytes;
+    total += bytes;
+  }
+  stats["memoryBytes"] = {{"resources", memory}, {"total", total}};
+  return stats;
+}
+
+int runRender(const RenderOptions& options) {
+  if (options.gi == "on")
+    throw std::runtime_error("--gi on: the GI passes are not part of this build yet; render with --gi off");
+  const ResolvedScene resolved = resolveScene(options.scene);
+
+  gpu::Device device(gpu::DeviceDesc{options.scene.device, options.scene.validation});
+  renderer::RendererSettings settings;
+  settings.width = resolved.width;
+  settings.height = resolved.height;
+  settings.exposure = options.exposure;
+  renderer::Renderer renderer(device, resolved.scene, settings);
+
+  const std::string label = "rendering " + resolved.scene.name;
+  for (uint32_t frame = 0; frame < options.frames; ++frame) {
+    renderer.render(renderer::evaluateAnimation(resolved.scene, resolved.camera, float(frame) * kFrameSeconds));
+    drawProgress(label, frame + 1, options.frames);
+  }
+
+  const std::filesystem::path out(options.out);
+  std::error_code error;
+  std::filesystem::create_directories(out, error);
+  if (error) throw std::runtime_error("--out " + options.out + ": cannot create the directory (" + error.message() + ")");
+  renderer::writePng(out / "final.png", resolved.width, resolved.height, renderer.tonemapped());
+  renderer::writeExr(out / "final.exr", renderer.finalRadiance());
+  renderer::writeExr(out / "irradiance_direct.exr", renderer.directIrradiance());
+  renderer::writeExr(out / "irradiance_indirect.exr", renderer.indirectIrradiance());
+  renderer::writeExr(out / "albedo.exr", renderer.albedo());
+  renderer::writeExr(out / "normal.exr", renderer.normal());
+  renderer::writeExr(out / "depth.exr", renderer.viewDistance());
+  std::ofstream(out / "stats.json") << statsJson(device, options, resolved, renderer).dump(2) << "\n";
+
+  if (options.scene.validation && device.validationErrorCount() > 0) {
+    std::fprintf(stderr, "ssvgi: %u Vulkan validation errors\n", device.validationErrorCount());
+    return 1;
+  }
+  std::printf("wrote %s (final.png, final.exr, irradiance_direct.exr, irradiance_indirect.exr, albedo.exr, "
+              "normal.exr, depth.exr, stats.json) on %s\n",
+              out.string().c_str(), device.description().c_str());
+  return 0;
+}
+
+}  // namespace
+
+CommandRunner addRenderCommand(CLI::App& app) {
+  auto options = std::make_shared<RenderOptions>();
+  CLI::App* command = app.add_subcommand("render", "Render a scene and write the last frame's images and stats.json");
+  addSceneOptions(*command, options->scene);
+  command->add_option("--frames", options->frames, "Frames to render, the animation advancing 1/30 s per frame")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 100000u));
+  command->add_option("--gi", options->gi, "Indirect light from ssvgi: on or off (off: no ambient light at all)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"on", "off"}));
+  command->add_option("--tier", options->tier, "GI quality tier (SPEC §4.7)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"low", "medium", "high"}));
+  command->add_option("--exposure", options->exposure, "Multiplier on radiance before tonemapping")->capture_default_str();
+  command->add_option("--out", options->out, "Output directory")->capture_default_str();
+  return [options] { return runRender(*options); };
+}
+
+}  // namespace ssvgi::cli

@@ -1,0 +1,128 @@
+#include "scene_options.h"
+
+#include "builtin_scenes.h"
+#include "gltf_loader.h"
+
+#include <glm/gtc/constants.hpp>
+
+#include <filesystem>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+namespace ssvgi::cli {
+
+namespace {
+
+std::vector<float> parseNumbers(const std::string& text, size_t count, const std::string& option) {
+  std::vector<float> values;
+  std::stringstream stream(text);
+  std::string item;
+  while (std::getline(stream, item, ',')) {
+    try {
+      size_t used = 0;
+      values.push_back(std::stof(item, &used));
+      if (used != item.size()) throw std::invalid_argument(item);
+    } catch (const std::exception&) {
+      throw std::runtime_error(option + " " + text + ": '" + item + "' is not a number");
+    }
+  }
+  if (values.size() != count)
+    throw std::runtime_error(option + " " + text + ": expected " + std::to_string(count) + " comma-separated numbers");
+  return values;
+}
+
+renderer::Scene loadScene(const SceneOptions& options) {
+  renderer::BuiltinSceneOptions builtin;
+  builtin.movingObject = options.movingObject;
+  builtin.sunCycle = options.sunCycle;
+  if (auto scene = renderer::makeBuiltinScene(options.scene, builtin)) return *scene;
+  const std::filesystem::path path(options.scene);
+  const std::string extension = path.extension().string();
+  if (extension != ".gltf" && extension != ".glb") {
+    std::string names;
+    for (const auto& name : renderer::builtinSceneNames()) names += (names.empty() ? "" : ", ") + name;
+    throw std::runtime_error("--scene " + options.scene + ": not a built-in scene (" + names +
+                             ") nor a .gltf/.glb file");
+  }
+  return renderer::loadGltf(path);
+}
+
+}  // namespace
+
+void addSceneOptions(CLI::App& command, SceneOptions& options) {
+  command.add_option("--scene", options.scene, "Built-in scene (cornell, two-rooms, dark-room, courtyard, "
+                                               "plane-point-light) or a glTF 2.0 file (.gltf/.glb)")
+      ->capture_default_str();
+  command.add_option("--size", options.size, "Image size WxH in pixels")->capture_default_str();
+  command.add_option("--camera", options.camera,
+                     "View PX,PY,PZ,TX,TY,TZ,VFOV_DEG: position, target (metres) and vertical field of view "
+                     "(default: the scene's first camera)");
+  command.add_option("--sun", options.sun,
+                     "off, or AZ_DEG,EL_DEG,ILLUMINANCE: azimuth from +Z towards +X, elevation, irradiance in W/m² "
+                     "(default: the scene's sun)");
+  command.add_option("--sky", options.sky, "none, default (analytic clear sky) or uniform:R,G,B radiance in W/(sr·m²) "
+                                           "(default: the scene's sky)");
+  command.add_flag("--moving-object", options.movingObject, "Add the scene's moving object");
+  command.add_flag("--sun-cycle", options.sunCycle, "Let the sun follow the scene's time-of-day cycle");
+  command.add_flag("--camera-path", options.cameraPath, "Move the camera along the scene's camera path");
+  command.add_option("--device", options.device, "Vulkan device: auto, gpu, cpu (lavapipe) or an index from 'ssvgi info'")
+      ->capture_default_str();
+  command.add_flag("--validation", options.validation, "Enable the Vulkan validation layers");
+}
+
+ResolvedScene resolveScene(const SceneOptions& options) {
+  ResolvedScene resolved;
+  resolved.scene = loadScene(options);
+  renderer::Scene& scene = resolved.scene;
+
+  unsigned width = 0, height = 0;
+  char separator = 0;
+  std::istringstream sizeStream(options.size);
+  if (!(sizeStream >> width >> separator >> height) || separator != 'x' || width == 0 || height == 0 ||
+      width > 16384 || height > 16384 || sizeStream.peek() != EOF)
+    throw std::runtime_error("--size " + options.size + ": expected WxH, e.g. 640x360");
+  resolved.width = width;
+  resolved.height = height;
+
+  resolved.camera = scene.cameras.empty() ? renderer::Camera{} : scene.cameras.front();
+  if (!options.camera.empty()) {
+    const auto v = parseNumbers(options.camera, 7, "--camera");
+    resolved.camera.position = {v[0], v[1], v[2]};
+    resolved.camera.target = {v[3], v[4], v[5]};
+    if (v[6] <= 0.0f || v[6] >= 180.0f) throw std::runtime_error("--camera: the field of view must be in (0, 180) degrees");
+    resolved.camera.verticalFov = glm::radians(v[6]);
+    if (glm::length(resolved.camera.target - resolved.camera.position) <= 0.0f)
+      throw std::runtime_error("--camera: position and target must differ");
+  }
+  if (!options.cameraPath || !options.camera.empty()) scene.cameraPath.clear();
+
+  if (options.sun == "off") {
+    scene.sun.enabled = false;
+    scene.sunCycle.reset();
+  } else if (!options.sun.empty()) {
+    const auto v = parseNumbers(options.sun, 3, "--sun");
+    scene.sun.enabled = true;
+    scene.sun.direction = renderer::sunDirection(v[0], v[1]);
+    scene.sun.illuminance = glm::vec3(v[2]);
+    if (scene.sunCycle) {
+      scene.sunCycle->azimuthDegrees = v[0];
+      scene.sunCycle->elevationDegrees = v[1];
+    }
+  }
+
+  if (options.sky == "none") {
+    scene.sky.kind = renderer::SkyKind::None;
+  } else if (options.sky == "default") {
+    scene.sky.kind = renderer::SkyKind::Default;
+  } else if (options.sky.rfind("uniform:", 0) == 0) {
+    const auto v = parseNumbers(options.sky.substr(8), 3, "--sky uniform:");
+    scene.sky.kind = renderer::SkyKind::Uniform;
+    scene.sky.uniformRadiance = {v[0], v[1], v[2]};
+  } else if (!options.sky.empty()) {
+    throw std::runtime_error("--sky " + options.sky + ": expected none, default or uniform:R,G,B");
+  }
+  return resolved;
+}
+
+}  // namespace ssvgi::cli

@@ -1,0 +1,74 @@
+#pragma once
+#include "gbuffer_pass.h"
+#include "gpu/profiler.h"
+#include "gpu_scene.h"
+#include "image_io.h"
+#include "screen_passes.h"
+#include "shadow_pass.h"
+
+#include <memory>
+#include <vector>
+
+namespace ssvgi::renderer {
+
+struct RendererSettings {
+  uint32_t width = 1280;
+  uint32_t height = 720;
+  float exposure = 1.0f;  // multiplies radiance before the tonemap curve
+  ShadowSettings shadows;
+};
+
+// The host renderer (headless): shadows, G-buffer, direct light, composite and tonemap for one scene, one frame at a
+// time. It records and submits its own command buffers; the GI library will record into the same ones.
+class Renderer {
+ public:
+  Renderer(gpu::Device& device, const Scene& scene, const RendererSettings& settings);
+
+  // Renders the scene as it is at `state` (camera, sun, moving object) and waits for the GPU.
+  void render(const AnimatedState& state);
+
+  const std::vector<gpu::PassTiming>& passTimings() const { return timings_; }
+  const Bounds& sceneBounds() const { return bounds_; }
+  uint32_t unshadowedLightCount() const { return shadows_.unshadowedLightCount(); }
+
+  // The last frame's results, read back to the CPU.
+  FloatImage finalRadiance();       // linear HDR, rgb
+  FloatImage directIrradiance();    // E_direct, rgb
+  FloatImage indirectIrradiance();  // E_indirect each pixel was shaded with, rgb
+  FloatImage albedo();              // rgb
+  FloatImage normal();              // xyz, zero where there is no surface
+  FloatImage viewDistance();        // metres from the camera, zero where there is no surface
+  std::vector<uint8_t> tonemapped();  // RGBA8, sRGB
+
+ private:
+  FloatImage read(const gpu::Image& image, uint32_t channels);
+
+  gpu::Device& device_;
+  const Scene& scene_;
+  RendererSettings settings_;
+  Bounds bounds_;
+  GpuScene gpuScene_;
+  gpu::Sampler pointSampler_;
+  gpu::Sampler linearSampler_;
+  gpu::DescriptorArena descriptors_;
+  gpu::Profiler profiler_;
+  ShadowPass shadows_;
+  GBufferPass gbufferPass_;
+  DirectLighting directLighting_;
+  Composite composite_;
+  Tonemap tonemap_;
+  GBuffer gbuffer_;
+  gpu::Buffer frameConstants_;
+  gpu::Buffer lights_;
+  gpu::Image directIrradiance_;
+  gpu::Image viewDistance_;
+  gpu::Image indirectIrradiance_;  // half resolution, filled by the GI (black until then)
+  gpu::Image indirectUsed_;
+  gpu::Image finalRadiance_;
+  gpu::Image tonemapped_;
+  std::vector<gpu::PassTiming> timings_;
+  glm::mat4 previousViewProjection_{1.0f};
+  bool firstFrame_ = true;
+};
+
+}  // namespace ssvgi::renderer

@@ -1,0 +1,43 @@
+#pragma once
+// The renderer's full-screen compute passes, in frame order after the G-buffer. Each is one shader and one record().
+#include "gbuffer_pass.h"
+#include "shadow_pass.h"
+
+namespace ssvgi::renderer {
+
+// DirectLighting: E_direct from the sun and local lights with shadows, and the view distance of each pixel.
+class DirectLighting {
+ public:
+  explicit DirectLighting(gpu::Device& device);
+  void record(gpu::CommandList& commands, const gpu::Buffer& frameConstants, const gpu::Buffer& lights,
+              const ShadowPass& shadows, const GBuffer& gbuffer, VkSampler pointSampler, const gpu::Image& irradiance,
+              const gpu::Image& viewDistance);
+
+ private:
+  gpu::ComputePipeline pipeline_;
+};
+
+// Composite: final = emission + albedo/π · (E_direct + E_indirect), the sky behind (SPEC §3).
+class Composite {
+ public:
+  explicit Composite(gpu::Device& device);
+  void record(gpu::CommandList& commands, const gpu::Buffer& frameConstants, const GBuffer& gbuffer,
+              VkSampler pointSampler, const gpu::Image& directIrradiance, const gpu::Image& indirectIrradiance,
+              VkSampler linearSampler, const gpu::Image& finalRadiance, const gpu::Image& indirectUsed);
+
+ private:
+  gpu::ComputePipeline pipeline_;
+};
+
+// Tonemap: exposure, ACES fitted curve, sRGB encoding into an 8-bit image for PNG.
+class Tonemap {
+ public:
+  explicit Tonemap(gpu::Device& device);
+  void record(gpu::CommandList& commands, const gpu::Buffer& frameConstants, const gpu::Image& hdr,
+              const gpu::Image& ldr);
+
+ private:
+  gpu::ComputePipeline pipeline_;
+};
+
+}  // namespace ssvgi::renderer

@@ -1,0 +1,35 @@
+#version 450
+// GBuffer: albedo, emission, world normal and motion of the visible surface (depth comes from the depth attachment).
+#include "shared/renderer_interface.h"
+
+layout(location = 0) in vec3 inNormal;
+layout(location = 1) in vec2 inUv;
+layout(location = 2) in vec4 inClip;
+layout(location = 3) in vec4 inPreviousClip;
+
+layout(binding = kBindDrawMaterials) readonly buffer Materials { GpuMaterial materials[]; };
+layout(binding = kBindDrawBaseColor) uniform sampler2D baseColorTexture;
+layout(push_constant) uniform Push { DrawPush draw; };
+
+layout(location = 0) out vec4 outAlbedo;
+layout(location = 1) out vec4 outEmission;
+layout(location = 2) out vec4 outNormal;
+layout(location = 3) out vec2 outMotion;
+
+void main() {
+  GpuMaterial material = materials[draw.material];
+  vec3 albedo = material.baseColorAndTexture.rgb;
+  if (floatBitsToUint(material.baseColorAndTexture.w) != kNoTexture) {
+    albedo *= texture(baseColorTexture, inUv).rgb;  // the view is sRGB: decoded to linear by the sampler
+  }
+  // Two-sided: a back face seen from the camera shades with the normal facing the camera.
+  vec3 normal = normalize(inNormal);
+  if (!gl_FrontFacing) normal = -normal;
+  outAlbedo = vec4(albedo, 1.0);
+  outEmission = vec4(material.emission.rgb, 0.0);
+  outNormal = vec4(normal, 0.0);
+  // Screen-space motion in UV units from last frame to this one (current - previous).
+  vec2 current = ndcToUv(inClip.xy / inClip.w);
+  vec2 previous = ndcToUv(inPreviousClip.xy / inPreviousClip.w);
+  outMotion = current - previous;
+}

@@ -1,0 +1,139 @@
+// GPU structs, binding slots and constants of the host renderer, shared by its shaders and renderer/*.cpp.
+#ifndef SSVGI_SHARED_RENDERER_INTERFACE_H
+#define SSVGI_SHARED_RENDERER_INTERFACE_H
+
+#include "shared/glsl_cpp.h"
+#include "shared/sky.h"
+
+SSVGI_SHARED_BEGIN
+
+// Shadowed local lights: a point light takes 6 layers of the local shadow array (cube faces +X,-X,+Y,-Y,+Z,-Z), a spot
+// light one. Lights past the layer budget are drawn unshadowed (and reported by the renderer).
+SSVGI_CONSTANT(uint, kMaxShadowLayers, 48u);
+SSVGI_CONSTANT(uint, kNoShadow, 0xffffffffu);
+SSVGI_CONSTANT(uint, kLightPoint, 0u);
+SSVGI_CONSTANT(uint, kLightSpot, 1u);
+SSVGI_CONSTANT(uint, kNoTexture, 0xffffffffu);
+
+struct FrameConstants {
+  mat4 viewProjection;          // world -> clip, reversed-Z infinite perspective
+  mat4 inverseViewProjection;   // clip -> world
+  mat4 previousViewProjection;  // last frame's, for motion vectors
+  mat4 sunShadowMatrix;         // world -> sun shadow clip (orthographic, [0,1] depth)
+  vec4 cameraPositionAndNear;   // xyz: world position; w: near plane distance
+  vec4 cameraForward;           // xyz: unit view direction
+  vec4 viewportSize;            // width, height, 1/width, 1/height
+  vec4 sunDirectionAndEnabled;  // xyz: unit vector towards the sun; w: 1 when the sun is on
+  vec4 sunIlluminance;          // rgb: irradiance on a surface facing the sun, W/m²; w: sun shadow texel size, m
+  vec4 lightCountAndExposure;   // x: local light count; y: exposure multiplier; z: indirect irradiance on (1) / off (0)
+  SkyParameters sky;
+};
+SSVGI_CHECK_SIZE(FrameConstants, 4 * 64 + 6 * 16 + 32);
+
+// A local light as the lighting shader reads it.
+struct GpuLight {
+  vec4 positionAndType;         // xyz: world position; w: kLightPoint / kLightSpot
+  vec4 directionAndRange;       // xyz: spot axis (away from the light); w: range, 0 = unlimited
+  vec4 intensityAndShadow;      // rgb: radiant intensity, W/sr; w: first shadow layer (uintBitsToFloat), kNoShadow
+  vec4 spotCosines;             // x: cos(inner cone angle); y: cos(outer cone angle)
+};
+SSVGI_CHECK_SIZE(GpuLight, 64);
+
+// One rendered shadow view: a sun cascade or a face/spot of the local shadow array.
+struct ShadowView {
+  mat4 viewProjection;          // world -> clip, [0,1] depth
+  vec4 texelWorldSize;          // x: size of a shadow texel at unit distance (perspective) or in metres (ortho)
+};
+SSVGI_CHECK_SIZE(ShadowView, 80);
+
+struct GpuInstance {
+  mat4 model;
+  mat4 previousModel;
+  mat4 normalMatrix;            // inverse transpose of model (upper 3×3 used)
+};
+SSVGI_CHECK_SIZE(GpuInstance, 192);
+
+struct GpuMaterial {
+  vec4 baseColorAndTexture;     // rgb: linear base colour; w: texture index as float bits, kNoTexture when none
+  vec4 emission;                // rgb: emitted radiance, W/(sr·m²)
+};
+SSVGI_CHECK_SIZE(GpuMaterial, 32);
+
+struct DrawPush {
+  uint instance;
+  uint material;
+  uint shadowView;              // shadow passes: which ShadowView
+  uint padding;
+};
+SSVGI_CHECK_SIZE(DrawPush, 16);
+
+// Binding slots (descriptor set 0), one group per pass.
+// GBuffer (gbuffer.vert/.frag) and Shadow (shadow.vert):
+SSVGI_CONSTANT(uint, kBindDrawFrame, 0u);          // FrameConstants (uniform)
+SSVGI_CONSTANT(uint, kBindDrawInstances, 1u);      // GpuInstance[]
+SSVGI_CONSTANT(uint, kBindDrawMaterials, 2u);      // GpuMaterial[]
+SSVGI_CONSTANT(uint, kBindDrawBaseColor, 3u);      // the draw's base colour texture (sRGB)
+SSVGI_CONSTANT(uint, kBindDrawShadowViews, 4u);    // ShadowView[]
+// DirectLighting (direct_lighting.comp):
+SSVGI_CONSTANT(uint, kBindLightingFrame, 0u);
+SSVGI_CONSTANT(uint, kBindLightingLights, 1u);       // GpuLight[]
+SSVGI_CONSTANT(uint, kBindLightingShadowViews, 2u);  // ShadowView[]
+SSVGI_CONSTANT(uint, kBindLightingDepth, 3u);        // G-buffer depth (reversed-Z)
+SSVGI_CONSTANT(uint, kBindLightingNormal, 4u);       // G-buffer world normal
+SSVGI_CONSTANT(uint, kBindLightingSunShadow, 5u);    // sun shadow map (compare sampler)
+SSVGI_CONSTANT(uint, kBindLightingLocalShadows, 6u); // local shadow array (compare sampler)
+SSVGI_CONSTANT(uint, kBindLightingIrradiance, 7u);   // out: direct irradiance E_direct, rgba32f
+SSVGI_CONSTANT(uint, kBindLightingViewDistance, 8u); // out: distance from the camera, r32f (0 where there is no surface)
+// Composite (composite.comp):
+SSVGI_CONSTANT(uint, kBindCompositeFrame, 0u);
+SSVGI_CONSTANT(uint, kBindCompositeDepth, 1u);
+SSVGI_CONSTANT(uint, kBindCompositeAlbedo, 2u);
+SSVGI_CONSTANT(uint, kBindCompositeEmission, 3u);
+SSVGI_CONSTANT(uint, kBindCompositeDirect, 4u);      // E_direct
+SSVGI_CONSTANT(uint, kBindCompositeIndirect, 5u);    // E_indirect (from the GI; black until it exists or when off)
+SSVGI_CONSTANT(uint, kBindCompositeFinal, 6u);       // out: linear HDR radiance, rgba32f
+SSVGI_CONSTANT(uint, kBindCompositeIndirectUsed, 7u); // out: the E_indirect each pixel was shaded with, rgba32f
+// Tonemap (tonemap.comp):
+SSVGI_CONSTANT(uint, kBindTonemapFrame, 0u);
+SSVGI_CONSTANT(uint, kBindTonemapInput, 1u);
+SSVGI_CONSTANT(uint, kBindTonemapOutput, 2u);        // out: rgba8, sRGB-encoded
+
+// Pixel -> normalised device coordinates for the pixel centre. Rows run top to bottom; the renderer flips the viewport
+// (negative height) so that NDC +y is up, as in the projection matrices.
+SSVGI_INLINE vec2 pixelToNdc(vec2 pixel, vec4 viewportSize) {
+  vec2 uv = (pixel + vec2(0.5f)) * vec2(viewportSize.z, viewportSize.w);
+  return vec2(uv.x * 2.0f - 1.0f, 1.0f - uv.y * 2.0f);
+}
+
+SSVGI_INLINE vec2 ndcToUv(vec2 ndc) { return vec2(0.5f + 0.5f * ndc.x, 0.5f - 0.5f * ndc.y); }
+
+// Radiant intensity reaching a point from a local light, per unit of cos(incidence): I · spot · window / d², as glTF's
+// KHR_lights_punctual recommends (smooth range window, quadratic spot falloff).
+SSVGI_INLINE vec3 localLightIrradianceScale(GpuLight light, vec3 toLight, float distanceSquared) {
+  float range = light.directionAndRange.w;
+  float window = 1.0f;
+  if (range > 0.0f) {
+    float ratio = distanceSquared / (range * range);
+    float fade = clamp(1.0f - ratio * ratio, 0.0f, 1.0f);
+    window = fade * fade;
+  }
+  float spot = 1.0f;
+  if (uint(light.positionAndType.w) == kLightSpot) {
+    float cosAngle = dot(-toLight, vec3(light.directionAndRange));
+    float t = clamp((cosAngle - light.spotCosines.y) / max(light.spotCosines.x - light.spotCosines.y, 1e-4f), 0.0f, 1.0f);
+    spot = t * t;
+  }
+  return vec3(light.intensityAndShadow) * (spot * window / max(distanceSquared, 1e-8f));
+}
+
+// The cube face a point lies in as seen from a point light (+X,-X,+Y,-Y,+Z,-Z), matching the renderer's face views.
+SSVGI_INLINE uint cubeFace(vec3 fromLight) {
+  vec3 a = abs(fromLight);
+  if (a.x >= a.y && a.x >= a.z) return fromLight.x > 0.0f ? 0u : 1u;
+  if (a.y >= a.z) return fromLight.y > 0.0f ? 2u : 3u;
+  return fromLight.z > 0.0f ? 4u : 5u;
+}
+
+SSVGI_SHARED_END
+
+#endif
