@@ -119,6 +119,7 @@ FloatImage Renderer::read(const gpu::Image& image, uint32_t channels) {
           std::memcpy(&result.pixels[i * channels + c], bytes.data() + (i * 4 + c) * sizeof(float), sizeof(float));
           break;
         case VK_FORMAT_R32_SFLOAT:
+        case VK_FORMAT_D32_SFLOAT:
           std::memcpy(&result.pixels[i * channels + c], bytes.data() + i * sizeof(float), sizeof(float));
           break;
         case VK_FORMAT_R16G16B16A16_SFLOAT: {
@@ -141,6 +142,7 @@ FloatImage Renderer::indirectIrradiance() { return read(indirectUsed_, 3); }
 FloatImage Renderer::albedo() { return read(gbuffer_.albedo, 3); }
 FloatImage Renderer::normal() { return read(gbuffer_.normal, 3); }
 FloatImage Renderer::viewDistance() { return read(viewDistance_, 1); }
+FloatImage Renderer::depthBuffer() { return read(gbuffer_.depth, 1); }
 
 std::vector<uint8_t> Renderer::tonemapped() {
   const auto bytes = gpu::readImage(device_, tonemapped_);

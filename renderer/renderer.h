@@ -38,6 +38,7 @@ class Renderer {
   FloatImage albedo();              // rgb
   FloatImage normal();              // xyz, zero where there is no surface
   FloatImage viewDistance();        // metres from the camera, zero where there is no surface
+  FloatImage depthBuffer();         // raw reversed-Z depth: near plane / distance along the view axis, 0 = nothing
   std::vector<uint8_t> tonemapped();  // RGBA8, sRGB
 
  private:

@@ -37,9 +37,9 @@ VkSamplerCreateInfo compareSamplerInfo() {
   return info;
 }
 
-gpu::Image shadowImage(gpu::Device& device, const char* name, uint32_t resolution, uint32_t layers) {
+gpu::Image shadowImage(gpu::Device& device, const char* name, uint32_t resolution, uint32_t layers, bool arrayView) {
   return gpu::Image(device, {name, VK_FORMAT_D32_SFLOAT, resolution, resolution, 1, std::max(1u, layers),
-                             VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT});
+                             VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT, arrayView});
 }
 
 // An up vector that is not parallel to `forward`.
@@ -60,8 +60,8 @@ ShadowPass::ShadowPass(gpu::Device& device, const ShadowSettings& settings)
       settings_(settings),
       pipeline_(device, shadowPipelineDesc()),
       compareSampler_(device, compareSamplerInfo(), "shadow compare sampler"),
-      sunMap_(shadowImage(device, "sun shadow map", 1, 1)),
-      localMaps_(shadowImage(device, "local shadow maps", 1, 1)),
+      sunMap_(shadowImage(device, "sun shadow map", 1, 1, false)),
+      localMaps_(shadowImage(device, "local shadow maps", 1, 1, true)),
       views_(device, "shadow views", (1 + shader::kMaxShadowLayers) * sizeof(shader::ShadowView),
              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::HostUpload) {}
 
@@ -72,7 +72,7 @@ void ShadowPass::prepare(const Scene& scene, const Bounds& sceneBounds, const Su
   sunEnabled_ = sun.enabled;
   if (sunEnabled_) {
     if (sunMap_.desc().width != settings_.sunResolution)
-      sunMap_ = shadowImage(device_, "sun shadow map", settings_.sunResolution, 1);
+      sunMap_ = shadowImage(device_, "sun shadow map", settings_.sunResolution, 1, false);
     // Orthographic along the sun, fitted to the scene's bounds seen from the sun so that every caster and receiver
     // is inside and no texel is spent outside the scene.
     const glm::vec3 center = 0.5f * (sceneBounds.min + sceneBounds.max);
@@ -131,7 +131,7 @@ void ShadowPass::prepare(const Scene& scene, const Bounds& sceneBounds, const Su
   }
   if (layer != localLayers_ || localMaps_.desc().width != settings_.localResolution) {
     localLayers_ = layer;
-    localMaps_ = shadowImage(device_, "local shadow maps", layer ? settings_.localResolution : 1, layer);
+    localMaps_ = shadowImage(device_, "local shadow maps", layer ? settings_.localResolution : 1, layer, true);
   }
   std::memcpy(views_.mapped(), views.data(), views.size() * sizeof(shader::ShadowView));
 }

@@ -98,7 +98,7 @@ Image::Image(Device& device, const ImageDesc& desc) : device_(&device), desc_(de
   VK_CHECK(vkBindImageMemory(device.device(), image_, memory_, 0));
   bytes_ = requirements.size;
 
-  const VkImageViewType arrayType = desc.layers > 1 ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D;
+  const VkImageViewType arrayType = desc.layers > 1 || desc.arrayView ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D;
   view_ = createView(device, *this, arrayType, 0, desc.mipLevels, 0, desc.layers);
   for (uint32_t layer = 0; layer < desc.layers; ++layer)
     layerViews_.push_back(createView(device, *this, VK_IMAGE_VIEW_TYPE_2D, 0, 1, layer, 1));

@@ -78,6 +78,7 @@ struct ImageDesc {
   uint32_t mipLevels = 1;
   uint32_t layers = 1;
   VkImageUsageFlags usage = VK_IMAGE_USAGE_STORAGE_BIT;
+  bool arrayView = false;  // view() is a 2D array even with one layer (for shaders that declare an array)
 };
 
 class Image {
