@@ -128,13 +128,17 @@ struct Bounds {
   glm::vec3 max{0.0f};
 };
 
-// World-space bounds of all instances.
+// World-space bounds of all instances' vertices (all zero for a scene without geometry).
 Bounds worldBounds(const Scene& scene);
 
-// Unit vector towards the sun for azimuth (degrees clockwise from +Z... see scene.cpp) and elevation above the horizon.
+// Unit vector towards the sun. Azimuth is measured in the horizontal plane from +Z towards +X (0° → +Z, 90° → +X),
+// elevation above the horizon: (cos(el)·sin(az), sin(el), cos(el)·cos(az)).
 glm::vec3 sunDirection(float azimuthDegrees, float elevationDegrees);
 
 // The state of the scene's animation at a time: the camera on its path, the moving object's transform and the sun.
+// The camera path repeats every `cameraPath.back().time` seconds (repeat the first pose as the last key for a seamless
+// loop); the camera keeps baseCamera's up vector, field of view and near plane. The moving object starts at rest at its
+// instance's transform and reaches `offset` at half the period. With a SunCycle the sun turns, keeping its illuminance.
 struct AnimatedState {
   Camera camera;
   std::optional<glm::mat4> movingObjectTransform;  // replaces instances[movingObject->instance].transform

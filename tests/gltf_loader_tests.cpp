@@ -1,0 +1,401 @@
+// The glTF loader: the shared Cornell box files, small files written by the tests for each feature, and broken files,
+// each of which must fail with one line naming the file.
+#include "gltf_loader.h"
+
+#include <gtest/gtest.h>
+
+#include <glm/gtc/constants.hpp>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+namespace ssvgi::renderer {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr float kTolerance = 1e-4f;
+
+void expectNear(const glm::vec3& actual, const glm::vec3& expected, float tolerance = kTolerance) {
+  EXPECT_NEAR(actual.x, expected.x, tolerance);
+  EXPECT_NEAR(actual.y, expected.y, tolerance);
+  EXPECT_NEAR(actual.z, expected.z, tolerance);
+}
+
+glm::vec3 worldPosition(const glm::mat4& transform, const glm::vec3& position) {
+  return glm::vec3(transform * glm::vec4(position, 1.0f));
+}
+
+// ---- The Cornell box files in the shared folder (numbers read from their JSON) ----
+
+const fs::path kCornellFolder = fs::path(SSVGI_SHARED_DIR) / "scenes" / "cornell-box";
+
+TEST(GltfCornellBox, loadsEveryPrimitiveMaterialAndTheCamera) {
+  const Scene scene = loadGltf(kCornellFolder / "CornellBox-Original.gltf");
+  // One mesh of 8 primitives, each with its own material; one node with the mesh, one with the camera.
+  const std::vector<std::string> materialNames = {"floor",    "ceiling",  "backWall", "rightWall",
+                                                  "leftWall", "shortBox", "tallBox",  "light"};
+  ASSERT_EQ(scene.materials.size(), materialNames.size());
+  for (size_t i = 0; i < materialNames.size(); ++i) EXPECT_EQ(scene.materials[i].name, materialNames[i]);
+  ASSERT_EQ(scene.meshes.size(), 8u);
+  ASSERT_EQ(scene.instances.size(), 8u);
+  const std::vector<size_t> vertexCounts = {4, 4, 4, 4, 4, 20, 20, 4};
+  const std::vector<size_t> indexCounts = {6, 6, 6, 6, 6, 30, 30, 6};
+  for (size_t i = 0; i < scene.meshes.size(); ++i) {
+    EXPECT_EQ(scene.meshes[i].material, i);
+    EXPECT_EQ(scene.meshes[i].vertices.size(), vertexCounts[i]) << i;
+    EXPECT_EQ(scene.meshes[i].indices.size(), indexCounts[i]) << i;
+    EXPECT_EQ(scene.instances[i].transform, glm::mat4(1.0f));
+  }
+  expectNear(scene.materials[4].baseColor, {1.0f, 0.065f, 0.05f});
+  expectNear(scene.materials[3].baseColor, {0.14f, 0.45f, 0.091f});
+  expectNear(scene.materials[0].emission, glm::vec3(0.0f));
+  expectNear(scene.materials[7].emission, glm::vec3(1.0f, 0.7058824f, 0.2352941f) * 17.0f);
+
+  const Bounds bounds = worldBounds(scene);
+  expectNear(bounds.min, {-1.02f, 0.0f, -1.04f}, 1e-3f);
+  expectNear(bounds.max, {1.0f, 1.99f, 0.99f}, 1e-3f);
+
+  ASSERT_EQ(scene.cameras.size(), 1u);
+  const Camera& camera = scene.cameras[0];
+  EXPECT_EQ(camera.name, "classic");
+  expectNear(camera.position, {0.0f, 1.0f, 3.87f});
+  expectNear(camera.target, {0.0f, 1.0f, 2.87f});
+  expectNear(camera.up, {0.0f, 1.0f, 0.0f});
+  EXPECT_NEAR(camera.verticalFov, 0.6859f, kTolerance);
+  EXPECT_NEAR(camera.nearPlane, 0.05f, kTolerance);
+
+  EXPECT_TRUE(scene.lights.empty());
+  EXPECT_FALSE(scene.sun.enabled);
+  EXPECT_EQ(scene.sky.kind, SkyKind::None);
+  EXPECT_EQ(scene.name, "CornellBox-Original");
+}
+
+TEST(GltfCornellBox, pointLightVariantGivesTheLightItDeclares) {
+  const Scene scene = loadGltf(kCornellFolder / "CornellBox-PointLight.gltf");
+  ASSERT_EQ(scene.lights.size(), 1u);
+  const LocalLight& light = scene.lights[0];
+  EXPECT_EQ(light.name, "ceiling_point");
+  EXPECT_EQ(light.type, LightType::Point);
+  expectNear(light.position, {0.0f, 1.85f, -0.03f});
+  expectNear(light.intensity, glm::vec3(1.0f, 0.85f, 0.6f) * 10.0f);
+  EXPECT_EQ(light.range, 0.0f);
+  EXPECT_EQ(scene.meshes.size(), 8u);
+}
+
+// ---- Files written by the tests ----
+
+class GltfFiles : public testing::Test {
+ protected:
+  void SetUp() override {
+    const testing::TestInfo* test = testing::UnitTest::GetInstance()->current_test_info();
+    folder_ = fs::temp_directory_path() / ("ssvgi_gltf_" + std::string(test->name()));
+    fs::remove_all(folder_);
+    fs::create_directories(folder_);
+  }
+  void TearDown() override { fs::remove_all(folder_); }
+
+  fs::path write(const std::string& name, const std::string& bytes) const {
+    const fs::path path = folder_ / name;
+    std::ofstream(path, std::ios::binary) << bytes;
+    return path;
+  }
+
+  // The message of the SceneLoadError that loading `path` must throw, checked to be one line naming the file.
+  static std::string loadError(const fs::path& path) {
+    try {
+      loadGltf(path);
+    } catch (const SceneLoadError& error) {
+      const std::string message = error.what();
+      EXPECT_NE(message.find(path.filename().string()), std::string::npos) << message;
+      EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+      return message;
+    }
+    ADD_FAILURE() << path << " loaded";
+    return {};
+  }
+
+  fs::path folder_;
+};
+
+// Little-endian bytes for a buffer.
+template <typename T>
+void append(std::string& bytes, std::initializer_list<T> values) {
+  for (const T value : values) bytes.append(reinterpret_cast<const char*>(&value), sizeof(T));
+}
+
+std::string base64(const std::string& bytes) {
+  static constexpr char kDigits[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string text;
+  for (size_t i = 0; i < bytes.size(); i += 3) {
+    uint32_t group = static_cast<uint32_t>(static_cast<unsigned char>(bytes[i])) << 16;
+    if (i + 1 < bytes.size()) group |= static_cast<uint32_t>(static_cast<unsigned char>(bytes[i + 1])) << 8;
+    if (i + 2 < bytes.size()) group |= static_cast<unsigned char>(bytes[i + 2]);
+    for (size_t digit = 0; digit < 4; ++digit) {
+      text += i + digit <= bytes.size() ? kDigits[(group >> (18 - 6 * digit)) & 63u] : '=';
+    }
+  }
+  return text;
+}
+
+std::string dataUri(const std::string& bytes) { return "data:application/octet-stream;base64," + base64(bytes); }
+
+// One triangle, corners (0,0,0), (1,0,0), (0,1,0) (counter-clockwise seen from +Z): 36 bytes of positions, then
+// three 16-bit indices and 2 bytes of padding.
+std::string triangleBuffer() {
+  std::string bytes;
+  append<float>(bytes, {0, 0, 0, 1, 0, 0, 0, 1, 0});
+  append<uint16_t>(bytes, {0, 1, 2, 0});
+  return bytes;
+}
+
+// A glTF document drawing the triangle (no normals, no material) with the given nodes and buffer URI; `extra` adds
+// top-level members (cameras, extensions…).
+std::string triangleDocument(const std::string& nodes, const std::string& bufferUri, const std::string& extra = "") {
+  return R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": )" + nodes + R"(,
+  "meshes": [{"name": "triangle", "primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+                {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}],
+  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 6}],
+  "buffers": [{"byteLength": 44, "uri": ")" +
+         bufferUri + "\"}]" + extra + "}";
+}
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return text.replace(at, from.size(), to);
+}
+
+TEST_F(GltfFiles, flattensTheNodeHierarchyWithTrsAndMatrices) {
+  // Node 0 moves by (10, 0, 0) and holds node 1, turned a quarter about +Y, which holds node 2, scaled ×2 by a matrix.
+  const std::string nodes = R"([{"translation": [10, 0, 0], "children": [1]},
+      {"rotation": [0, 0.7071068, 0, 0.7071068], "mesh": 0, "children": [2]},
+      {"matrix": [2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 2, 0, 0, 5, 0, 1], "mesh": 0}])";
+  const Scene scene = loadGltf(write("tree.gltf", triangleDocument(nodes, dataUri(triangleBuffer()))));
+  ASSERT_EQ(scene.instances.size(), 2u);
+  EXPECT_EQ(scene.instances[0].mesh, scene.instances[1].mesh);
+  // A quarter turn about +Y takes +X to −Z.
+  expectNear(worldPosition(scene.instances[0].transform, {1.0f, 0.0f, 0.0f}), {10.0f, 0.0f, -1.0f});
+  expectNear(worldPosition(scene.instances[1].transform, {1.0f, 0.0f, 0.0f}), {10.0f, 5.0f, -2.0f});
+  // No material: glTF's default, white.
+  ASSERT_EQ(scene.materials.size(), 1u);
+  expectNear(scene.materials[0].baseColor, glm::vec3(1.0f));
+  EXPECT_EQ(scene.meshes[0].material, 0u);
+}
+
+TEST_F(GltfFiles, givesFlatNormalsWhenTheFileHasNone) {
+  const Scene scene = loadGltf(write("flat.gltf", triangleDocument(R"([{"mesh": 0}])", dataUri(triangleBuffer()))));
+  ASSERT_EQ(scene.meshes.size(), 1u);
+  const Mesh& mesh = scene.meshes[0];
+  ASSERT_EQ(mesh.vertices.size(), 3u);
+  for (const Vertex& vertex : mesh.vertices) expectNear(vertex.normal, {0.0f, 0.0f, 1.0f});
+  expectNear(mesh.vertices[mesh.indices[1]].position, {1.0f, 0.0f, 0.0f});
+}
+
+TEST_F(GltfFiles, mirroredInstanceGetsReversedWindingSoFrontFacesStayFront) {
+  const std::string nodes = R"([{"children": [1, 2]}, {"mesh": 0}, {"scale": [-1, 1, 1], "mesh": 0}])";
+  const Scene scene = loadGltf(write("mirror.gltf", triangleDocument(nodes, dataUri(triangleBuffer()))));
+  ASSERT_EQ(scene.instances.size(), 2u);
+  for (const Instance& instance : scene.instances) {
+    const Mesh& mesh = scene.meshes[instance.mesh];
+    const glm::vec3 a = worldPosition(instance.transform, mesh.vertices[mesh.indices[0]].position);
+    const glm::vec3 b = worldPosition(instance.transform, mesh.vertices[mesh.indices[1]].position);
+    const glm::vec3 c = worldPosition(instance.transform, mesh.vertices[mesh.indices[2]].position);
+    // The world-space winding agrees with the normal transformed to world space (inverse transpose).
+    const glm::vec3 normal = glm::transpose(glm::inverse(glm::mat3(instance.transform))) * mesh.vertices[0].normal;
+    EXPECT_GT(glm::dot(glm::cross(b - a, c - a), normal), 0.0f);
+  }
+}
+
+TEST_F(GltfFiles, readsPunctualLightsAndNodeCamerasInWorldSpace) {
+  // Node 1: a spot at (0, 4, 0) turned −90° about +X, which takes −Z to −Y: it looks down. Node 2: the sun, turned
+  // alike, shining straight down. Node 3: a camera at (0, 1, 5) looking down −Z.
+  const std::string nodes = R"([{"mesh": 0, "children": [1, 2, 3]},
+      {"translation": [0, 4, 0], "rotation": [-0.7071068, 0, 0, 0.7071068], "extensions": {"KHR_lights_punctual": {"light": 0}}},
+      {"rotation": [-0.7071068, 0, 0, 0.7071068], "extensions": {"KHR_lights_punctual": {"light": 1}}},
+      {"name": "eye", "translation": [0, 1, 5], "camera": 0}])";
+  const std::string extra = R"(, "extensions": {"KHR_lights_punctual": {"lights": [
+      {"name": "lamp", "type": "spot", "color": [1, 0.5, 0.25], "intensity": 8, "range": 12,
+       "spot": {"innerConeAngle": 0.2, "outerConeAngle": 0.6}},
+      {"type": "directional", "color": [1, 1, 0.5], "intensity": 3}]}},
+    "cameras": [{"type": "perspective", "perspective": {"yfov": 0.9, "znear": 0.1}}])";
+  const Scene scene = loadGltf(write("lights.gltf", triangleDocument(nodes, dataUri(triangleBuffer()), extra)));
+
+  ASSERT_EQ(scene.lights.size(), 1u);
+  const LocalLight& spot = scene.lights[0];
+  EXPECT_EQ(spot.name, "lamp");
+  EXPECT_EQ(spot.type, LightType::Spot);
+  expectNear(spot.position, {0.0f, 4.0f, 0.0f});
+  expectNear(spot.direction, {0.0f, -1.0f, 0.0f});
+  expectNear(spot.intensity, {8.0f, 4.0f, 2.0f});
+  EXPECT_FLOAT_EQ(spot.range, 12.0f);
+  EXPECT_FLOAT_EQ(spot.innerConeAngle, 0.2f);
+  EXPECT_FLOAT_EQ(spot.outerConeAngle, 0.6f);
+
+  EXPECT_TRUE(scene.sun.enabled);
+  expectNear(scene.sun.direction, {0.0f, 1.0f, 0.0f});
+  expectNear(scene.sun.illuminance, {3.0f, 3.0f, 1.5f});
+
+  ASSERT_EQ(scene.cameras.size(), 1u);
+  EXPECT_EQ(scene.cameras[0].name, "eye");
+  expectNear(scene.cameras[0].position, {0.0f, 1.0f, 5.0f});
+  expectNear(scene.cameras[0].target, {0.0f, 1.0f, 4.0f});
+  EXPECT_FLOAT_EQ(scene.cameras[0].verticalFov, 0.9f);
+  EXPECT_FLOAT_EQ(scene.cameras[0].nearPlane, 0.1f);
+}
+
+TEST_F(GltfFiles, addsACameraFramingTheSceneWhenTheFileHasNone) {
+  const Scene scene = loadGltf(write("nocamera.gltf", triangleDocument(R"([{"mesh": 0}])", dataUri(triangleBuffer()))));
+  ASSERT_EQ(scene.cameras.size(), 1u);
+  const Camera& camera = scene.cameras[0];
+  expectNear(camera.target, {0.5f, 0.5f, 0.0f});
+  // The whole triangle lies inside the view cone.
+  const glm::vec3 forward = glm::normalize(camera.target - camera.position);
+  for (const glm::vec3 corner : {glm::vec3(0.0f), glm::vec3(1.0f, 0.0f, 0.0f), glm::vec3(0.0f, 1.0f, 0.0f)}) {
+    const float angle = std::acos(glm::dot(glm::normalize(corner - camera.position), forward));
+    EXPECT_LT(angle, 0.5f * camera.verticalFov);
+  }
+}
+
+TEST_F(GltfFiles, readsInterleavedVerticesByteIndicesAndMaterialsFromGlb) {
+  // A quad: position + normal interleaved with a 24-byte stride, normalized 8-bit texture coordinates with a 4-byte
+  // stride, 8-bit indices. The JSON chunk references the GLB's binary chunk.
+  std::string bin;
+  for (const glm::vec2 corner : {glm::vec2(0, 0), glm::vec2(1, 0), glm::vec2(1, 1), glm::vec2(0, 1)}) {
+    append<float>(bin, {corner.x, 0.0f, -corner.y, 0.0f, 2.0f, 0.0f});  // unnormalized normal on purpose
+  }
+  append<uint8_t>(bin, {0, 0, 0, 0, 255, 0, 0, 0, 255, 255, 0, 0, 0, 255, 0, 0});
+  append<uint8_t>(bin, {0, 1, 2, 0, 2, 3, 0, 0});
+  const std::string json =
+      R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}, "indices": 3, "material": 0},
+                               {"attributes": {"POSITION": 0}, "mode": 0}]}],
+    "materials": [{"name": "glowing", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.25, 0.125, 1]},
+                   "emissiveFactor": [1, 0.5, 0], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 4}}}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [0, 0, -1], "max": [1, 0, 0]},
+                  {"bufferView": 0, "byteOffset": 12, "componentType": 5126, "count": 4, "type": "VEC3"},
+                  {"bufferView": 1, "componentType": 5121, "normalized": true, "count": 4, "type": "VEC2"},
+                  {"bufferView": 2, "componentType": 5121, "count": 6, "type": "SCALAR"}],
+    "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 96, "byteStride": 24},
+                    {"buffer": 0, "byteOffset": 96, "byteLength": 16, "byteStride": 4},
+                    {"buffer": 0, "byteOffset": 112, "byteLength": 6}],
+    "buffers": [{"byteLength": 120}]})";
+  std::string paddedJson = json;
+  while (paddedJson.size() % 4 != 0) paddedJson += ' ';
+  std::string glb = "glTF";
+  append<uint32_t>(glb, {2, static_cast<uint32_t>(12 + 8 + paddedJson.size() + 8 + bin.size())});
+  append<uint32_t>(glb, {static_cast<uint32_t>(paddedJson.size()), 0x4E4F534Au});  // "JSON"
+  glb += paddedJson;
+  append<uint32_t>(glb, {static_cast<uint32_t>(bin.size()), 0x004E4942u});  // "BIN"
+  glb += bin;
+
+  const Scene scene = loadGltf(write("quad.glb", glb));
+  // The points primitive is skipped.
+  ASSERT_EQ(scene.meshes.size(), 1u);
+  const Mesh& mesh = scene.meshes[0];
+  ASSERT_EQ(mesh.vertices.size(), 4u);
+  EXPECT_EQ(mesh.indices, (std::vector<uint32_t>{0, 1, 2, 0, 2, 3}));
+  expectNear(mesh.vertices[2].position, {1.0f, 0.0f, -1.0f});
+  expectNear(mesh.vertices[2].normal, {0.0f, 1.0f, 0.0f});
+  EXPECT_FLOAT_EQ(mesh.vertices[2].uv.x, 1.0f);
+  EXPECT_FLOAT_EQ(mesh.vertices[2].uv.y, 1.0f);
+  EXPECT_FLOAT_EQ(mesh.vertices[1].uv.y, 0.0f);
+  ASSERT_EQ(scene.materials.size(), 1u);
+  EXPECT_EQ(scene.materials[0].name, "glowing");
+  expectNear(scene.materials[0].baseColor, {0.5f, 0.25f, 0.125f});
+  expectNear(scene.materials[0].emission, {4.0f, 2.0f, 0.0f});
+  EXPECT_EQ(scene.materials[0].baseColorTexture, kNoTexture);
+}
+
+TEST_F(GltfFiles, storesBaseColorTexturesAsRgba8EvenFromGreyImages) {
+  // A 2×1 8-bit greyscale PNG with the values 0 and 200.
+  const std::string greyPng =
+      "data:image/"
+      "png;base64,iVBORw0KGgoAAAANSUhEUgAAAAIAAAABCAAAAADRSSBWAAAAC0lEQVR4nGNgOAEAAMsAyWnIw2wAAAAASUVORK5CYII=";
+  std::string document =
+      triangleDocument(R"([{"mesh": 0}])", dataUri(triangleBuffer()),
+                       R"(, "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
+      "textures": [{"source": 0}], "images": [{"name": "grey", "uri": ")" +
+                           greyPng + "\"}]");
+  document = replaced(document, R"("indices": 1})", R"("indices": 1, "material": 0})");
+  const Scene scene = loadGltf(write("textured.gltf", document));
+  ASSERT_EQ(scene.textures.size(), 1u);
+  const Texture& texture = scene.textures[0];
+  EXPECT_EQ(texture.name, "grey");
+  EXPECT_EQ(texture.width, 2u);
+  EXPECT_EQ(texture.height, 1u);
+  EXPECT_EQ(texture.rgba, (std::vector<uint8_t>{0, 0, 0, 255, 200, 200, 200, 255}));
+  EXPECT_EQ(scene.materials[0].baseColorTexture, 0u);
+}
+
+// ---- Broken files ----
+
+TEST_F(GltfFiles, missingFileIsAnError) {
+  const std::string message = loadError(folder_ / "absent.gltf");
+  EXPECT_NE(message.find("not found"), std::string::npos) << message;
+}
+
+TEST_F(GltfFiles, malformedJsonIsAnError) {
+  loadError(write("malformed.gltf", R"({"asset": {"version": "2.0"}, "nodes": [{"mesh": 0},)"));
+}
+
+TEST_F(GltfFiles, missingBufferFileIsAnError) {
+  loadError(write("nobuffer.gltf", triangleDocument(R"([{"mesh": 0}])", "absent.bin")));
+}
+
+TEST_F(GltfFiles, bufferTooShortForAnAccessorIsAnError) {
+  // The buffer file holds 20 of the 42 bytes the buffer views cover.
+  write("short.bin", triangleBuffer().substr(0, 20));
+  const std::string shortBuffer =
+      replaced(triangleDocument(R"([{"mesh": 0}])", "short.bin"), R"("byteLength": 44)", R"("byteLength": 20)");
+  const std::string message = loadError(write("short.gltf", shortBuffer));
+  EXPECT_NE(message.find("bufferView 0"), std::string::npos) << message;
+  // The buffer is whole but an accessor claims more elements than its view holds.
+  const std::string longAccessor = replaced(triangleDocument(R"([{"mesh": 0}])", dataUri(triangleBuffer())),
+                                            R"("count": 3, "type": "VEC3")", R"("count": 300, "type": "VEC3")");
+  EXPECT_NE(loadError(write("long.gltf", longAccessor)).find("accessor 0"), std::string::npos);
+}
+
+TEST_F(GltfFiles, accessorIndexOutOfRangeIsAnError) {
+  const std::string document =
+      replaced(triangleDocument(R"([{"mesh": 0}])", dataUri(triangleBuffer())), R"("POSITION": 0)", R"("POSITION": 7)");
+  const std::string message = loadError(write("badaccessor.gltf", document));
+  EXPECT_NE(message.find("accessor 7"), std::string::npos) << message;
+}
+
+TEST_F(GltfFiles, indexBeyondTheVerticesIsAnError) {
+  std::string buffer = triangleBuffer();
+  buffer[38] = 9;  // the second index
+  loadError(write("badindex.gltf", triangleDocument(R"([{"mesh": 0}])", dataUri(buffer))));
+}
+
+TEST_F(GltfFiles, glbWithABadHeaderIsAnError) {
+  std::string glb = "glTX";
+  append<uint32_t>(glb, {2, 64, 0, 0});
+  glb.resize(64, ' ');
+  loadError(write("badheader.glb", glb));
+}
+
+TEST_F(GltfFiles, fileWithoutTrianglesIsAnError) {
+  const std::string points = replaced(triangleDocument(R"([{"mesh": 0}])", dataUri(triangleBuffer())),
+                                      R"("indices": 1})", R"("indices": 1, "mode": 0})");
+  const std::string message = loadError(write("points.gltf", points));
+  EXPECT_NE(message.find("no triangle"), std::string::npos) << message;
+}
+
+TEST_F(GltfFiles, undecodableImageIsAnError) {
+  std::string document =
+      triangleDocument(R"([{"mesh": 0}])", dataUri(triangleBuffer()),
+                       R"(, "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
+      "textures": [{"source": 0}], "images": [{"uri": "absent.png"}])");
+  document = replaced(document, R"("indices": 1})", R"("indices": 1, "material": 0})");
+  const std::string message = loadError(write("noimage.gltf", document));
+  EXPECT_NE(message.find("absent.png"), std::string::npos) << message;
+}
+
+}  // namespace
+}  // namespace ssvgi::renderer
