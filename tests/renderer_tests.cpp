@@ -1,0 +1,309 @@
+// The host renderer against analytic values: a point light, a spot light and the sun over a plane, hard shadows,
+// reversed-Z depth and the reconstruction of positions from it.
+#include "gpu_test_device.h"
+#include "renderer.h"
+#include "scene_geometry.h"
+
+#include <glm/gtc/constants.hpp>
+
+#include <cmath>
+#include <optional>
+
+namespace ssvgi {
+namespace {
+
+using renderer::Scene;
+
+constexpr uint32_t kWidth = 160;
+constexpr uint32_t kHeight = 120;
+constexpr float kPlaneHalfSize = 10.0f;
+
+struct Box {
+  glm::vec3 min;
+  glm::vec3 max;
+};
+
+// A 20×20 m white slab whose top face is the plane y = 0, plus optional occluder boxes, seen from (0, 6, 6).
+Scene planeScene(const std::vector<Box>& occluders = {}) {
+  Scene scene;
+  scene.name = "test plane";
+  scene.materials.push_back({"white", glm::vec3(0.8f)});
+  renderer::MeshBuilder builder;
+  builder.addBox(glm::vec3(-kPlaneHalfSize, -0.1f, -kPlaneHalfSize), glm::vec3(kPlaneHalfSize, 0.0f, kPlaneHalfSize));
+  for (const Box& box : occluders) builder.addBox(box.min, box.max);
+  scene.meshes.push_back(std::move(builder).build("plane", 0));
+  scene.instances.push_back({0, glm::mat4(1.0f)});
+  renderer::Camera camera;
+  camera.position = {0.0f, 6.0f, 6.0f};
+  camera.target = {0.0f, 0.0f, 0.0f};
+  camera.verticalFov = glm::radians(60.0f);
+  scene.cameras.push_back(camera);
+  return scene;
+}
+
+// The camera ray through a pixel centre, built from the camera's basis (independently of the renderer's matrices).
+glm::vec3 pixelRay(const renderer::Camera& camera, uint32_t x, uint32_t y) {
+  const glm::vec3 forward = glm::normalize(camera.target - camera.position);
+  const glm::vec3 right = glm::normalize(glm::cross(forward, camera.up));
+  const glm::vec3 up = glm::cross(right, forward);
+  const float tanHalf = std::tan(camera.verticalFov * 0.5f);
+  const float ndcX = (2.0f * (float(x) + 0.5f) / float(kWidth) - 1.0f) * tanHalf * float(kWidth) / float(kHeight);
+  const float ndcY = (1.0f - 2.0f * (float(y) + 0.5f) / float(kHeight)) * tanHalf;
+  return glm::normalize(forward + right * ndcX + up * ndcY);
+}
+
+// Where the pixel's ray meets the plane y = 0, well inside the slab (away from its edges).
+std::optional<glm::vec3> planeHit(const renderer::Camera& camera, uint32_t x, uint32_t y) {
+  const glm::vec3 ray = pixelRay(camera, x, y);
+  if (ray.y >= 0.0f) return std::nullopt;
+  const glm::vec3 hit = camera.position + ray * (-camera.position.y / ray.y);
+  if (std::abs(hit.x) > kPlaneHalfSize - 1.0f || std::abs(hit.z) > kPlaneHalfSize - 1.0f) return std::nullopt;
+  return hit;
+}
+
+// Whether the segment a→b passes through the box (slab test).
+bool segmentHitsBox(glm::vec3 a, glm::vec3 b, const Box& box) {
+  float enter = 0.0f, exit = 1.0f;
+  const glm::vec3 d = b - a;
+  for (int axis = 0; axis < 3; ++axis) {
+    if (std::abs(d[axis]) < 1e-9f) {
+      if (a[axis] < box.min[axis] || a[axis] > box.max[axis]) return false;
+      continue;
+    }
+    float t0 = (box.min[axis] - a[axis]) / d[axis];
+    float t1 = (box.max[axis] - a[axis]) / d[axis];
+    if (t0 > t1) std::swap(t0, t1);
+    enter = std::max(enter, t0);
+    exit = std::min(exit, t1);
+  }
+  return enter < exit;
+}
+
+Box grown(const Box& box, float margin) { return {box.min - margin, box.max + margin}; }
+
+// Margin around occluders inside which the filtered shadow edge (a few shadow texels wide) may take any value.
+constexpr float kPenumbraMargin = 0.06f;
+
+// The direct irradiance at a plane point from point lights (position, intensity) and an optional sun (direction,
+// illuminance), with occluders casting hard shadows; nothing where the point is near any shadow edge.
+struct PointLightOracle {
+  glm::vec3 position;
+  float intensity;
+};
+std::optional<float> expectedIrradiance(glm::vec3 hit, const std::vector<PointLightOracle>& lights,
+                                        const std::vector<Box>& occluders, glm::vec3 sunDirection = glm::vec3(0.0f),
+                                        float sunIlluminance = 0.0f) {
+  const glm::vec3 normal(0.0f, 1.0f, 0.0f);
+  auto visibility = [&](glm::vec3 target) -> std::optional<float> {
+    for (const Box& box : occluders) {
+      if (segmentHitsBox(hit, target, grown(box, -kPenumbraMargin))) return 0.0f;
+      if (segmentHitsBox(hit, target, grown(box, kPenumbraMargin))) return std::nullopt;
+    }
+    return 1.0f;
+  };
+  float irradiance = 0.0f;
+  for (const auto& light : lights) {
+    const glm::vec3 toLight = light.position - hit;
+    const auto visible = visibility(light.position);
+    if (!visible) return std::nullopt;
+    irradiance += *visible * light.intensity * glm::dot(normal, glm::normalize(toLight)) / glm::dot(toLight, toLight);
+  }
+  if (sunIlluminance > 0.0f) {
+    const auto visible = visibility(hit + sunDirection * 1000.0f);
+    if (!visible) return std::nullopt;
+    irradiance += *visible * sunIlluminance * glm::dot(normal, sunDirection);
+  }
+  return irradiance;
+}
+
+// Pixels whose surface is the plane, not hidden from the camera by an occluder.
+template <typename Check>
+void forEachVisiblePlanePixel(const renderer::Camera& camera, const std::vector<Box>& occluders, Check check) {
+  for (uint32_t y = 0; y < kHeight; ++y) {
+    for (uint32_t x = 0; x < kWidth; ++x) {
+      const auto hit = planeHit(camera, x, y);
+      if (!hit) continue;
+      bool hidden = false;
+      for (const Box& box : occluders) hidden |= segmentHitsBox(camera.position, *hit, grown(box, 0.05f));
+      if (!hidden) check(x, y, *hit);
+    }
+  }
+}
+
+float channel(const renderer::FloatImage& image, uint32_t x, uint32_t y, uint32_t c = 0) {
+  return image.pixels[(size_t(y) * image.width + x) * image.channels + c];
+}
+
+class RendererAnalytic : public testing::GpuTest {
+ protected:
+  renderer::Renderer& render(const Scene& scene) {
+    renderer::RendererSettings settings;
+    settings.width = kWidth;
+    settings.height = kHeight;
+    renderer_.emplace(device(), scene, settings);
+    renderer_->render(renderer::evaluateAnimation(scene, scene.cameras[0], 0.0f));
+    return *renderer_;
+  }
+  std::optional<renderer::Renderer> renderer_;
+};
+
+TEST_F(RendererAnalytic, pointLightOverAPlaneMatchesTheInverseSquareCosineLaw) {
+  Scene scene = planeScene();
+  const glm::vec3 lightPosition(0.0f, 2.0f, 0.0f);
+  const float intensity = 10.0f;  // W/sr
+  scene.lights.push_back({"point", renderer::LightType::Point, lightPosition, {0, -1, 0}, glm::vec3(intensity)});
+  auto& renderer = render(scene);
+  const auto irradiance = renderer.directIrradiance();
+  const auto distance = renderer.viewDistance();
+
+  uint32_t checked = 0;
+  float worstError = 0.0f;
+  for (uint32_t y = 0; y < kHeight; ++y) {
+    for (uint32_t x = 0; x < kWidth; ++x) {
+      const auto hit = planeHit(scene.cameras[0], x, y);
+      if (!hit) continue;
+      const glm::vec3 toLight = lightPosition - *hit;
+      const float expected = intensity * (toLight.y / glm::length(toLight)) / glm::dot(toLight, toLight);
+      for (uint32_t c = 0; c < 3; ++c) {
+        const float error = std::abs(channel(irradiance, x, y, c) - expected) / expected;
+        worstError = std::max(worstError, error);
+        ASSERT_LT(error, 0.01f) << "pixel " << x << "," << y << " channel " << c;
+      }
+      // Positions reconstructed from reversed-Z depth: the view distance is exact to float precision.
+      ASSERT_NEAR(channel(distance, x, y), glm::length(*hit - scene.cameras[0].position), 1e-3f);
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, kWidth * kHeight / 3);
+  RecordProperty("worstRelativeError", std::to_string(worstError));
+}
+
+TEST_F(RendererAnalytic, shadowedPointsGetExactlyZeroDirectLight) {
+  const std::vector<Box> occluders{{{-0.3f, 0.9f, -0.3f}, {0.3f, 1.1f, 0.3f}}};
+  Scene scene = planeScene(occluders);
+  const PointLightOracle light{{0.0f, 2.0f, 0.0f}, 10.0f};
+  scene.lights.push_back({"point", renderer::LightType::Point, light.position, {0, -1, 0}, glm::vec3(light.intensity)});
+  const auto irradiance = render(scene).directIrradiance();
+
+  uint32_t umbra = 0, lit = 0;
+  forEachVisiblePlanePixel(scene.cameras[0], occluders, [&](uint32_t x, uint32_t y, glm::vec3 hit) {
+    const auto expected = expectedIrradiance(hit, {light}, occluders);
+    if (!expected) return;
+    if (*expected == 0.0f) {
+      ASSERT_EQ(channel(irradiance, x, y), 0.0f) << "pixel " << x << "," << y << " is in the umbra";
+      ++umbra;
+    } else {
+      ASSERT_NEAR(channel(irradiance, x, y), *expected, 0.01f * *expected) << "pixel " << x << "," << y << " is lit";
+      ++lit;
+    }
+  });
+  EXPECT_GT(umbra, 50u);
+  EXPECT_GT(lit, 1000u);
+}
+
+TEST_F(RendererAnalytic, eightShadowedPointLightsAddUpWithEachShadowInItsOwnLayers) {
+  // 8 point lights use all 48 layers of the local shadow array; an occluder under the last one checks that its
+  // shadow comes from its own cube faces (layers 42–47), not another light's.
+  std::vector<PointLightOracle> lights;
+  for (int i = 0; i < 8; ++i) {
+    const float angle = float(i) * glm::two_pi<float>() / 8.0f;
+    lights.push_back({{4.0f * std::cos(angle), 1.5f + 0.1f * float(i), 4.0f * std::sin(angle)}, 2.0f + float(i)});
+  }
+  const glm::vec3 last = lights.back().position;
+  const std::vector<Box> occluders{{last - glm::vec3(0.3f, 0.8f, 0.3f), last - glm::vec3(-0.3f, 0.6f, -0.3f)}};
+  Scene scene = planeScene(occluders);
+  for (const auto& light : lights)
+    scene.lights.push_back({"point", renderer::LightType::Point, light.position, {0, -1, 0}, glm::vec3(light.intensity)});
+  auto& renderer = render(scene);
+  EXPECT_EQ(renderer.unshadowedLightCount(), 0u);
+  const auto irradiance = renderer.directIrradiance();
+
+  uint32_t inLastShadow = 0, checked = 0;
+  forEachVisiblePlanePixel(scene.cameras[0], occluders, [&](uint32_t x, uint32_t y, glm::vec3 hit) {
+    const auto expected = expectedIrradiance(hit, lights, occluders);
+    if (!expected) return;
+    ASSERT_NEAR(channel(irradiance, x, y), *expected, 0.01f * *expected) << "pixel " << x << "," << y;
+    inLastShadow += segmentHitsBox(hit, last, occluders[0]);
+    ++checked;
+  });
+  EXPECT_GT(inLastShadow, 20u);
+  EXPECT_GT(checked, 1000u);
+}
+
+TEST_F(RendererAnalytic, spotLightIsFullInsideItsInnerConeAndZeroOutsideItsOuterCone) {
+  Scene scene = planeScene();
+  renderer::LocalLight spot{"spot", renderer::LightType::Spot, {0.0f, 3.0f, 0.0f}, {0.0f, -1.0f, 0.0f}, glm::vec3(20.0f)};
+  spot.innerConeAngle = glm::radians(20.0f);
+  spot.outerConeAngle = glm::radians(30.0f);
+  scene.lights.push_back(spot);
+  auto& renderer = render(scene);
+  const auto irradiance = renderer.directIrradiance();
+
+  uint32_t inside = 0, outside = 0;
+  for (uint32_t y = 0; y < kHeight; ++y) {
+    for (uint32_t x = 0; x < kWidth; ++x) {
+      const auto hit = planeHit(scene.cameras[0], x, y);
+      if (!hit) continue;
+      const glm::vec3 toLight = spot.position - *hit;
+      const float angle = std::acos(toLight.y / glm::length(toLight));
+      if (angle < spot.innerConeAngle - 0.02f) {
+        const float expected = 20.0f * (toLight.y / glm::length(toLight)) / glm::dot(toLight, toLight);
+        ASSERT_NEAR(channel(irradiance, x, y), expected, 0.01f * expected);
+        ++inside;
+      } else if (angle > spot.outerConeAngle + 0.02f) {
+        ASSERT_EQ(channel(irradiance, x, y), 0.0f);
+        ++outside;
+      }
+    }
+  }
+  EXPECT_GT(inside, 200u);
+  EXPECT_GT(outside, 1000u);
+}
+
+TEST_F(RendererAnalytic, sunOnAPlaneGivesIlluminanceTimesTheSineOfItsElevationAndNothingInShadow) {
+  const std::vector<Box> occluders{{{-1.0f, 1.0f, -1.0f}, {1.0f, 1.5f, 1.0f}}};
+  Scene scene = planeScene(occluders);
+  scene.sun.enabled = true;
+  scene.sun.direction = renderer::sunDirection(40.0f, 30.0f);
+  const float illuminance = 6.0f;
+  scene.sun.illuminance = glm::vec3(illuminance, 0.8f * illuminance, 0.6f * illuminance);
+  const auto irradiance = render(scene).directIrradiance();
+
+  uint32_t shadowed = 0, lit = 0;
+  forEachVisiblePlanePixel(scene.cameras[0], occluders, [&](uint32_t x, uint32_t y, glm::vec3 hit) {
+    const auto expected = expectedIrradiance(hit, {}, occluders, scene.sun.direction, illuminance);
+    if (!expected) return;
+    for (uint32_t c = 0; c < 3; ++c) {
+      const float expectedChannel = *expected * scene.sun.illuminance[c] / illuminance;
+      ASSERT_NEAR(channel(irradiance, x, y, c), expectedChannel, 0.01f * expectedChannel) << x << "," << y;
+    }
+    (*expected == 0.0f ? shadowed : lit) += 1;
+  });
+  EXPECT_GT(shadowed, 100u);
+  EXPECT_GT(lit, 1000u);
+}
+
+TEST_F(RendererAnalytic, reversedZDepthIsNearOverDistanceAndZeroWhereNothingIsDrawn) {
+  // A wall facing the camera at 5 m along its axis: NDC depth = near / 5 everywhere on it; the sky above is 0.
+  Scene scene;
+  scene.name = "wall";
+  scene.materials.push_back({"white", glm::vec3(0.5f)});
+  renderer::MeshBuilder builder;
+  builder.addBox(glm::vec3(-20.0f, -20.0f, -5.5f), glm::vec3(20.0f, 0.0f, -5.0f));
+  scene.meshes.push_back(std::move(builder).build("wall", 0));
+  scene.instances.push_back({0, glm::mat4(1.0f)});
+  renderer::Camera camera;
+  camera.position = {0.0f, 0.0f, 0.0f};
+  camera.target = {0.0f, 0.0f, -1.0f};
+  camera.nearPlane = 0.1f;
+  scene.cameras.push_back(camera);
+  auto& renderer = render(scene);
+  const auto depth = renderer.depthBuffer();
+  EXPECT_FLOAT_EQ(channel(depth, kWidth / 2, kHeight - 1), 0.1f / 5.0f);  // below the horizon: the wall
+  EXPECT_FLOAT_EQ(channel(depth, 3, kHeight - 3), 0.1f / 5.0f);
+  EXPECT_EQ(channel(depth, kWidth / 2, 0), 0.0f);  // above: nothing, infinitely far
+  EXPECT_EQ(channel(renderer.viewDistance(), kWidth / 2, 0), 0.0f);
+}
+
+}  // namespace
+}  // namespace ssvgi
