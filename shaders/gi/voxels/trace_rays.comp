@@ -1,0 +1,26 @@
+#version 450
+// TraceRays: one thread per ray of a buffer, traced through the voxel scene with the hierarchical or the flat voxel
+// DDA (voxel_trace.glsl), for the tests and for the benchmark that compares the two on the same rays (SPEC §7).
+#include "gi/voxels/voxel_trace.glsl"
+#include "shared/voxel_trace_interface.h"
+
+layout(local_size_x = 64) in;
+
+layout(constant_id = 0) const uint kTraceMethod = kTraceMethodHierarchical;
+
+layout(binding = kBindTraceRaysRays) readonly buffer Rays { VoxelTraceRay rays[]; };
+layout(binding = kBindTraceRaysHits) writeonly buffer Hits { VoxelTraceHit hits[]; };
+
+layout(push_constant) uniform Push { uint rayCount; };
+
+void main() {
+  uint index = gl_GlobalInvocationID.x;
+  if (index >= rayCount) return;
+  vec3 origin = rays[index].originAndMaxDistance.xyz;
+  float maxDistance = rays[index].originAndMaxDistance.w;
+  vec3 direction = rays[index].direction.xyz;
+  VoxelHit hit = kTraceMethod == kTraceMethodFlat ? traceVoxelsFlat(origin, direction, maxDistance)
+                                                  : traceVoxelsHierarchical(origin, direction, maxDistance);
+  hits[index] = VoxelTraceHit(vec4(hit.radiance, hit.distance), vec4(hit.normal, 0.0),
+                              uvec4(hit.brick, hit.voxelIndex, hit.reads, 0u));
+}

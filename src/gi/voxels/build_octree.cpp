@@ -1,0 +1,16 @@
+#include "build_octree.h"
+
+#include "ssvgi_shaders.h"
+
+namespace ssvgi::gi {
+
+BuildOctree::BuildOctree(gpu::Device& device) : pipeline_(device, shaders::build_octree_comp) {}
+
+void BuildOctree::record(gpu::CommandList& commands, const VoxelScene& scene) {
+  auto scope = commands.scope("ssvgi: BuildOctree");
+  const gpu::Bindings bindings = scene.bindings();
+  for (uint32_t level = shader::kFirstGridLevel; level < shader::kOccupancyLevels; ++level)
+    commands.dispatchIndirect(pipeline_, bindings, scene.changedCells(), 0, &level, sizeof(level));
+}
+
+}  // namespace ssvgi::gi

@@ -1,0 +1,22 @@
+#include "trace_rays.h"
+
+#include "ssvgi_shaders.h"
+
+#include <cassert>
+
+namespace ssvgi::gi {
+
+TraceRays::TraceRays(gpu::Device& device, TraceMethod method)
+    : method_(method), pipeline_(device, shaders::trace_rays_comp, {static_cast<uint32_t>(method)}) {}
+
+void TraceRays::record(gpu::CommandList& commands, const VoxelScene& scene, const gpu::Buffer& rays,
+                       const gpu::Buffer& hits, uint32_t rayCount) {
+  assert(rays.size() >= VkDeviceSize(rayCount) * sizeof(shader::VoxelTraceRay));
+  assert(hits.size() >= VkDeviceSize(rayCount) * sizeof(shader::VoxelTraceHit));
+  auto scope = commands.scope("ssvgi: TraceRays");
+  commands.dispatch(pipeline_,
+                    scene.bindings().buffer(shader::kBindTraceRaysRays, rays).buffer(shader::kBindTraceRaysHits, hits),
+                    {rayCount, 1, 1}, rayCount);
+}
+
+}  // namespace ssvgi::gi
