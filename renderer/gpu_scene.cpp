@@ -30,6 +30,14 @@ gpu::Image makeTexture(gpu::Device& device, const std::string& name, uint32_t wi
 
 }  // namespace
 
+shader::GpuMaterial toGpuMaterial(const Material& material, size_t textureCount) {
+  const uint32_t texture = material.baseColorTexture < textureCount ? material.baseColorTexture : kNoTexture;
+  float textureBits = 0.0f;
+  std::memcpy(&textureBits, &texture, sizeof(float));
+  return shader::GpuMaterial{.baseColorAndTexture = glm::vec4(material.baseColor, textureBits),
+                             .emission = glm::vec4(material.emission, 0.0f)};
+}
+
 GpuScene::GpuScene(gpu::Device& device, const Scene& scene)
     : sampler_(device, repeatingLinearSampler(), "scene texture sampler") {
   for (const Texture& texture : scene.textures)
@@ -40,14 +48,9 @@ GpuScene::GpuScene(gpu::Device& device, const Scene& scene)
 
   std::vector<shader::GpuMaterial> materials;
   for (const Material& material : scene.materials) {
-    shader::GpuMaterial gpuMaterial{};
-    const uint32_t texture = material.baseColorTexture < scene.textures.size() ? material.baseColorTexture : kNoTexture;
-    float textureBits = 0.0f;
-    std::memcpy(&textureBits, &texture, sizeof(float));
-    gpuMaterial.baseColorAndTexture = glm::vec4(material.baseColor, textureBits);
-    gpuMaterial.emission = glm::vec4(material.emission, 0.0f);
-    materials.push_back(gpuMaterial);
-    materialTextures_.push_back(texture);
+    materials.push_back(toGpuMaterial(material, scene.textures.size()));
+    materialTextures_.push_back(material.baseColorTexture < scene.textures.size() ? material.baseColorTexture
+                                                                                  : kNoTexture);
   }
   if (materials.empty()) throw gpu::GpuError("scene '" + scene.name + "' has no materials");
 

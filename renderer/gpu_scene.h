@@ -7,6 +7,9 @@
 
 namespace ssvgi::renderer {
 
+// A material as the shaders read it; a texture index past the scene's `textureCount` textures counts as none.
+shader::GpuMaterial toGpuMaterial(const Material& material, size_t textureCount);
+
 // One indexed draw: an instance of a mesh.
 struct Draw {
   uint32_t instance;

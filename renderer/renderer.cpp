@@ -23,6 +23,8 @@ gpu::Image storageImage(gpu::Device& device, const char* name, VkFormat format, 
   return gpu::Image(device, {name, format, width, height, 1, 1, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT});
 }
 
+}  // namespace
+
 shader::GpuLight toGpuLight(const LocalLight& light) {
   shader::GpuLight gpuLight{};
   const uint32_t type = light.type == LightType::Point ? shader::kLightPoint : shader::kLightSpot;
@@ -33,7 +35,24 @@ shader::GpuLight toGpuLight(const LocalLight& light) {
   return gpuLight;
 }
 
-}  // namespace
+shader::FrameConstants makeFrameConstants(const Scene& scene, const AnimatedState& state, uint32_t width,
+                                          uint32_t height, float exposure) {
+  const float aspect = float(width) / float(height);
+  const glm::mat4 viewProjection =
+      reversedZInfiniteProjection(state.camera.verticalFov, aspect, state.camera.nearPlane) * viewMatrix(state.camera);
+  shader::FrameConstants frame{};
+  frame.viewProjection = viewProjection;
+  frame.inverseViewProjection = glm::inverse(viewProjection);
+  frame.previousViewProjection = viewProjection;
+  frame.cameraPositionAndNear = glm::vec4(state.camera.position, state.camera.nearPlane);
+  frame.cameraForward = glm::vec4(glm::normalize(state.camera.target - state.camera.position), 0.0f);
+  frame.viewportSize = glm::vec4(width, height, 1.0f / float(width), 1.0f / float(height));
+  frame.sunDirectionAndEnabled = glm::vec4(glm::normalize(state.sun.direction), state.sun.enabled ? 1.0f : 0.0f);
+  frame.sunIlluminance = glm::vec4(state.sun.illuminance, 0.0f);
+  frame.lightCountAndExposure = glm::vec4(float(scene.lights.size()), exposure, 0.0f, 0.0f);
+  frame.sky = makeSkyParameters(scene.sky, state.sun);
+  return frame;
+}
 
 Renderer::Renderer(gpu::Device& device, const Scene& scene, const RendererSettings& settings)
     : device_(device),
@@ -69,20 +88,8 @@ void Renderer::render(const AnimatedState& state) {
   descriptors_.reset();
   gpuScene_.updateInstances(scene_, state);
 
-  const float aspect = float(settings_.width) / float(settings_.height);
-  const glm::mat4 viewProjection =
-      reversedZInfiniteProjection(state.camera.verticalFov, aspect, state.camera.nearPlane) * viewMatrix(state.camera);
-  shader::FrameConstants frame{};
-  frame.viewProjection = viewProjection;
-  frame.inverseViewProjection = glm::inverse(viewProjection);
-  frame.previousViewProjection = firstFrame_ ? viewProjection : previousViewProjection_;
-  frame.cameraPositionAndNear = glm::vec4(state.camera.position, state.camera.nearPlane);
-  frame.cameraForward = glm::vec4(glm::normalize(state.camera.target - state.camera.position), 0.0f);
-  frame.viewportSize = glm::vec4(settings_.width, settings_.height, 1.0f / float(settings_.width), 1.0f / float(settings_.height));
-  frame.sunDirectionAndEnabled = glm::vec4(glm::normalize(state.sun.direction), state.sun.enabled ? 1.0f : 0.0f);
-  frame.sunIlluminance = glm::vec4(state.sun.illuminance, 0.0f);
-  frame.lightCountAndExposure = glm::vec4(float(scene_.lights.size()), settings_.exposure, 0.0f, 0.0f);
-  frame.sky = makeSkyParameters(scene_.sky, state.sun);
+  shader::FrameConstants frame = makeFrameConstants(scene_, state, settings_.width, settings_.height, settings_.exposure);
+  if (!firstFrame_) frame.previousViewProjection = previousViewProjection_;
 
   std::vector<shader::GpuLight> lights;
   for (const LocalLight& light : scene_.lights) lights.push_back(toGpuLight(light));
@@ -103,12 +110,12 @@ void Renderer::render(const AnimatedState& state) {
     tonemap_.record(commands, frameConstants_, finalRadiance_, tonemapped_);
   });
   timings_ = profiler_.resolve();
-  previousViewProjection_ = viewProjection;
+  previousViewProjection_ = frame.viewProjection;
   firstFrame_ = false;
 }
 
-FloatImage Renderer::read(const gpu::Image& image, uint32_t channels) {
-  const auto bytes = gpu::readImage(device_, image);
+FloatImage readFloatImage(gpu::Device& device, const gpu::Image& image, uint32_t channels) {
+  const auto bytes = gpu::readImage(device, image);
   const gpu::ImageDesc& desc = image.desc();
   const size_t texels = size_t(desc.width) * desc.height;
   FloatImage result{desc.width, desc.height, channels, std::vector<float>(texels * channels)};
@@ -136,13 +143,13 @@ FloatImage Renderer::read(const gpu::Image& image, uint32_t channels) {
   return result;
 }
 
-FloatImage Renderer::finalRadiance() { return read(finalRadiance_, 3); }
-FloatImage Renderer::directIrradiance() { return read(directIrradiance_, 3); }
-FloatImage Renderer::indirectIrradiance() { return read(indirectUsed_, 3); }
-FloatImage Renderer::albedo() { return read(gbuffer_.albedo, 3); }
-FloatImage Renderer::normal() { return read(gbuffer_.normal, 3); }
-FloatImage Renderer::viewDistance() { return read(viewDistance_, 1); }
-FloatImage Renderer::depthBuffer() { return read(gbuffer_.depth, 1); }
+FloatImage Renderer::finalRadiance() { return readFloatImage(device_, finalRadiance_, 3); }
+FloatImage Renderer::directIrradiance() { return readFloatImage(device_, directIrradiance_, 3); }
+FloatImage Renderer::indirectIrradiance() { return readFloatImage(device_, indirectUsed_, 3); }
+FloatImage Renderer::albedo() { return readFloatImage(device_, gbuffer_.albedo, 3); }
+FloatImage Renderer::normal() { return readFloatImage(device_, gbuffer_.normal, 3); }
+FloatImage Renderer::viewDistance() { return readFloatImage(device_, viewDistance_, 1); }
+FloatImage Renderer::depthBuffer() { return readFloatImage(device_, gbuffer_.depth, 1); }
 
 std::vector<uint8_t> Renderer::tonemapped() {
   const auto bytes = gpu::readImage(device_, tonemapped_);

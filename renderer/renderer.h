@@ -11,6 +11,16 @@
 
 namespace ssvgi::renderer {
 
+// The per-frame constants of a view of the scene (camera matrices, sun, sky, local light count, exposure), with no
+// previous frame and no shadow maps yet. Shared with the reference path tracer so that both see the same camera and
+// lights through the same numbers.
+shader::FrameConstants makeFrameConstants(const Scene& scene, const AnimatedState& state, uint32_t width,
+                                          uint32_t height, float exposure);
+// A local light as the shaders read it (intensityAndShadow.w, the shadow layer, is left for the shadow pass).
+shader::GpuLight toGpuLight(const LocalLight& light);
+// Reads back an rgba32f, r32f, D32 or rgba16f image's first `channels` channels.
+FloatImage readFloatImage(gpu::Device& device, const gpu::Image& image, uint32_t channels);
+
 struct RendererSettings {
   uint32_t width = 1280;
   uint32_t height = 720;
@@ -42,8 +52,6 @@ class Renderer {
   std::vector<uint8_t> tonemapped();  // RGBA8, sRGB
 
  private:
-  FloatImage read(const gpu::Image& image, uint32_t channels);
-
   gpu::Device& device_;
   const Scene& scene_;
   RendererSettings settings_;

@@ -9,6 +9,7 @@ namespace ssvgi::cli {
 // Adds the command's options to `app` and returns what runs it; the runner returns the process exit code.
 using CommandRunner = std::function<int()>;
 CommandRunner addRenderCommand(CLI::App& app);
+CommandRunner addReferenceCommand(CLI::App& app);
 CommandRunner addCompareCommand(CLI::App& app);
 CommandRunner addInfoCommand(CLI::App& app);
 

@@ -1,17 +1,13 @@
 #include "commands.h"
+#include "output_files.h"
 #include "scene_options.h"
 
 #include "gpu/device.h"
-#include "image_io.h"
 #include "renderer.h"
 
 #include <nlohmann/json.hpp>
 
-#include <unistd.h>
-
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <memory>
 
 namespace ssvgi::cli {
@@ -29,30 +25,12 @@ struct RenderOptions {
   std::string out = "out";
 };
 
-void drawProgress(const std::string& label, uint32_t done, uint32_t total) {
-  if (!isatty(STDERR_FILENO)) return;
-  constexpr int kWidth = 30;
-  const int filled = int(kWidth * double(done) / double(total));
-  std::fprintf(stderr, "\r%s [%s%s] %u/%u", label.c_str(), std::string(size_t(filled), '#').c_str(),
-               std::string(size_t(kWidth - filled), ' ').c_str(), done, total);
-  if (done == total) std::fprintf(stderr, "\n");
-}
-
 nlohmann::json statsJson(const gpu::Device& device, const RenderOptions& options, const ResolvedScene& resolved,
                          const renderer::Renderer& renderer) {
-  nlohmann::json stats;
-  stats["device"] = device.description();
-  stats["scene"] = options.scene.scene;
-  stats["width"] = resolved.width;
-  stats["height"] = resolved.height;
+  nlohmann::json stats = sceneStats(device, options.scene, resolved);
   stats["frames"] = options.frames;
   stats["gi"] = options.gi;
   stats["tier"] = options.tier;
-  size_t triangles = 0;
-  for (const auto& instance : resolved.scene.instances)
-    triangles += resolved.scene.meshes[instance.mesh].indices.size() / 3;
-  stats["sceneTriangles"] = triangles;
-  stats["localLights"] = resolved.scene.lights.size();
   stats["unshadowedLocalLights"] = renderer.unshadowedLightCount();
   double frameMilliseconds = 0.0;
   nlohmann::json passes = nlohmann::json::object();
@@ -61,13 +39,6 @@ nlohmann::json statsJson(const gpu::Device& device, const RenderOptions& options
     frameMilliseconds += timing.milliseconds;
   }
   stats["gpuMilliseconds"] = {{"passes", passes}, {"frame", frameMilliseconds}};
-  nlohmann::json memory = nlohmann::json::object();
-  VkDeviceSize total = 0;
-  for (const auto& [name, bytes] : device.allocations()) {
-    memory[name] = bytes;
-    total += bytes;
-  }
-  stats["memoryBytes"] = {{"resources", memory}, {"total", total}};
   return stats;
 }
 
@@ -89,26 +60,17 @@ int runRender(const RenderOptions& options) {
     drawProgress(label, frame + 1, options.frames);
   }
 
-  const std::filesystem::path out(options.out);
-  std::error_code error;
-  std::filesystem::create_directories(out, error);
-  if (error) throw std::runtime_error("--out " + options.out + ": cannot create the directory (" + error.message() + ")");
-  renderer::writePng(out / "final.png", resolved.width, resolved.height, renderer.tonemapped());
-  renderer::writeExr(out / "final.exr", renderer.finalRadiance());
-  renderer::writeExr(out / "irradiance_direct.exr", renderer.directIrradiance());
-  renderer::writeExr(out / "irradiance_indirect.exr", renderer.indirectIrradiance());
-  renderer::writeExr(out / "albedo.exr", renderer.albedo());
-  renderer::writeExr(out / "normal.exr", renderer.normal());
-  renderer::writeExr(out / "depth.exr", renderer.viewDistance());
-  std::ofstream(out / "stats.json") << statsJson(device, options, resolved, renderer).dump(2) << "\n";
+  writeRenderedImages(options.out,
+                      RenderedImages{renderer.finalRadiance(), renderer.directIrradiance(),
+                                     renderer.indirectIrradiance(), renderer.albedo(), renderer.normal(),
+                                     renderer.viewDistance(), renderer.tonemapped()},
+                      statsJson(device, options, resolved, renderer));
 
   if (options.scene.validation && device.validationErrorCount() > 0) {
     std::fprintf(stderr, "ssvgi: %u Vulkan validation errors\n", device.validationErrorCount());
     return 1;
   }
-  std::printf("wrote %s (final.png, final.exr, irradiance_direct.exr, irradiance_indirect.exr, albedo.exr, "
-              "normal.exr, depth.exr, stats.json) on %s\n",
-              out.string().c_str(), device.description().c_str());
+  std::printf("wrote %s (%s) on %s\n", options.out.c_str(), kRenderedFileList, device.description().c_str());
   return 0;
 }
 

@@ -1,0 +1,194 @@
+// The reference path tracer's view of the scene, included by its passes: the scene's buffers, BVH traversal, the
+// surface at a hit (two-sided, textured, as the G-buffer shades it) and the direct light from the delta lights with
+// shadow rays. Exact visibility replaces the renderer's shadow maps; everything else is the renderer's own light model.
+#include "shared/path_tracer_interface.h"
+#include "shared/renderer_interface.h"
+
+layout(binding = kBindTraceFrame) uniform Frame { FrameConstants frame; };
+layout(binding = kBindTraceNodes) readonly buffer Nodes { BvhNode nodes[]; };
+layout(binding = kBindTraceTriangles) readonly buffer Triangles { TraceTriangle triangles[]; };
+layout(binding = kBindTraceShading) readonly buffer Shading { TriangleShading shading[]; };
+layout(binding = kBindTraceMaterials) readonly buffer Materials { GpuMaterial materials[]; };
+layout(binding = kBindTraceTextures) readonly buffer Textures { PackedTexture textures[]; };
+layout(binding = kBindTraceTexels) readonly buffer Texels { uint texels[]; };
+layout(binding = kBindTraceLights) readonly buffer Lights { GpuLight lights[]; };
+
+const float kInfiniteDistance = 3.0e38;
+
+struct RayHit {
+  float distance;      // along the (unit) ray direction
+  uint triangle;
+  vec2 barycentrics;   // weights of vertices 1 and 2
+};
+
+// Nearest hit in (0, maxDistance), or with `anyHit` the first one found (shadow rays only ask whether there is one).
+// Stack-based traversal of the flat BVH, nearer child first, so that a near hit prunes the far subtrees early.
+bool traceRay(vec3 origin, vec3 direction, float maxDistance, bool anyHit, out RayHit hit) {
+  hit.distance = maxDistance;
+  hit.triangle = 0u;
+  hit.barycentrics = vec2(0.0);
+  bool found = false;
+  vec3 inverseDirection = safeInverseDirection(direction);
+  vec2 rootSpan = intersectBounds(origin, inverseDirection, nodes[0].boundsMinAndFirst.xyz,
+                                  nodes[0].boundsMaxAndCount.xyz);
+  if (rootSpan.x > rootSpan.y || rootSpan.y < 0.0 || rootSpan.x >= maxDistance) return false;
+
+  // The subtrees still to visit, with the distance at which the ray enters each: a subtree is skipped without
+  // reloading its node when a hit nearer than that has been found since it was pushed.
+  uint stackNodes[kBvhMaxDepth];
+  float stackEntries[kBvhMaxDepth];
+  uint stackSize = 0u;
+  uint node = 0u;
+  while (true) {
+    BvhNode current = nodes[node];
+    uint count = floatBitsToUint(current.boundsMaxAndCount.w);
+    uint first = floatBitsToUint(current.boundsMinAndFirst.w);
+    if (count > 0u) {
+      for (uint i = first; i < first + count; ++i) {
+        TraceTriangle triangle = triangles[i];
+        vec3 tuv = intersectTriangle(origin, direction, triangle.vertex0.xyz, triangle.edge1.xyz, triangle.edge2.xyz);
+        if (tuv.x > 0.0 && tuv.x < hit.distance) {
+          hit.distance = tuv.x;
+          hit.triangle = i;
+          hit.barycentrics = tuv.yz;
+          found = true;
+          if (anyHit) return true;
+        }
+      }
+    } else {
+      BvhNode left = nodes[first];
+      BvhNode right = nodes[first + 1u];
+      vec2 leftSpan = intersectBounds(origin, inverseDirection, left.boundsMinAndFirst.xyz, left.boundsMaxAndCount.xyz);
+      vec2 rightSpan =
+          intersectBounds(origin, inverseDirection, right.boundsMinAndFirst.xyz, right.boundsMaxAndCount.xyz);
+      bool enterLeft = leftSpan.x <= leftSpan.y && leftSpan.y >= 0.0 && leftSpan.x < hit.distance;
+      bool enterRight = rightSpan.x <= rightSpan.y && rightSpan.y >= 0.0 && rightSpan.x < hit.distance;
+      if (enterLeft && enterRight) {
+        bool leftFirst = leftSpan.x <= rightSpan.x;
+        stackNodes[stackSize] = leftFirst ? first + 1u : first;
+        stackEntries[stackSize] = leftFirst ? rightSpan.x : leftSpan.x;
+        ++stackSize;
+        node = leftFirst ? first : first + 1u;
+        continue;
+      }
+      if (enterLeft || enterRight) {
+        node = enterLeft ? first : first + 1u;
+        continue;
+      }
+    }
+    // Pop the next subtree that may still hold a nearer hit than the one found so far.
+    bool next = false;
+    while (stackSize > 0u && !next) {
+      --stackSize;
+      node = stackNodes[stackSize];
+      next = stackEntries[stackSize] < hit.distance;
+    }
+    if (!next) return found;
+  }
+}
+
+bool traceNearest(vec3 origin, vec3 direction, out RayHit hit) {
+  return traceRay(origin, direction, kInfiniteDistance, false, hit);
+}
+
+bool occluded(vec3 origin, vec3 direction, float maxDistance) {
+  RayHit hit;
+  return traceRay(origin, direction, maxDistance, true, hit);
+}
+
+// A secondary ray's origin: the surface point moved off the surface, to the side the ray leaves from, so that it does
+// not hit its own triangle again through rounding. The offset grows with the coordinates' magnitude (their ulp).
+vec3 offsetRayOrigin(vec3 position, vec3 geometricNormal) {
+  vec3 magnitude = abs(position);
+  return position + geometricNormal * (1e-4 * max(1.0, max(max(magnitude.x, magnitude.y), magnitude.z)));
+}
+
+vec3 srgbToLinear(vec3 srgb) {
+  return mix(srgb / 12.92, pow((srgb + 0.055) / 1.055, vec3(2.4)), greaterThan(srgb, vec3(0.04045)));
+}
+
+vec3 texelColour(PackedTexture image, ivec2 texel) {
+  ivec2 size = ivec2(image.width, image.height);
+  ivec2 wrapped = ((texel % size) + size) % size;  // repeat, also for negative coordinates
+  uint packedTexel = texels[image.firstTexel + uint(wrapped.y) * image.width + uint(wrapped.x)];
+  return srgbToLinear(unpackUnorm4x8(packedTexel).rgb);
+}
+
+// What the renderer's sampler returns for an sRGB texture: texels decoded to linear first, then filtered bilinearly
+// with repeat addressing (the scene textures have a single mip level).
+vec3 sampleTexture(uint textureIndex, vec2 uv) {
+  PackedTexture image = textures[textureIndex];
+  vec2 position = uv * vec2(image.width, image.height) - 0.5;
+  vec2 cell = floor(position);
+  vec2 weight = position - cell;
+  ivec2 texel = ivec2(cell);
+  vec3 top = mix(texelColour(image, texel), texelColour(image, texel + ivec2(1, 0)), weight.x);
+  vec3 bottom = mix(texelColour(image, texel + ivec2(0, 1)), texelColour(image, texel + ivec2(1, 1)), weight.x);
+  return mix(top, bottom, weight.y);
+}
+
+struct Surface {
+  vec3 position;
+  vec3 geometricNormal;  // both normals face the side the ray came from (two-sided surfaces)
+  vec3 normal;           // shading normal: interpolated vertex normals
+  vec3 albedo;
+  vec3 emission;         // emitted radiance
+};
+
+Surface surfaceAt(vec3 direction, RayHit hit) {
+  TraceTriangle triangle = triangles[hit.triangle];
+  TriangleShading attributes = shading[hit.triangle];
+  vec3 weights = vec3(1.0 - hit.barycentrics.x - hit.barycentrics.y, hit.barycentrics);
+  Surface surface;
+  // On the triangle's plane exactly, rather than origin + t·direction, which rounding can put on either side.
+  surface.position = triangle.vertex0.xyz + hit.barycentrics.x * triangle.edge1.xyz + hit.barycentrics.y * triangle.edge2.xyz;
+  surface.geometricNormal = normalize(cross(triangle.edge1.xyz, triangle.edge2.xyz));
+  surface.normal = normalize(weights.x * attributes.normal0AndU0.xyz + weights.y * attributes.normal1AndU1.xyz +
+                             weights.z * attributes.normal2AndU2.xyz);
+  // A counter-clockwise triangle faces the ray when its geometric normal opposes it; otherwise it is seen from behind
+  // and, like the G-buffer's !gl_FrontFacing case, shades with the flipped normal.
+  if (dot(surface.geometricNormal, direction) > 0.0) {
+    surface.geometricNormal = -surface.geometricNormal;
+    surface.normal = -surface.normal;
+  }
+  GpuMaterial material = materials[floatBitsToUint(attributes.texcoordVAndMaterial.w)];
+  surface.albedo = material.baseColorAndTexture.rgb;
+  uint textureIndex = floatBitsToUint(material.baseColorAndTexture.w);
+  if (textureIndex != kNoTexture) {
+    vec2 uv = weights.x * vec2(attributes.normal0AndU0.w, attributes.texcoordVAndMaterial.x) +
+              weights.y * vec2(attributes.normal1AndU1.w, attributes.texcoordVAndMaterial.y) +
+              weights.z * vec2(attributes.normal2AndU2.w, attributes.texcoordVAndMaterial.z);
+    surface.albedo *= sampleTexture(textureIndex, uv);
+  }
+  surface.emission = material.emission.rgb;
+  return surface;
+}
+
+// Irradiance from the sun and the local lights at a surface point, each times its visibility by a shadow ray from
+// `shadowOrigin` (exact hard shadows): the renderer's DirectLighting with ray-traced visibility.
+vec3 directIrradiance(vec3 position, vec3 normal, vec3 shadowOrigin) {
+  vec3 irradiance = vec3(0.0);
+  if (frame.sunDirectionAndEnabled.w > 0.0) {
+    vec3 toSun = frame.sunDirectionAndEnabled.xyz;
+    float cosine = dot(normal, toSun);
+    if (cosine > 0.0 && !occluded(shadowOrigin, toSun, kInfiniteDistance)) irradiance += frame.sunIlluminance.rgb * cosine;
+  }
+  uint lightCount = uint(frame.lightCountAndExposure.x);
+  for (uint i = 0u; i < lightCount; ++i) {
+    GpuLight light = lights[i];
+    vec3 toLight = light.positionAndType.xyz - position;
+    float distanceSquared = dot(toLight, toLight);
+    vec3 direction = toLight * inversesqrt(distanceSquared);
+    float cosine = dot(normal, direction);
+    if (cosine <= 0.0) continue;
+    vec3 scale = localLightIrradianceScale(light, direction, distanceSquared);
+    if (all(equal(scale, vec3(0.0)))) continue;  // outside the spot cone or the range: no shadow ray needed
+    if (floatBitsToUint(light.intensityAndShadow.w) != kNoShadow) {
+      vec3 shadowRay = light.positionAndType.xyz - shadowOrigin;
+      float shadowDistance = length(shadowRay);
+      if (occluded(shadowOrigin, shadowRay / shadowDistance, shadowDistance)) continue;
+    }
+    irradiance += scale * cosine;
+  }
+  return irradiance;
+}

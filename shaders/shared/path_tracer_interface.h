@@ -1,0 +1,150 @@
+// GPU structs, binding slots and small functions of the reference path tracer (reference/, shaders/reference/),
+// shared by its shaders, its BVH builder and the CPU tests, so that the layouts, the ray tests and the sampling are
+// written once. The scene's materials and lights use the renderer's own GpuMaterial and GpuLight.
+#ifndef SSVGI_SHARED_PATH_TRACER_INTERFACE_H
+#define SSVGI_SHARED_PATH_TRACER_INTERFACE_H
+
+#include "shared/glsl_cpp.h"
+
+SSVGI_SHARED_BEGIN
+
+// The builder never makes a tree deeper than this, so a traversal stack of this many entries cannot overflow.
+SSVGI_CONSTANT(uint, kBvhMaxDepth, 64u);
+SSVGI_CONSTANT(uint, kBvhMaxLeafTriangles, 4u);
+
+// One node of the flat BVH array; nodes[0] is the root. The two children of an inner node are adjacent in the array,
+// so one index finds both. Index and count are uint bits stored in the float w members (floatBitsToUint).
+struct BvhNode {
+  vec4 boundsMinAndFirst;  // xyz: min corner; w: inner node: index of its first child; leaf: its first triangle
+  vec4 boundsMaxAndCount;  // xyz: max corner; w: leaf: its triangle count (1..kBvhMaxLeafTriangles); inner node: 0
+};
+SSVGI_CHECK_SIZE(BvhNode, 32);
+
+// A world-space triangle as the ray test reads it (Möller–Trumbore: a vertex and two edges), in BVH leaf order.
+struct TraceTriangle {
+  vec4 vertex0;  // xyz
+  vec4 edge1;    // xyz: vertex1 - vertex0
+  vec4 edge2;    // xyz: vertex2 - vertex0
+};
+SSVGI_CHECK_SIZE(TraceTriangle, 48);
+
+// What shading a hit needs, in the same order as the TraceTriangles. The normals are what the G-buffer's vertex shader
+// outputs (object normal × the instance's normal matrix, not normalised), so that interpolating and normalising them
+// gives the renderer's normal exactly.
+struct TriangleShading {
+  vec4 normal0AndU0;    // xyz: vertex 0's normal; w: its texture u
+  vec4 normal1AndU1;
+  vec4 normal2AndU2;
+  vec4 texcoordVAndMaterial;  // xyz: texture v of vertices 0, 1, 2; w: material index (uint bits)
+};
+SSVGI_CHECK_SIZE(TriangleShading, 64);
+
+// An 8-bit sRGB RGBA texture inside the packed texel buffer: one uint per texel (R in the low byte), rows top to
+// bottom. The Vulkan layer binds no descriptor arrays, so all of a scene's textures share one storage buffer.
+struct PackedTexture {
+  uint firstTexel;
+  uint width;
+  uint height;
+  uint padding;
+};
+SSVGI_CHECK_SIZE(PackedTexture, 16);
+
+// PathTrace's push constants: which samples this dispatch adds to each pixel.
+struct PathTracePush {
+  uint firstSample;  // samples [firstSample, firstSample + sampleCount) of every pixel; the sums hold the earlier ones
+  uint sampleCount;
+  uint seed;
+  uint maxBounces;   // reflections of light after it leaves its source and before it reaches the primary hit
+};
+SSVGI_CHECK_SIZE(PathTracePush, 16);
+
+// Binding slots (descriptor set 0). The scene, read by both passes:
+SSVGI_CONSTANT(uint, kBindTraceFrame, 0u);         // FrameConstants (uniform): camera, sun, sky, light count
+SSVGI_CONSTANT(uint, kBindTraceNodes, 1u);         // BvhNode[]
+SSVGI_CONSTANT(uint, kBindTraceTriangles, 2u);     // TraceTriangle[]
+SSVGI_CONSTANT(uint, kBindTraceShading, 3u);       // TriangleShading[]
+SSVGI_CONSTANT(uint, kBindTraceMaterials, 4u);     // GpuMaterial[]
+SSVGI_CONSTANT(uint, kBindTraceTextures, 5u);      // PackedTexture[]
+SSVGI_CONSTANT(uint, kBindTraceTexels, 6u);        // uint[]: RGBA8 texels
+SSVGI_CONSTANT(uint, kBindTraceLights, 7u);        // GpuLight[]; intensityAndShadow.w is kNoShadow for unshadowed lights
+// The primary hit of each pixel, written by PrimaryHits and read by PathTrace (rgba32f unless noted):
+SSVGI_CONSTANT(uint, kBindPrimaryRayOrigin, 8u);   // xyz: where the pixel's secondary rays start; w: 1 on a surface, 0 sky
+SSVGI_CONSTANT(uint, kBindPrimaryNormal, 9u);      // xyz: shading normal facing the camera
+SSVGI_CONSTANT(uint, kBindPrimaryAlbedo, 10u);
+SSVGI_CONSTANT(uint, kBindPrimaryRadiance, 11u);   // rgb: emitted radiance of the surface, or the sky where none was hit
+SSVGI_CONSTANT(uint, kBindPrimaryDirect, 12u);     // rgb: E_direct
+SSVGI_CONSTANT(uint, kBindPrimaryDistance, 13u);   // r32f: metres from the camera, 0 where nothing was hit
+// PathTrace's accumulation and its running results:
+SSVGI_CONSTANT(uint, kBindTraceIndirectSum, 14u);  // rgb: sum of the E_indirect samples so far
+SSVGI_CONSTANT(uint, kBindTraceIndirect, 15u);     // out: rgb: their mean, E_indirect
+SSVGI_CONSTANT(uint, kBindTraceFinal, 16u);        // out: rgb: final radiance
+
+// Where a ray meets a triangle: (t, u, v) with the hit at origin + t·direction = vertex0 + u·edge1 + v·edge2, or
+// t = -1 when it misses (Möller & Trumbore 1997). t may be negative or beyond the ray's end: the caller checks it.
+SSVGI_INLINE vec3 intersectTriangle(vec3 origin, vec3 direction, vec3 vertex0, vec3 edge1, vec3 edge2) {
+  vec3 p = cross(direction, edge2);
+  float determinant = dot(edge1, p);
+  if (determinant == 0.0f) return vec3(-1.0f, 0.0f, 0.0f);  // the ray lies in the triangle's plane
+  float inverseDeterminant = 1.0f / determinant;
+  vec3 fromVertex0 = origin - vertex0;
+  float u = dot(fromVertex0, p) * inverseDeterminant;
+  vec3 q = cross(fromVertex0, edge1);
+  float v = dot(direction, q) * inverseDeterminant;
+  if (u < 0.0f || v < 0.0f || u + v > 1.0f) return vec3(-1.0f, 0.0f, 0.0f);
+  return vec3(dot(edge2, q) * inverseDeterminant, u, v);
+}
+
+// 1/direction with zero components replaced by a huge finite value of the same sign, so that the slab test below
+// never multiplies 0 by infinity (a ray starting on a slab plane would get NaN).
+SSVGI_INLINE vec3 safeInverseDirection(vec3 direction) {
+  vec3 magnitude = max(abs(direction), vec3(1e-20f));
+  return vec3(direction.x < 0.0f ? -1.0f : 1.0f, direction.y < 0.0f ? -1.0f : 1.0f,
+              direction.z < 0.0f ? -1.0f : 1.0f) / magnitude;
+}
+
+// The ray parameters (entry, exit) of an axis-aligned box; the ray misses it when entry > exit.
+SSVGI_INLINE vec2 intersectBounds(vec3 origin, vec3 inverseDirection, vec3 boundsMin, vec3 boundsMax) {
+  vec3 toMin = (boundsMin - origin) * inverseDirection;
+  vec3 toMax = (boundsMax - origin) * inverseDirection;
+  vec3 entries = min(toMin, toMax);
+  vec3 exits = max(toMin, toMax);
+  return vec2(max(max(entries.x, entries.y), entries.z), min(min(exits.x, exits.y), exits.z));
+}
+
+// The PCG hash (Jarzynski & Olano, "Hash Functions for GPU Rendering", JCGT 2020): one round of a PCG generator
+// with its output permutation; well mixed in every bit.
+SSVGI_INLINE uint pcgHash(uint value) {
+  uint state = value * 747796405u + 2891336453u;
+  uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+  return (word >> 22u) ^ word;
+}
+
+// The random state of one sample of one pixel: a function of (pixel, sample, seed) only, so an image is the same
+// whatever batches its samples were traced in, and differs for another seed.
+SSVGI_INLINE uint sampleRandomState(uint pixelIndex, uint sampleIndex, uint seed) {
+  return pcgHash(pixelIndex ^ pcgHash(sampleIndex ^ pcgHash(seed)));
+}
+
+// The next uniform number in [0, 1) of a random state (24 bits: exactly representable in float).
+SSVGI_INLINE float nextRandom(SSVGI_INOUT(uint) state) {
+  state = pcgHash(state);
+  return float(state >> 8u) * (1.0f / 16777216.0f);
+}
+
+// A direction around a unit normal with density cos θ / π (Malley's method: a uniform point on the unit disc lifted
+// onto the hemisphere), in the orthonormal basis of Duff et al., "Building an Orthonormal Basis, Revisited" (JCGT 2017).
+SSVGI_INLINE vec3 cosineSampleHemisphere(vec2 unitSquarePoint, vec3 normal) {
+  float radius = sqrt(unitSquarePoint.x);
+  float phi = 2.0f * kPi * unitSquarePoint.y;
+  float zSign = normal.z >= 0.0f ? 1.0f : -1.0f;
+  float a = -1.0f / (zSign + normal.z);
+  float b = normal.x * normal.y * a;
+  vec3 tangent = vec3(1.0f + zSign * normal.x * normal.x * a, zSign * b, -zSign * normal.x);
+  vec3 bitangent = vec3(b, zSign + normal.y * normal.y * a, -normal.y);
+  float height = sqrt(max(0.0f, 1.0f - unitSquarePoint.x));
+  return radius * cos(phi) * tangent + radius * sin(phi) * bitangent + height * normal;
+}
+
+SSVGI_SHARED_END
+
+#endif
