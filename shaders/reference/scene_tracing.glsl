@@ -38,24 +38,14 @@ bool traceRay(vec3 origin, vec3 direction, float maxDistance, bool anyHit, out R
   uint stackNodes[kBvhMaxDepth];
   float stackEntries[kBvhMaxDepth];
   uint stackSize = 0u;
-  uint node = 0u;
+  BvhNode current = nodes[0];
   while (true) {
-    BvhNode current = nodes[node];
+    // Descend through inner nodes until a leaf is reached or no child is entered; a separate loop (Aila & Laine,
+    // "Understanding the Efficiency of Ray Traversal on GPUs", 2009) keeps lanes that are still descending together
+    // instead of alternating between inner-node and leaf work.
     uint count = floatBitsToUint(current.boundsMaxAndCount.w);
-    uint first = floatBitsToUint(current.boundsMinAndFirst.w);
-    if (count > 0u) {
-      for (uint i = first; i < first + count; ++i) {
-        TraceTriangle triangle = triangles[i];
-        vec3 tuv = intersectTriangle(origin, direction, triangle.vertex0.xyz, triangle.edge1.xyz, triangle.edge2.xyz);
-        if (tuv.x > 0.0 && tuv.x < hit.distance) {
-          hit.distance = tuv.x;
-          hit.triangle = i;
-          hit.barycentrics = tuv.yz;
-          found = true;
-          if (anyHit) return true;
-        }
-      }
-    } else {
+    while (count == 0u) {
+      uint first = floatBitsToUint(current.boundsMinAndFirst.w);
       BvhNode left = nodes[first];
       BvhNode right = nodes[first + 1u];
       vec2 leftSpan = intersectBounds(origin, inverseDirection, left.boundsMinAndFirst.xyz, left.boundsMaxAndCount.xyz);
@@ -63,27 +53,37 @@ bool traceRay(vec3 origin, vec3 direction, float maxDistance, bool anyHit, out R
           intersectBounds(origin, inverseDirection, right.boundsMinAndFirst.xyz, right.boundsMaxAndCount.xyz);
       bool enterLeft = leftSpan.x <= leftSpan.y && leftSpan.y >= 0.0 && leftSpan.x < hit.distance;
       bool enterRight = rightSpan.x <= rightSpan.y && rightSpan.y >= 0.0 && rightSpan.x < hit.distance;
+      if (!enterLeft && !enterRight) break;
+      // Into the nearer child entered, keeping its node (already loaded); the other waits on the stack if entered.
+      bool leftFirst = enterLeft && (!enterRight || leftSpan.x <= rightSpan.x);
       if (enterLeft && enterRight) {
-        bool leftFirst = leftSpan.x <= rightSpan.x;
         stackNodes[stackSize] = leftFirst ? first + 1u : first;
         stackEntries[stackSize] = leftFirst ? rightSpan.x : leftSpan.x;
         ++stackSize;
-        node = leftFirst ? first : first + 1u;
-        continue;
       }
-      if (enterLeft || enterRight) {
-        node = enterLeft ? first : first + 1u;
-        continue;
+      current = leftFirst ? left : right;
+      count = floatBitsToUint(current.boundsMaxAndCount.w);
+    }
+    uint first = floatBitsToUint(current.boundsMinAndFirst.w);
+    for (uint i = first; i < first + count; ++i) {
+      TraceTriangle triangle = triangles[i];
+      vec3 tuv = intersectTriangle(origin, direction, triangle.vertex0.xyz, triangle.edge1.xyz, triangle.edge2.xyz);
+      if (tuv.x > 0.0 && tuv.x < hit.distance) {
+        hit.distance = tuv.x;
+        hit.triangle = i;
+        hit.barycentrics = tuv.yz;
+        found = true;
+        if (anyHit) return true;
       }
     }
     // Pop the next subtree that may still hold a nearer hit than the one found so far.
     bool next = false;
     while (stackSize > 0u && !next) {
       --stackSize;
-      node = stackNodes[stackSize];
       next = stackEntries[stackSize] < hit.distance;
     }
     if (!next) return found;
+    current = nodes[stackNodes[stackSize]];
   }
 }
 
