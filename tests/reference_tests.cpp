@@ -209,6 +209,38 @@ TEST_F(Reference, directLightAndSurfacePointsMatchTheRenderer) {
   EXPECT_GT(lit, kWidth * kHeight / 3);
 }
 
+TEST_F(Reference, texturedAlbedoMatchesTheRenderersSampler) {
+  // A 4×4 sRGB texture repeated 2.5 times across each face of the slab: the path tracer's bilinear filtering of the
+  // packed texels (sRGB decoded first, repeat addressing) must give the albedo the G-buffer's hardware sampler gives.
+  // Tolerance: the sampler's fixed-point filter weights (8 bits on lavapipe) and the G-buffer's half floats.
+  Scene scene = planeScene();
+  renderer::Texture texture{"checker", 4, 4, {}};
+  for (uint32_t texel = 0; texel < 16; ++texel) {
+    const auto value = [&](uint32_t salt) { return static_cast<uint8_t>((texel * 37u + salt * 91u) % 256u); };
+    texture.rgba.insert(texture.rgba.end(), {value(1), value(2), value(3), 255});
+  }
+  scene.textures.push_back(texture);
+  scene.materials[0].baseColorTexture = 0;
+  for (renderer::Vertex& vertex : scene.meshes[0].vertices) vertex.uv = vertex.uv * 2.5f - 0.3f;
+  constexpr uint32_t kWidth = 64, kHeight = 48;
+  renderer::RendererSettings settings;
+  settings.width = kWidth;
+  settings.height = kHeight;
+  renderer::Renderer renderer(device(), scene, settings);
+  renderer.render(renderer::evaluateAnimation(scene, scene.cameras[0], 0.0f));
+  const FloatImage albedo = trace(scene, kWidth, kHeight, 1).albedo();
+  const FloatImage expected = renderer.albedo();
+  const FloatImage distance = renderer.viewDistance();
+  uint32_t checked = 0;
+  for (uint32_t pixel = 0; pixel < kWidth * kHeight; ++pixel) {
+    if (channel(distance, pixel, 0) <= 0.0f) continue;
+    for (uint32_t c = 0; c < 3; ++c)
+      ASSERT_NEAR(channel(albedo, pixel, c), channel(expected, pixel, c), 0.01f) << "pixel " << pixel << " channel " << c;
+    ++checked;
+  }
+  EXPECT_GT(checked, kWidth * kHeight / 2);
+}
+
 bool sameBits(const FloatImage& a, const FloatImage& b) {
   return a.pixels.size() == b.pixels.size() &&
          std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(float)) == 0;

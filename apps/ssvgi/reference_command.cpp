@@ -20,6 +20,7 @@ struct ReferenceOptions {
   uint32_t samplesPerPixel = 256;
   uint32_t bounces = reference::kDefaultMaxBounces;
   uint32_t seed = 0;
+  float animationSeconds = 0.0f;  // the time of the scene's animation shown
   float exposure = 1.0f;
   std::string out = "out-reference";
 };
@@ -32,7 +33,7 @@ int runReference(const ReferenceOptions& options) {
   const ResolvedScene resolved = resolveScene(options.scene);
   gpu::Device device(gpu::DeviceDesc{options.scene.device, options.scene.validation});
 
-  // The scene as `render` shows its first frame (time 0), so that the two can be compared pixel by pixel.
+  // The scene as `render` shows it at that time, so that the two can be compared pixel by pixel.
   const auto setupStart = std::chrono::steady_clock::now();
   reference::PathTracerSettings settings;
   settings.width = resolved.width;
@@ -40,8 +41,9 @@ int runReference(const ReferenceOptions& options) {
   settings.maxBounces = options.bounces;
   settings.seed = options.seed;
   settings.exposure = options.exposure;
-  reference::PathTracer tracer(device, resolved.scene, renderer::evaluateAnimation(resolved.scene, resolved.camera, 0.0f),
-                               settings);
+  const renderer::AnimatedState state =
+      renderer::evaluateAnimation(resolved.scene, resolved.camera, options.animationSeconds);
+  reference::PathTracer tracer(device, resolved.scene, state, settings);
   const double setupSeconds = secondsSince(setupStart);
 
   const std::string label = "path tracing " + resolved.scene.name;
@@ -54,6 +56,7 @@ int runReference(const ReferenceOptions& options) {
   stats["samplesPerPixel"] = tracer.samplesPerPixel();
   stats["bounces"] = options.bounces;
   stats["seed"] = options.seed;
+  stats["time"] = options.animationSeconds;
   stats["bvh"] = {{"triangles", tracer.triangleCount()}, {"nodes", tracer.bvhNodeCount()}, {"depth", tracer.bvhDepth()}};
   stats["setupSeconds"] = setupSeconds;  // BVH build, uploads, primary hits
   stats["seconds"] = traceSeconds;       // path tracing
@@ -95,6 +98,11 @@ CommandRunner addReferenceCommand(CLI::App& app) {
       ->check(CLI::Range(0u, 1024u));
   command->add_option("--seed", options->seed, "Random seed: the same seed gives bit-identical images")
       ->capture_default_str();
+  command->add_option("--time", options->animationSeconds,
+                      "Animation time in seconds (moving object, sun cycle, camera path); render's last frame of "
+                      "--frames N is at (N - 1)/30")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   command->add_option("--exposure", options->exposure, "Multiplier on radiance before tonemapping")->capture_default_str();
   command->add_option("--out", options->out, "Output directory")->capture_default_str();
   return [options] { return runReference(*options); };
