@@ -10,6 +10,7 @@
 #ifdef __cplusplus
 #include <glm/glm.hpp>
 #include <glm/gtc/constants.hpp>
+#include <glm/gtc/packing.hpp>
 #include <cstdint>
 
 #define SSVGI_SHARED_BEGIN        \
@@ -21,6 +22,8 @@
 #define SSVGI_CHECK_SIZE(type, bytes) static_assert(sizeof(type) == (bytes), #type " layout changed: update the GLSL users")
 #define SSVGI_INOUT(type) type&
 #define SSVGI_INLINE inline
+#define SSVGI_HALF_BITS(x) uint(glm::packHalf1x16(x))
+#define SSVGI_HALF_FLOAT(bits) glm::unpackHalf1x16(uint16_t(bits))
 #else
 #define SSVGI_SHARED_BEGIN
 #define SSVGI_SHARED_END
@@ -29,6 +32,8 @@
 #define SSVGI_CHECK_SIZE(type, bytes) const uint type##ExpectedBytes = bytes
 #define SSVGI_INOUT(type) inout type
 #define SSVGI_INLINE
+#define SSVGI_HALF_BITS(x) (packHalf2x16(vec2(x, 0.0f)) & 0xffffu)
+#define SSVGI_HALF_FLOAT(bits) unpackHalf2x16(uint(bits)).x
 #endif
 
 SSVGI_SHARED_BEGIN

@@ -46,6 +46,23 @@ SSVGI_INLINE vec3 haltonSphereDirection(uint index) {
   return uniformSphereDirection(halton23(index));
 }
 
+// A well-mixed hash of three integers (PCG3D: Jarzynski and Olano, "Hash Functions for GPU Rendering", JCGT 2020):
+// per-voxel, per-frame random numbers that the host can reproduce exactly.
+SSVGI_INLINE uvec3 pcg3d(uvec3 v) {
+  v = v * 1664525u + uvec3(1013904223u);
+  v.x += v.y * v.z;
+  v.y += v.z * v.x;
+  v.z += v.x * v.y;
+  v = v ^ (v >> 16u);
+  v.x += v.y * v.z;
+  v.y += v.z * v.x;
+  v.z += v.x * v.y;
+  return v;
+}
+
+// Three uniform numbers in [0, 1) from a hash (24 bits each: exact in float).
+SSVGI_INLINE vec3 hashToUnitCube(uvec3 v) { return vec3(pcg3d(v) >> 8u) * (1.0f / 16777216.0f); }
+
 SSVGI_SHARED_END
 
 #endif

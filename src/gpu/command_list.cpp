@@ -50,17 +50,17 @@ VkDescriptorSet CommandList::writeDescriptors(const PipelineLayout& layout, cons
         use(*entry->buffer, compute ? (binding.writable ? Usage::ComputeWrite : Usage::ComputeRead) : Usage::GraphicsRead);
         break;
       case VK_DESCRIPTOR_TYPE_STORAGE_IMAGE:
-        if (!entry->image || entry->sampler) throw GpuError(name + ": binding " + binding.name + " needs a storage image");
+        if (!entry->view || entry->sampler) throw GpuError(name + ": binding " + binding.name + " needs a storage image");
         imageInfos.push_back({VK_NULL_HANDLE, entry->view, VK_IMAGE_LAYOUT_GENERAL});
         write.pImageInfo = &imageInfos.back();
-        use(*entry->image, binding.writable ? Usage::ComputeWrite : Usage::ComputeRead);
+        if (entry->image) use(*entry->image, binding.writable ? Usage::ComputeWrite : Usage::ComputeRead);
         break;
       case VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER:
-        if (!entry->image || !entry->sampler)
+        if (!entry->view || !entry->sampler)
           throw GpuError(name + ": binding " + binding.name + " needs an image with a sampler");
         imageInfos.push_back({entry->sampler, entry->view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL});
         write.pImageInfo = &imageInfos.back();
-        use(*entry->image, compute ? Usage::ComputeSampled : Usage::FragmentSampled);
+        if (entry->image) use(*entry->image, compute ? Usage::ComputeSampled : Usage::FragmentSampled);
         break;
       default:
         throw GpuError(name + ": binding " + binding.name + " has a descriptor type the GPU layer does not bind");
@@ -165,6 +165,35 @@ void CommandList::fillBuffer(const Buffer& buffer, uint32_t value) {
   use(buffer, Usage::TransferDestination);
   flushBarriers();
   vkCmdFillBuffer(commandBuffer_, buffer.handle(), 0, VK_WHOLE_SIZE, value);
+}
+
+void CommandList::useExternalImage(VkImage image, VkImageLayout currentLayout, VkImageLayout layout) {
+  flushBarriers();
+  // The owner's earlier use is unknown: wait for all of it.
+  VkImageMemoryBarrier barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+  barrier.srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT;
+  barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
+  barrier.oldLayout = currentLayout;
+  barrier.newLayout = layout;
+  barrier.srcQueueFamilyIndex = barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  barrier.image = image;
+  barrier.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, VK_REMAINING_MIP_LEVELS, 0, VK_REMAINING_ARRAY_LAYERS};
+  vkCmdPipelineBarrier(commandBuffer_, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0,
+                       nullptr, 0, nullptr, 1, &barrier);
+}
+
+void CommandList::updateBuffer(const Buffer& buffer, VkDeviceSize offset, const void* data, VkDeviceSize bytes) {
+  use(buffer, Usage::TransferDestination);
+  flushBarriers();
+  vkCmdUpdateBuffer(commandBuffer_, buffer.handle(), offset, bytes, data);
+}
+
+void CommandList::copyBuffer(const Buffer& source, const Buffer& destination, VkDeviceSize bytes) {
+  use(source, Usage::TransferSource);
+  use(destination, Usage::TransferDestination);
+  flushBarriers();
+  const VkBufferCopy region{0, 0, bytes};
+  vkCmdCopyBuffer(commandBuffer_, source.handle(), destination.handle(), 1, &region);
 }
 
 void CommandList::clearImage(const Image& image, const VkClearColorValue& value) {

@@ -35,6 +35,8 @@ class CommandList {
   void use(const Buffer& buffer, Usage usage) { barriers_.use(buffer, usage); }
   void use(const Image& image, Usage usage) { barriers_.use(image, usage); }
   void flushBarriers() { barriers_.flush(commandBuffer_); }
+  // A colour image someone else owns, moved from `currentLayout` to `layout` for this command list's compute work.
+  void useExternalImage(VkImage image, VkImageLayout currentLayout, VkImageLayout layout);
 
   // One thread per element of `threads`; group counts come from the shader's local size.
   void dispatch(const ComputePipeline& pipeline, const Bindings& bindings, glm::uvec3 threads, const void* push = nullptr,
@@ -63,6 +65,9 @@ class CommandList {
   void pushConstants(const PipelineLayout& layout, const void* data, size_t bytes);
 
   void fillBuffer(const Buffer& buffer, uint32_t value);
+  // Small inline writes (≤ 64 KiB, a multiple of 4 bytes), recorded into the command buffer.
+  void updateBuffer(const Buffer& buffer, VkDeviceSize offset, const void* data, VkDeviceSize bytes);
+  void copyBuffer(const Buffer& source, const Buffer& destination, VkDeviceSize bytes);
   void clearImage(const Image& image, const VkClearColorValue& value);
 
  private:

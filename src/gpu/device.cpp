@@ -188,12 +188,7 @@ Device::Device(const DeviceDesc& desc) {
   instance_ = createInstance(desc.validation, debugUtils);
 
   if (debugUtils) {
-    setObjectName_ = reinterpret_cast<PFN_vkSetDebugUtilsObjectNameEXT>(
-        vkGetInstanceProcAddr(instance_, "vkSetDebugUtilsObjectNameEXT"));
-    beginLabel_ = reinterpret_cast<PFN_vkCmdBeginDebugUtilsLabelEXT>(
-        vkGetInstanceProcAddr(instance_, "vkCmdBeginDebugUtilsLabelEXT"));
-    endLabel_ = reinterpret_cast<PFN_vkCmdEndDebugUtilsLabelEXT>(
-        vkGetInstanceProcAddr(instance_, "vkCmdEndDebugUtilsLabelEXT"));
+    loadDebugUtils();
     if (desc.validation) {
       auto createMessenger = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
           vkGetInstanceProcAddr(instance_, "vkCreateDebugUtilsMessengerEXT"));
@@ -285,7 +280,25 @@ Device::Device(const DeviceDesc& desc) {
   VK_CHECK(vkCreateFence(device_, &fenceInfo, nullptr, &fence_));
 }
 
+void Device::loadDebugUtils() {
+  setObjectName_ = reinterpret_cast<PFN_vkSetDebugUtilsObjectNameEXT>(
+      vkGetInstanceProcAddr(instance_, "vkSetDebugUtilsObjectNameEXT"));
+  beginLabel_ = reinterpret_cast<PFN_vkCmdBeginDebugUtilsLabelEXT>(
+      vkGetInstanceProcAddr(instance_, "vkCmdBeginDebugUtilsLabelEXT"));
+  endLabel_ = reinterpret_cast<PFN_vkCmdEndDebugUtilsLabelEXT>(
+      vkGetInstanceProcAddr(instance_, "vkCmdEndDebugUtilsLabelEXT"));
+}
+
+Device::Device(const ExternalDevice& external)
+    : owned_(false), instance_(external.instance), physicalDevice_(external.physicalDevice), device_(external.device) {
+  if (!instance_ || !physicalDevice_ || !device_) throw GpuError("an external device needs instance, physical device and device");
+  vkGetPhysicalDeviceProperties(physicalDevice_, &properties_);
+  vkGetPhysicalDeviceMemoryProperties(physicalDevice_, &memoryProperties_);
+  if (external.debugUtils) loadDebugUtils();
+}
+
 Device::~Device() {
+  if (!owned_) return;
   if (device_) {
     vkDeviceWaitIdle(device_);
     vkDestroyFence(device_, fence_, nullptr);
@@ -306,6 +319,7 @@ std::string Device::description() const {
 }
 
 VkCommandBuffer Device::allocateCommandBuffer() {
+  if (!commandPool_) throw GpuError("this device wraps a host's device: it records commands but cannot submit them");
   VkCommandBufferAllocateInfo info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
   info.commandPool = commandPool_;
   info.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
@@ -320,6 +334,7 @@ void Device::freeCommandBuffer(VkCommandBuffer commandBuffer) {
 }
 
 void Device::submitAndWait(VkCommandBuffer commandBuffer) {
+  if (!queue_) throw GpuError("this device wraps a host's device: it records commands but cannot submit them");
   VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
   submit.commandBufferCount = 1;
   submit.pCommandBuffers = &commandBuffer;

@@ -36,12 +36,22 @@ struct DeviceReport {
 };
 std::vector<DeviceReport> listDevices();
 
+// A device someone else created (the host of the GI library): used, never destroyed.
+struct ExternalDevice {
+  VkInstance instance = VK_NULL_HANDLE;
+  VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;
+  VkDevice device = VK_NULL_HANDLE;
+  bool debugUtils = false;  // the instance has VK_EXT_debug_utils enabled: name objects and label passes
+};
+
 // One Vulkan instance + logical device + its single graphics/compute queue. Shared by the GI library, the host renderer
 // and the reference; tests share one for the whole run.
 class Device {
  public:
   // Throws GpuError naming the problem: no Vulkan loader, no device, no device matching the selector, a missing feature.
   explicit Device(const DeviceDesc& desc);
+  // Wraps the host's device for recording only: no queue, so submitAndWait() and the blocking transfers throw.
+  explicit Device(const ExternalDevice& external);
   ~Device();
   Device(const Device&) = delete;
   Device& operator=(const Device&) = delete;
@@ -89,6 +99,9 @@ class Device {
                                                             const VkDebugUtilsMessengerCallbackDataEXT* data,
                                                             void* user);
 
+  void loadDebugUtils();
+
+  bool owned_ = true;
   VkInstance instance_ = VK_NULL_HANDLE;
   VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
   VkPhysicalDevice physicalDevice_ = VK_NULL_HANDLE;

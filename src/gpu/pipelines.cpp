@@ -211,6 +211,16 @@ Bindings& Bindings::sampled(uint32_t slot, const Image& image, VkSampler sampler
   return *this;
 }
 
+Bindings& Bindings::externalSampled(uint32_t slot, VkImageView view, VkSampler sampler) {
+  entries_.push_back({slot, nullptr, nullptr, view, sampler});
+  return *this;
+}
+
+Bindings& Bindings::externalStorage(uint32_t slot, VkImageView view) {
+  entries_.push_back({slot, nullptr, nullptr, view});
+  return *this;
+}
+
 DescriptorArena::DescriptorArena(Device& device) : device_(device) { pools_.push_back(newPool()); }
 
 DescriptorArena::~DescriptorArena() {

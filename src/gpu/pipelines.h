@@ -103,6 +103,11 @@ class Bindings {
   Bindings& image(uint32_t slot, const Image& image);                   // storage image, all mips
   Bindings& imageMip(uint32_t slot, const Image& image, uint32_t mip);  // storage image, one mip
   Bindings& sampled(uint32_t slot, const Image& image, VkSampler sampler);
+  // An image someone else owns and keeps in SHADER_READ_ONLY_OPTIMAL with its writes visible (the GI library's host
+  // images): bound, but not tracked.
+  Bindings& externalSampled(uint32_t slot, VkImageView view, VkSampler sampler);
+  // A storage image someone else owns, in VK_IMAGE_LAYOUT_GENERAL (see CommandList::useExternalImage): not tracked.
+  Bindings& externalStorage(uint32_t slot, VkImageView view);
 
   struct Entry {
     uint32_t slot;

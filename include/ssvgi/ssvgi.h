@@ -1,0 +1,154 @@
+#pragma once
+// ssvgi: dynamic diffuse global illumination from screen-space voxels (see README.md and SPEC.md).
+//
+// Integration in four calls, in the spirit of the FidelityFX and RTXGI SDKs:
+//   auto context = ssvgi::Context::create(desc);          // once, with the host's Vulkan device
+//   context->dispatch(frame, commandBuffer);               // every frame, recorded into the host's command buffer
+//   context->stats();                                      // memory, counters, per-pass GPU times
+//   context.reset();                                       // destroy (after the GPU is done with it)
+// ssvgi records commands; it never submits, waits, or owns a queue or the frame. No exception crosses this API.
+#include <vulkan/vulkan.h>
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace ssvgi {
+
+enum class Status {
+  Ok,
+  InvalidDescription,  // a field of a description is out of range; the message names it
+  UnsupportedDevice,   // the device lacks something ssvgi needs; the message names it
+  OutOfDeviceMemory,
+  VulkanError,         // an unexpected Vulkan failure; the message names the call
+};
+
+struct Error {
+  Status status = Status::Ok;
+  std::string message;
+  explicit operator bool() const { return status != Status::Ok; }
+};
+
+template <typename T>
+class Result {
+ public:
+  Result(T value) : value_(std::move(value)) {}
+  Result(Error error) : value_(std::move(error)) {}
+  bool ok() const { return std::holds_alternative<T>(value_); }
+  T& value() { return std::get<T>(value_); }
+  const Error& error() const { return std::get<Error>(value_); }
+
+ private:
+  std::variant<T, Error> value_;
+};
+
+enum class QualityTier { Low, Medium, High };
+
+// Every knob of the GI, with its default (high tier). Tiers are presets over these (SPEC §4.7).
+struct Settings {
+  float voxelSize = 0.25f;                            // metres; a brick is 4×4×4 voxels
+  std::array<uint32_t, 3> volumeBricks{128, 48, 128};  // the voxel volume around the camera in bricks (X, Y, Z);
+                                                      // each a multiple of 8
+  uint32_t brickPoolCapacity = 32768;                 // bricks that can hold voxels at once
+  uint32_t invalidFramesToClear = 8;                  // frames a voxel may be seen through before it is cleared
+  uint32_t emptyFramesToRelease = 8;                  // frames a brick may stay empty before it returns to the pool
+  uint32_t allocationPixelStride = 2;                 // BrickAllocate reads every Nth pixel in X and Y
+};
+
+Settings settingsForTier(QualityTier tier);
+
+struct ContextDesc {
+  VkInstance instance = VK_NULL_HANDLE;  // the host's, Vulkan 1.1 or later
+  VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;
+  VkDevice device = VK_NULL_HANDLE;
+  bool debugUtilsEnabled = false;  // the host enabled VK_EXT_debug_utils: ssvgi names its objects and labels its
+                                   // passes "ssvgi: <PassName>" for RenderDoc / Nsight
+  Settings settings;
+  uint32_t maxWidth = 1920;   // the largest frame dispatch() will be given, pixels (sizes the Hi-Z pyramid)
+  uint32_t maxHeight = 1080;
+  uint32_t framesInFlight = 2;  // dispatches the host may have in flight; ssvgi recycles its descriptors after these
+};
+
+// A column-major 4×4 matrix (glm's and GLSL's layout).
+using Matrix4 = std::array<float, 16>;
+
+// How a frame was seen: reversed-Z view-projection (SPEC §2) and its size in pixels.
+struct View {
+  Matrix4 viewProjection{};
+  std::array<float, 3> position{};  // camera position, metres
+  uint32_t width = 0;
+  uint32_t height = 0;
+};
+
+// An image of the host's, read by ssvgi through a sampler. It must be in VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL and
+// its writes made visible to compute shaders before the commands of dispatch() run.
+struct SampledImage {
+  VkImageView view = VK_NULL_HANDLE;
+};
+
+struct FrameDesc {
+  uint32_t frameIndex = 0;
+  View camera;                // the frame being rendered
+  SampledImage depth;         // its depth, D32 reversed-Z (1 near, 0 infinitely far)
+  // The latest lit frame (SPEC §3): the previous frame's HDR scene colour (direct + emissive + the GI it composited)
+  // with the depth and camera it was rendered with. Injecting it closes the multi-bounce loop.
+  bool hasLitFrame = false;   // false on the first frame
+  View litCamera;
+  SampledImage litColor;      // linear HDR radiance
+  SampledImage litDepth;      // D32 reversed-Z
+  SampledImage litNormal;     // world normal in rgb
+};
+
+struct ResourceMemory {
+  std::string name;
+  uint64_t bytes = 0;
+};
+
+struct PassTime {
+  std::string name;  // "ssvgi: <PassName>", as labelled in RenderDoc / Nsight
+  double milliseconds = 0.0;
+};
+
+struct Stats {
+  std::vector<ResourceMemory> memory;  // every GPU allocation of the context
+  uint64_t totalBytes = 0;
+  uint32_t brickPoolCapacity = 0;
+  uint32_t bricksLive = 0;             // allocated and holding voxels
+  uint32_t bricksFree = 0;             // on the free list
+  uint32_t bricksNeverUsed = 0;        // capacity − bump count
+  uint32_t bricksDroppedLastFrame = 0;  // allocations refused because the pool was full
+  uint32_t bricksDroppedTotal = 0;
+  uint32_t bricksAllocatedLastFrame = 0;
+  uint32_t bricksReleasedLastFrame = 0;
+  uint32_t bricksVisibleLastFrame = 0;  // bricks updated by injection
+  uint32_t voxelsValid = 0;            // counted before the last frame's injection
+  std::vector<PassTime> passes;        // the last completed frame's GPU times
+};
+
+// Debug images of what ssvgi knows, ray-traced through its voxel volume from a camera.
+enum class DebugView {
+  Voxels,  // the voxels' stored radiance (black where a ray leaves the volume)
+  Bricks,  // brick occupancy: each live brick in a colour of its own
+};
+
+class Context {
+ public:
+  static Result<std::unique_ptr<Context>> create(const ContextDesc& desc);
+  virtual ~Context() = default;
+
+  // Records the GI of one frame into `commandBuffer` (SPEC §4 order).
+  virtual Error dispatch(const FrameDesc& frame, VkCommandBuffer commandBuffer) = 0;
+
+  // Records a debug view into `target`, an rgba32f storage image of the view's size that ssvgi leaves in
+  // VK_IMAGE_LAYOUT_GENERAL (it must be in GENERAL or UNDEFINED before).
+  virtual Error debugView(DebugView view, const View& camera, VkImage target, VkImageView targetView,
+                          VkCommandBuffer commandBuffer) = 0;
+
+  // Counters and GPU times of the last frame whose commands have completed: call after the host has waited for it.
+  virtual Stats stats() = 0;
+};
+
+}  // namespace ssvgi

@@ -1,0 +1,64 @@
+#version 450
+// BrickCulling: the live bricks to inject this frame (SPEC §4.2): a frustum test, then a Hi-Z occlusion test of the
+// brick's screen rectangle at the level where it covers at most 2×2 texels against its nearest depth. Occluded or
+// off-screen bricks keep their data untouched. Output: a compact list and its indirect dispatch (one group per brick).
+#include "gi/gi_frame.glsl"
+#include "gi/voxels/voxel_access.glsl"
+
+layout(local_size_x = 64) in;
+
+layout(binding = kBindPoolState) buffer PoolBlock { BrickPoolState pool; };
+layout(binding = 8) readonly buffer HiZ { float hiz[]; };
+layout(binding = 9) buffer VisibleBricks {
+  IndirectList visible;
+  uint visibleBricks[];
+};
+
+bool insideFrustum(vec3 lo, vec3 hi) {
+  for (int i = 0; i < 6; ++i) {
+    vec4 plane = frame.frustumPlanes[i];
+    vec3 farthestAlongNormal = mix(lo, hi, greaterThan(plane.xyz, vec3(0.0)));
+    if (dot(plane.xyz, farthestAlongNormal) + plane.w < 0.0) return false;
+  }
+  return true;
+}
+
+bool occludedByHiZ(vec3 lo, vec3 hi) {
+  vec2 minPixel = vec2(1e30), maxPixel = vec2(-1e30);
+  float nearestDepth = 0.0;  // reversed-Z: larger is nearer
+  for (int corner = 0; corner < 8; ++corner) {
+    vec3 p = mix(lo, hi, vec3(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1));
+    vec4 clip = frame.viewProjection * vec4(p, 1.0);
+    if (clip.w <= 1e-4) return false;  // reaches behind the camera: assume visible
+    vec3 ndc = clip.xyz / clip.w;
+    vec2 pixel = giNdcToPixel(ndc.xy, vec2(frame.sizes.xy));
+    minPixel = min(minPixel, pixel);
+    maxPixel = max(maxPixel, pixel);
+    nearestDepth = max(nearestDepth, ndc.z);
+  }
+  // Hi-Z level 0 texels are 2×2 pixels; pick the level at which the rectangle spans at most two texels per axis.
+  vec2 extent = max(maxPixel - minPixel, vec2(1.0));
+  uint level = min(uint(max(ceil(log2(max(extent.x, extent.y) * 0.5)), 0.0)), frame.frame.z - 1u);
+  uvec4 hizLevel = frame.hizLevels[level];
+  float scale = 1.0 / float(2u << level);
+  ivec2 first = clamp(ivec2(floor(minPixel * scale)), ivec2(0), ivec2(hizLevel.yz) - 1);
+  ivec2 last = clamp(ivec2(floor(maxPixel * scale)), ivec2(0), ivec2(hizLevel.yz) - 1);
+  float farthestDrawn = 1.0;
+  for (int y = first.y; y <= last.y; ++y)
+    for (int x = first.x; x <= last.x; ++x)
+      farthestDrawn = min(farthestDrawn, hiz[hizLevel.x + uint(y) * hizLevel.y + uint(x)]);
+  return nearestDepth < farthestDrawn;  // the brick's nearest point is behind everything drawn over it
+}
+
+void main() {
+  uint brick = gl_GlobalInvocationID.x;
+  if (brick >= pool.bumpCount || bricks[brick].coordinate.w == 0) return;
+  atomicAdd(pool.voxelsValid, uint(bitCount(bricks[brick].occupancy.x) + bitCount(bricks[brick].occupancy.y)));
+  vec3 lo = vec3(bricks[brick].coordinate.xyz) * volume.voxelSize.y;
+  vec3 hi = lo + vec3(volume.voxelSize.y);
+  if (!insideFrustum(lo, hi) || occludedByHiZ(lo, hi)) return;
+  uint slot = atomicAdd(visible.count, 1u);
+  atomicAdd(visible.groupCountX, 1u);
+  visibleBricks[slot] = brick;
+  atomicAdd(pool.visibleThisFrame, 1u);
+}

@@ -1,0 +1,31 @@
+#version 450
+// HiZBuild: the farthest depth (min reversed-Z) of each 2×2 block, level by level, into one buffer (SPEC §4, step 1).
+// Level 0 is half the depth's resolution. A buffer rather than a mipmapped image: BrickCulling picks the level per
+// brick, and a buffer needs no descriptor arrays or min/max samplers, which mobile GPUs may lack (SPEC §2).
+#include "gi/gi_frame.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(binding = 8) uniform sampler2D depthBuffer;
+layout(binding = 9) buffer HiZ { float hiz[]; };
+layout(push_constant) uniform Push { uint level; } push;
+
+float source(ivec2 texel, uvec4 sourceLevel) {
+  texel = min(texel, ivec2(sourceLevel.yz) - 1);
+  if (push.level == 0u) return texelFetch(depthBuffer, texel, 0).r;
+  return hiz[sourceLevel.x + uint(texel.y) * sourceLevel.y + uint(texel.x)];
+}
+
+void main() {
+  uvec4 target = frame.hizLevels[push.level];
+  uvec2 texel = gl_GlobalInvocationID.xy;
+  if (any(greaterThanEqual(texel, target.yz))) return;
+  uvec4 sourceLevel = push.level == 0u ? uvec4(0u, frame.sizes.xy, 0u) : frame.hizLevels[push.level - 1u];
+  // An odd-sized source has a last row/column no 2×2 block covers: the last texel of the target takes it too.
+  ivec2 first = ivec2(texel * 2u);
+  ivec2 last = first + 1 + ivec2(equal(texel + 1u, target.yz)) * ivec2(sourceLevel.yz & 1u);
+  float farthest = 1.0;
+  for (int y = first.y; y <= last.y; ++y)
+    for (int x = first.x; x <= last.x; ++x) farthest = min(farthest, source(ivec2(x, y), sourceLevel));
+  hiz[target.x + texel.y * target.y + texel.x] = farthest;
+}

@@ -1,0 +1,93 @@
+#version 450
+// SceneVoxelization: injects the latest lit frame into the listed bricks, one thread per voxel, by gather (SPEC §4.3).
+// Each voxel picks a random point inside itself (new every frame), projects it into the lit frame and compares:
+//   Valid   the surface seen at that pixel lies inside this voxel: store its colour and normal, reset the counter;
+//   Invalid the point is clearly in front of the surface seen there (the camera looks through this voxel): count a
+//           frame; past the threshold the voxel is cleared;
+//   Skip    behind the surface or off-screen: nothing is known, nothing changes.
+// A brick left empty for emptyFramesToRelease updates returns to the pool the same frame.
+#include "gi/gi_frame.glsl"
+#include "gi/voxels/brick_pool.glsl"
+#include "shared/sampling.h"
+
+layout(local_size_x = 64) in;
+
+layout(binding = 8) uniform sampler2D litColor;
+layout(binding = 9) uniform sampler2D litDepth;
+layout(binding = 10) uniform sampler2D litNormal;
+layout(binding = 11) readonly buffer VisibleBricks {
+  IndirectList visible;
+  uint visibleBricks[];
+};
+
+shared uint occupancyLow;
+shared uint occupancyHigh;
+
+const uint kMaxLastHit = 0xffffu;
+
+void main() {
+  uint brick = visibleBricks[gl_WorkGroupID.x];
+  uint voxelIndex = gl_LocalInvocationID.x;
+  uvec3 voxelInBrick = uvec3(voxelIndex & 3u, (voxelIndex >> 2u) & 3u, voxelIndex >> 4u);
+  ivec3 worldBrick = bricks[brick].coordinate.xyz;
+  ivec3 worldVoxel = worldBrick * int(kBrickSizeVoxels) + ivec3(voxelInBrick);
+  float voxelSize = volume.voxelSize.x;
+  uint bit = voxelBit(voxelInBrick);
+  bool occupied = voxelOccupied(brick, voxelInBrick);
+  Voxel voxel = voxels[brick * kVoxelsPerBrick + voxelIndex];
+
+  if (voxelIndex == 0u) {
+    occupancyLow = 0u;
+    occupancyHigh = 0u;
+  }
+  barrier();
+
+  if (volume.settings.z != 0u) {
+    vec3 voxelMin = vec3(worldVoxel) * voxelSize;
+    vec3 samplePoint = voxelMin + hashToUnitCube(uvec3(ivec3(worldVoxel)) ^ uvec3(0u, 0u, frame.frame.x * 0x9e3779b9u)) * voxelSize;
+    vec4 clip = frame.litViewProjection * vec4(samplePoint, 1.0);
+    vec2 litSize = vec2(frame.sizes.zw);
+    vec2 pixel = giNdcToPixel(clip.xy / clip.w, litSize);
+    if (clip.w > 0.0 && all(greaterThanEqual(pixel, vec2(0.0))) && all(lessThan(pixel, litSize))) {
+      ivec2 texel = ivec2(pixel);
+      float depth = texelFetch(litDepth, texel, 0).r;
+      vec3 surface = depth > 0.0 ? reconstructPosition(frame.litInverseViewProjection, vec2(texel), litSize, depth)
+                                 : vec3(0.0);
+      float sampleDistance = distance(samplePoint, frame.litCameraPosition.xyz);
+      // "Clearly in front": by more than half a voxel, so that depth quantisation and a surface point just outside
+      // this voxel do not count against it. A voxel holding a surface keeps being found Valid (which resets its
+      // counter) faster than stray Invalid samples clear it.
+      float clearMargin = voxelSize * 0.5;
+      if (depth > 0.0 && all(greaterThanEqual(surface, voxelMin)) && all(lessThan(surface, voxelMin + voxelSize))) {
+        vec3 normal = texelFetch(litNormal, texel, 0).xyz;
+        voxel.radiance = packR11G11B10F(texelFetch(litColor, texel, 0).rgb);
+        voxel.normalAndLastHit = packOctahedralNormal(normalize(normal));
+        occupied = true;
+      } else if (occupied &&
+                 (depth <= 0.0 || sampleDistance < distance(surface, frame.litCameraPosition.xyz) - clearMargin)) {
+        uint lastHit = min((voxel.normalAndLastHit >> 16u) + 1u, kMaxLastHit);
+        voxel.normalAndLastHit = (voxel.normalAndLastHit & 0xffffu) | (lastHit << 16u);
+        if (lastHit >= volume.settings.x) occupied = false;
+      }
+      voxels[brick * kVoxelsPerBrick + voxelIndex] = occupied ? voxel : Voxel(0u, 0u);
+    }
+  }
+
+  if (occupied) {
+    if (bit < 32u) atomicOr(occupancyLow, 1u << bit);
+    else atomicOr(occupancyHigh, 1u << (bit - 32u));
+  }
+  barrier();
+
+  if (voxelIndex == 0u) {
+    uvec2 mask = uvec2(occupancyLow, occupancyHigh);
+    uint emptyFrames = mask == uvec2(0u) ? bricks[brick].occupancy.z + 1u : 0u;
+    bricks[brick].occupancy = uvec4(mask, emptyFrames, 0u);
+    uint cell = brickCellIndex(worldBrick, volumeDimensions());
+    if (emptyFrames >= volume.settings.y) {
+      releaseBrick(brick, cell);
+    } else {
+      markCellChanged(cell);
+    }
+  }
+}

@@ -1,0 +1,60 @@
+// Declarations of the voxel scene's buffers at their shared slots, and the lookups every GI pass needs.
+// A shader that writes the voxel scene defines SSVGI_VOXELS_WRITABLE before including this; the others see it
+// read-only (which also tells the GPU layer's barrier tracker how each pass uses it).
+#ifndef SSVGI_VOXEL_ACCESS_GLSL
+#define SSVGI_VOXEL_ACCESS_GLSL
+
+#include "shared/voxel_interface.h"
+
+#ifdef SSVGI_VOXELS_WRITABLE
+#define SSVGI_VOXEL_ACCESS
+#else
+#define SSVGI_VOXEL_ACCESS readonly
+#endif
+// A shader that writes only the occupancy grid (BuildOctree) defines SSVGI_OCCUPANCY_GRID_WRITABLE instead.
+#if defined(SSVGI_VOXELS_WRITABLE) || defined(SSVGI_OCCUPANCY_GRID_WRITABLE)
+#define SSVGI_OCCUPANCY_GRID_ACCESS
+#else
+#define SSVGI_OCCUPANCY_GRID_ACCESS readonly
+#endif
+
+layout(binding = kBindVoxelVolume) uniform VolumeBlock { VoxelVolume volume; };
+layout(binding = kBindBrickLookup) SSVGI_VOXEL_ACCESS buffer BrickLookup { uint brickLookup[]; };
+layout(binding = kBindBricks) SSVGI_VOXEL_ACCESS buffer Bricks { Brick bricks[]; };
+layout(binding = kBindVoxels) SSVGI_VOXEL_ACCESS buffer Voxels { Voxel voxels[]; };
+layout(binding = kBindOccupancyGrid) SSVGI_OCCUPANCY_GRID_ACCESS buffer OccupancyGrid { uint occupancyGrid[]; };
+
+ivec3 volumeDimensions() { return volume.dimensionsBricks.xyz; }
+
+// The world brick containing a world position.
+ivec3 worldBrickOf(vec3 position) { return ivec3(floor(position * volume.voxelSize.z)); }
+
+// Pool index of the brick at a world brick coordinate, or kInvalidBrick (also outside the volume or mid-allocation).
+uint brickAt(ivec3 worldBrick) {
+  if (!brickInVolume(worldBrick, volume)) return kInvalidBrick;
+  uint index = brickLookup[brickCellIndex(worldBrick, volumeDimensions())];
+  return index == kAllocatingBrick ? kInvalidBrick : index;
+}
+
+bool voxelOccupied(uint brick, uvec3 voxelInBrick) {
+  uint bit = voxelBit(voxelInBrick);
+  uint word = bit < 32u ? bricks[brick].occupancy.x : bricks[brick].occupancy.y;
+  return (word & (1u << (bit & 31u))) != 0u;
+}
+
+// Where the bit of a grid level (2 = brick, 3 = 2×2×2 bricks, 4 = 4×4×4 bricks) for a cell of that level in world
+// units lies: x, the word in occupancyGrid; y, the bit's mask in it.
+uvec2 gridBitAddress(uint level, ivec3 worldCell) {
+  uint shift = level - kFirstGridLevel;
+  ivec3 dimensions = volumeDimensions() >> shift;
+  uint index = brickCellIndex(worldCell, dimensions);
+  uint offset = level == 2u ? volume.gridWordOffsets.x : (level == 3u ? volume.gridWordOffsets.y : volume.gridWordOffsets.z);
+  return uvec2(offset + (index >> 5u), 1u << (index & 31u));
+}
+
+bool gridOccupied(uint level, ivec3 worldCell) {
+  uvec2 address = gridBitAddress(level, worldCell);
+  return (occupancyGrid[address.x] & address.y) != 0u;
+}
+
+#endif

@@ -1,0 +1,38 @@
+// What the GI passes know of the frame: the current view and the latest lit frame's (SPEC §3), the Hi-Z pyramid's
+// layout, and the culling planes. One uniform buffer per frame in flight.
+#ifndef SSVGI_SHARED_GI_FRAME_H
+#define SSVGI_SHARED_GI_FRAME_H
+
+#include "shared/glsl_cpp.h"
+
+SSVGI_SHARED_BEGIN
+
+SSVGI_CONSTANT(uint, kBindGiFrame, 5u);  // GiFrame (uniform), beside the voxel scene's shared slots
+SSVGI_CONSTANT(uint, kMaxHiZLevels, 16u);
+
+struct GiFrame {
+  mat4 viewProjection;             // current camera, reversed-Z
+  mat4 inverseViewProjection;
+  mat4 litViewProjection;          // the camera the lit frame was rendered with
+  mat4 litInverseViewProjection;
+  vec4 cameraPosition;             // xyz: current camera position
+  vec4 litCameraPosition;          // xyz: lit frame's camera position
+  uvec4 sizes;                     // x, y: current depth size; z, w: lit frame size
+  uvec4 frame;                     // x: frame index; y: BrickAllocate pixel stride; z: Hi-Z level count; w: unused
+  vec4 frustumPlanes[6];           // current camera, world space, normals pointing inwards: dot(n, p) + w >= 0 inside
+  uvec4 hizLevels[kMaxHiZLevels];  // per Hi-Z level: x: first float in the pyramid buffer; y: width; z: height
+};
+SSVGI_CHECK_SIZE(GiFrame, 4 * 64 + 4 * 16 + 6 * 16 + 16 * 16);
+
+// Pixel centre -> NDC for a frame of `size` pixels (rows top to bottom, NDC +y up, as the host renderer).
+SSVGI_INLINE vec2 giPixelToNdc(vec2 pixel, vec2 size) {
+  vec2 uv = (pixel + vec2(0.5f)) / size;
+  return vec2(uv.x * 2.0f - 1.0f, 1.0f - uv.y * 2.0f);
+}
+
+// NDC -> continuous pixel coordinates (inverse of giPixelToNdc without the half-pixel).
+SSVGI_INLINE vec2 giNdcToPixel(vec2 ndc, vec2 size) { return vec2(0.5f + 0.5f * ndc.x, 0.5f - 0.5f * ndc.y) * size; }
+
+SSVGI_SHARED_END
+
+#endif

@@ -1,0 +1,148 @@
+// The voxel scene of SPEC §4.1–4.4 ("GI scene", the talk's Part 1): layouts, binding slots and addressing shared by the
+// GI shaders and the host. A camera-centred box of bricks (4×4×4 voxels) addressed toroidally; a pool of bricks with
+// a bump allocator and a free list; a 64-bit occupancy mask per brick and bit volumes over the brick grid for the
+// coarser levels of the occupancy hierarchy.
+#ifndef SSVGI_SHARED_VOXEL_INTERFACE_H
+#define SSVGI_SHARED_VOXEL_INTERFACE_H
+
+#include "shared/glsl_cpp.h"
+
+SSVGI_SHARED_BEGIN
+
+SSVGI_CONSTANT(uint, kBrickSizeVoxels, 4u);   // a brick is 4×4×4 voxels
+SSVGI_CONSTANT(uint, kVoxelsPerBrick, 64u);
+SSVGI_CONSTANT(uint, kInvalidBrick, 0xffffffffu);  // brickLookup: no brick in this cell
+SSVGI_CONSTANT(uint, kAllocatingBrick, 0xfffffffeu);  // brickLookup: a thread is allocating this cell right now
+// Occupancy hierarchy (SPEC §4.4): level 0 = voxel (the brick's 64-bit mask), 1 = 2×2×2 voxels (derived from the
+// mask), 2 = brick, 3 = 2×2×2 bricks, 4 = 4×4×4 bricks; levels 2–4 are bit volumes over the (toroidal) brick grid.
+SSVGI_CONSTANT(uint, kOccupancyLevels, 5u);
+SSVGI_CONSTANT(uint, kFirstGridLevel, 2u);
+
+// Binding slots of the voxel scene, the same in every GI shader that reads or writes it (voxel_access.glsl declares
+// them); a pass's own bindings start at kBindFirstPassSlot.
+SSVGI_CONSTANT(uint, kBindVoxelVolume, 0u);     // VoxelVolume (uniform)
+SSVGI_CONSTANT(uint, kBindBrickLookup, 1u);     // uint per brick cell: pool index or kInvalidBrick
+SSVGI_CONSTANT(uint, kBindBricks, 2u);          // Brick[capacity]
+SSVGI_CONSTANT(uint, kBindVoxels, 3u);          // Voxel[capacity * 64]
+SSVGI_CONSTANT(uint, kBindOccupancyGrid, 4u);   // bit volumes of levels 2–4 (VoxelVolume::gridWordOffsets)
+// (slot 5 is the GiFrame uniform of gi_frame.h)
+SSVGI_CONSTANT(uint, kBindPoolState, 6u);       // BrickPoolState + free list (brick_pool.glsl; allocating passes only)
+SSVGI_CONSTANT(uint, kBindChangedCells, 7u);    // IndirectList of brick cells whose occupancy may have changed
+SSVGI_CONSTANT(uint, kBindFirstPassSlot, 8u);
+
+// Per-frame description of the volume (uniform buffer).
+struct VoxelVolume {
+  ivec4 originBrick;        // xyz: world brick coordinate of the volume's minimum corner; w: frame index
+  ivec4 dimensionsBricks;   // xyz: volume size in bricks (multiples of 4); w: brick pool capacity
+  vec4 voxelSize;           // x: voxel size (m); y: brick size (m); z: 1 / brick size; w: unused
+  uvec4 gridWordOffsets;    // x, y, z: first uint of occupancy levels 2, 3, 4 in the grid bit buffer; w: total words
+  uvec4 settings;           // x: frames a voxel may be seen through before it is cleared; y: frames an empty brick
+                            // is kept; z: 1 when a lit frame is available for injection; w: unused
+};
+SSVGI_CHECK_SIZE(VoxelVolume, 80);
+
+// A brick of the pool.
+struct Brick {
+  ivec4 coordinate;   // xyz: world brick coordinate; w: 1 while the brick is live, 0 when free
+  uvec4 occupancy;    // xy: 64-bit voxel occupancy mask (bit = x + 4y + 16z); z: frames the mask has been empty; w: 0
+};
+SSVGI_CHECK_SIZE(Brick, 32);
+
+// Allocation state of the pool, plus this frame's counters (reset at the start of every frame). Followed in its
+// buffer by the free list: brickPoolCapacity pool indices, the first freeCount of them free.
+struct BrickPoolState {
+  uint bumpCount;           // slots handed out by the bump allocator so far (never decreases)
+  uint freeCount;           // entries on the free list
+  uint droppedTotal;        // allocations refused because the pool was full, since creation
+  uint droppedThisFrame;
+  uint allocatedThisFrame;
+  uint releasedThisFrame;
+  uint visibleThisFrame;    // bricks listed by BrickCulling for injection
+  uint voxelsValid;         // occupied voxels of all live bricks, counted by BrickCulling (before this frame's injection)
+};
+SSVGI_CHECK_SIZE(BrickPoolState, 32);
+
+// A list built by atomic appends that a later pass consumes with vkCmdDispatchIndirect: the first appender of every
+// `groupSize` entries adds a workgroup, so the dispatch arguments are always ceil(count / groupSize) without a pass
+// of their own. Followed in its buffer by the entries (uint each).
+struct IndirectList {
+  uint groupCountX;  // VkDispatchIndirectCommand
+  uint groupCountY;  // 1
+  uint groupCountZ;  // 1
+  uint count;
+};
+SSVGI_CHECK_SIZE(IndirectList, 16);
+SSVGI_CONSTANT(uint, kIndirectListHeaderWords, 4u);
+
+// A voxel: radiance as R11G11B10F and octahedral normal (2 × 8 bit) + frames since the last valid injection (16 bit).
+struct Voxel {
+  uint radiance;
+  uint normalAndLastHit;
+};
+SSVGI_CHECK_SIZE(Voxel, 8);
+
+// The volume's origin moves in steps of this many bricks (the cell size of the coarsest level), so that every cell of
+// every level lies wholly inside or wholly outside the volume and toroidal slots never alias.
+SSVGI_CONSTANT(int, kScrollStepBricks, 4);
+
+// Radiance in R11G11B10F (SPEC §4.1): each channel is a half float with the sign dropped and the mantissa cut to
+// 6 (R, G) or 5 (B) bits, rounded to nearest. Negative values become 0, values past the format's range its maximum.
+SSVGI_INLINE uint packSmallFloat(float value, uint mantissaBits) {
+  uint dropped = 10u - mantissaBits;
+  float largest = mantissaBits == 6u ? 65024.0f : 64512.0f;  // (2 - 2^-mantissaBits) · 2^15
+  uint halfBits = SSVGI_HALF_BITS(clamp(value, 0.0f, largest));
+  return (halfBits + (1u << (dropped - 1u))) >> dropped;
+}
+SSVGI_INLINE float unpackSmallFloat(uint bits, uint mantissaBits) { return SSVGI_HALF_FLOAT(bits << (10u - mantissaBits)); }
+
+SSVGI_INLINE uint packR11G11B10F(vec3 radiance) {
+  return packSmallFloat(radiance.x, 6u) | (packSmallFloat(radiance.y, 6u) << 11u) | (packSmallFloat(radiance.z, 5u) << 22u);
+}
+SSVGI_INLINE vec3 unpackR11G11B10F(uint packed) {
+  return vec3(unpackSmallFloat(packed & 0x7ffu, 6u), unpackSmallFloat((packed >> 11u) & 0x7ffu, 6u),
+              unpackSmallFloat(packed >> 22u, 5u));
+}
+
+// Unit normal in 16 bits: octahedral mapping (Meyer et al. 2010), 8 bits per coordinate.
+SSVGI_INLINE uint packOctahedralNormal(vec3 normal) {
+  vec3 n = normal / (abs(normal.x) + abs(normal.y) + abs(normal.z));
+  vec2 folded = vec2(n.x, n.y);
+  if (n.z < 0.0f) {
+    folded = (vec2(1.0f) - abs(vec2(n.y, n.x))) * vec2(n.x >= 0.0f ? 1.0f : -1.0f, n.y >= 0.0f ? 1.0f : -1.0f);
+  }
+  uvec2 quantised = uvec2(clamp(folded * 0.5f + vec2(0.5f), vec2(0.0f), vec2(1.0f)) * 255.0f + vec2(0.5f));
+  return quantised.x | (quantised.y << 8u);
+}
+SSVGI_INLINE vec3 unpackOctahedralNormal(uint packed) {
+  vec2 folded = vec2(float(packed & 0xffu), float((packed >> 8u) & 0xffu)) / 255.0f * 2.0f - vec2(1.0f);
+  vec3 n = vec3(folded.x, folded.y, 1.0f - abs(folded.x) - abs(folded.y));
+  if (n.z < 0.0f) {
+    vec2 unfolded = (vec2(1.0f) - abs(vec2(n.y, n.x))) * vec2(n.x >= 0.0f ? 1.0f : -1.0f, n.y >= 0.0f ? 1.0f : -1.0f);
+    n.x = unfolded.x;
+    n.y = unfolded.y;
+  }
+  return normalize(n);
+}
+
+// Positive modulo: toroidal addressing of world coordinates into the volume (SPEC §4.1). GLSL leaves % undefined for
+// negative operands, so the coordinate is first shifted by a large multiple of the dimensions (world coordinates stay
+// within ±2^16 cells, thousands of kilometres).
+SSVGI_INLINE ivec3 wrapCoordinate(ivec3 coordinate, ivec3 dimensions) {
+  return (coordinate + dimensions * 65536) % dimensions;
+}
+
+SSVGI_INLINE uint brickCellIndex(ivec3 worldBrick, ivec3 dimensions) {
+  ivec3 cell = wrapCoordinate(worldBrick, dimensions);
+  return uint(cell.x + dimensions.x * (cell.y + dimensions.y * cell.z));
+}
+
+SSVGI_INLINE bool brickInVolume(ivec3 worldBrick, VoxelVolume volume) {
+  ivec3 local = worldBrick - ivec3(volume.originBrick);
+  return all(greaterThanEqual(local, ivec3(0))) && all(lessThan(local, ivec3(volume.dimensionsBricks)));
+}
+
+SSVGI_INLINE uint voxelBit(uvec3 voxelInBrick) { return voxelInBrick.x + 4u * voxelInBrick.y + 16u * voxelInBrick.z; }
+
+SSVGI_SHARED_END
+
+#endif

@@ -1,0 +1,300 @@
+// The GI context: owns the passes and their resources and records a frame in the order of SPEC §4.
+#include "gpu/command_list.h"
+#include "gpu/profiler.h"
+#include "shared/gi_frame.h"
+#include "ssvgi/ssvgi.h"
+#include "voxels/build_octree.h"
+#include "voxels/voxel_debug_view.h"
+#include "voxels/voxel_passes.h"
+#include "voxels/voxel_scene.h"
+#include "context_internals.h"
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <cstring>
+#include <optional>
+
+namespace ssvgi {
+
+namespace {
+
+glm::mat4 toMat4(const Matrix4& matrix) { return glm::make_mat4(matrix.data()); }
+
+// Frustum planes of a view-projection, pointing inwards (Gribb and Hartmann). Reversed-Z: inside is 0 <= z <= w; the
+// infinite far plane (z >= 0) excludes nothing and is left out.
+void frustumPlanes(const glm::mat4& viewProjection, glm::vec4 planes[6]) {
+  const glm::mat4 rows = glm::transpose(viewProjection);
+  planes[0] = rows[3] + rows[0];
+  planes[1] = rows[3] - rows[0];
+  planes[2] = rows[3] + rows[1];
+  planes[3] = rows[3] - rows[1];
+  planes[4] = rows[3] - rows[2];
+  planes[5] = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+  for (int i = 0; i < 5; ++i) planes[i] /= glm::length(glm::vec3(planes[i]));
+}
+
+// Levels of the Hi-Z pyramid for a depth of `width` × `height`: level 0 is half size, down to 1×1.
+uint32_t hizLayout(uint32_t width, uint32_t height, glm::uvec4 levels[shader::kMaxHiZLevels]) {
+  uint32_t count = 0, offset = 0;
+  glm::uvec2 size((width + 1) / 2, (height + 1) / 2);
+  for (;;) {
+    levels[count++] = glm::uvec4(offset, size.x, size.y, 0);
+    offset += size.x * size.y;
+    if ((size.x == 1 && size.y == 1) || count == shader::kMaxHiZLevels) return count;
+    size = (size + 1u) / 2u;
+  }
+}
+
+Error invalid(const std::string& message) { return {Status::InvalidDescription, message}; }
+
+Error toError(const gpu::GpuError& error) {
+  const std::string message = error.what();
+  const bool outOfMemory = message.find("OUT_OF_DEVICE_MEMORY") != std::string::npos;
+  return {outOfMemory ? Status::OutOfDeviceMemory : Status::VulkanError, message};
+}
+
+Error validateSettings(const ContextDesc& desc) {
+  const Settings& settings = desc.settings;
+  if (!desc.instance || !desc.physicalDevice || !desc.device)
+    return invalid("ContextDesc: instance, physicalDevice and device are required");
+  for (int axis = 0; axis < 3; ++axis)
+    if (settings.volumeBricks[axis] == 0 || settings.volumeBricks[axis] % (2 * shader::kScrollStepBricks) != 0)
+      return invalid("Settings::volumeBricks must be positive multiples of 8 (got " +
+                     std::to_string(settings.volumeBricks[axis]) + ")");
+  if (!(settings.voxelSize > 0.0f)) return invalid("Settings::voxelSize must be positive");
+  if (settings.brickPoolCapacity == 0) return invalid("Settings::brickPoolCapacity must be positive");
+  if (settings.allocationPixelStride == 0) return invalid("Settings::allocationPixelStride must be positive");
+  if (settings.invalidFramesToClear == 0 || settings.invalidFramesToClear > 0xffff)
+    return invalid("Settings::invalidFramesToClear must be in 1..65535");
+  if (desc.framesInFlight == 0 || desc.framesInFlight > 8) return invalid("ContextDesc::framesInFlight must be in 1..8");
+  if (desc.maxWidth == 0 || desc.maxHeight == 0) return invalid("ContextDesc::maxWidth/maxHeight must be positive");
+  return {};
+}
+
+Error validateView(const View& view, const char* name, const ContextDesc& desc) {
+  if (view.width == 0 || view.height == 0) return invalid(std::string(name) + ": width and height must be positive");
+  if (view.width > desc.maxWidth || view.height > desc.maxHeight)
+    return invalid(std::string(name) + ": " + std::to_string(view.width) + "×" + std::to_string(view.height) +
+                   " exceeds ContextDesc::maxWidth/maxHeight");
+  return {};
+}
+
+class ContextImplementation final : public Context {
+ public:
+  explicit ContextImplementation(const ContextDesc& desc)
+      : desc_(desc),
+        device_(gpu::ExternalDevice{desc.instance, desc.physicalDevice, desc.device, desc.debugUtilsEnabled}),
+        scene_(device_, desc.settings, desc.framesInFlight),
+        pointSampler_(device_, pointSamplerInfo(), "ssvgi point sampler"),
+        hiz_(device_, "ssvgi hi-z pyramid", hizBytes(desc), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT),
+        visibleBricks_(device_, "ssvgi visible bricks",
+                       sizeof(shader::IndirectList) + VkDeviceSize(desc.settings.brickPoolCapacity) * 4,
+                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT),
+        hizBuild_(device_),
+        volumeScroll_(device_),
+        brickAllocate_(device_),
+        brickCulling_(device_),
+        sceneVoxelization_(device_),
+        buildOctree_(device_),
+        debugView_(device_) {
+    for (uint32_t i = 0; i < desc.framesInFlight; ++i) {
+      perFrame_.push_back(std::make_unique<PerFrame>(device_));
+    }
+  }
+
+  Error dispatch(const FrameDesc& desc, VkCommandBuffer commandBuffer) override {
+    if (Error error = validateFrame(desc)) return error;
+    return guarded([&] { record(desc, commandBuffer); });
+  }
+
+  Error debugView(DebugView view, const View& camera, VkImage target, VkImageView targetView,
+                  VkCommandBuffer commandBuffer) override {
+    if (Error error = validateView(camera, "debugView camera", desc_)) return error;
+    if (!target || !targetView) return invalid("debugView: target image and view are required");
+    return guarded([&] {
+      PerFrame& slot = *perFrame_[lastSlot_];
+      gpu::CommandList commands(device_, commandBuffer, slot.descriptors);
+      debugView_.record(commands, scene_, view, camera, target, targetView);
+    });
+  }
+
+  const gi::VoxelScene& voxelScene() const { return scene_; }
+
+  Stats stats() override {
+    Stats stats;
+    for (const auto& [name, bytes] : device_.allocations()) {
+      stats.memory.push_back({name, bytes});
+      stats.totalBytes += bytes;
+    }
+    stats.brickPoolCapacity = desc_.settings.brickPoolCapacity;
+    if (!dispatched_) return stats;
+    PerFrame& slot = *perFrame_[lastSlot_];
+    shader::BrickPoolState pool{};
+    std::memcpy(&pool, slot.statsReadback.mapped(), sizeof(pool));
+    stats.bricksLive = pool.bumpCount - pool.freeCount;
+    stats.bricksFree = pool.freeCount;
+    stats.bricksNeverUsed = desc_.settings.brickPoolCapacity - pool.bumpCount;
+    stats.bricksDroppedLastFrame = pool.droppedThisFrame;
+    stats.bricksDroppedTotal = pool.droppedTotal;
+    stats.bricksAllocatedLastFrame = pool.allocatedThisFrame;
+    stats.bricksReleasedLastFrame = pool.releasedThisFrame;
+    stats.bricksVisibleLastFrame = pool.visibleThisFrame;
+    stats.voxelsValid = pool.voxelsValid;
+    for (const auto& timing : slot.profiler.resolve()) stats.passes.push_back({timing.name, timing.milliseconds});
+    return stats;
+  }
+
+ private:
+  // What a frame in flight owns until the host has finished with it.
+  struct PerFrame {
+    explicit PerFrame(gpu::Device& device)
+        : descriptors(device),
+          profiler(device),
+          frameConstants(device, "ssvgi frame constants", sizeof(shader::GiFrame), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                         gpu::MemoryUsage::HostUpload),
+          statsReadback(device, "ssvgi stats readback", sizeof(shader::BrickPoolState),
+                        VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::MemoryUsage::HostReadback) {}
+    gpu::DescriptorArena descriptors;
+    gpu::Profiler profiler;
+    gpu::Buffer frameConstants;
+    gpu::Buffer statsReadback;
+  };
+
+  static VkSamplerCreateInfo pointSamplerInfo() {
+    VkSamplerCreateInfo info{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+    info.magFilter = info.minFilter = VK_FILTER_NEAREST;
+    info.addressModeU = info.addressModeV = info.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+    return info;
+  }
+
+  static VkDeviceSize hizBytes(const ContextDesc& desc) {
+    glm::uvec4 levels[shader::kMaxHiZLevels];
+    const uint32_t count = hizLayout(desc.maxWidth, desc.maxHeight, levels);
+    return VkDeviceSize(levels[count - 1].x + 1) * sizeof(float);
+  }
+
+  template <typename Record>
+  Error guarded(Record record) {
+    try {
+      record();
+      return {};
+    } catch (const gpu::GpuError& error) {
+      return toError(error);
+    }
+  }
+
+  Error validateFrame(const FrameDesc& frame) const {
+    if (Error error = validateView(frame.camera, "FrameDesc::camera", desc_)) return error;
+    if (!frame.depth.view) return invalid("FrameDesc::depth: an image view is required");
+    if (frame.hasLitFrame) {
+      if (Error error = validateView(frame.litCamera, "FrameDesc::litCamera", desc_)) return error;
+      if (!frame.litColor.view || !frame.litDepth.view || !frame.litNormal.view)
+        return invalid("FrameDesc: hasLitFrame needs litColor, litDepth and litNormal views");
+    }
+    return {};
+  }
+
+  shader::GiFrame frameConstants(const FrameDesc& desc, uint32_t& hizLevels) const {
+    shader::GiFrame frame{};
+    frame.viewProjection = toMat4(desc.camera.viewProjection);
+    frame.inverseViewProjection = glm::inverse(frame.viewProjection);
+    frame.cameraPosition = glm::vec4(desc.camera.position[0], desc.camera.position[1], desc.camera.position[2], 1.0f);
+    const View& lit = desc.hasLitFrame ? desc.litCamera : desc.camera;
+    frame.litViewProjection = toMat4(lit.viewProjection);
+    frame.litInverseViewProjection = glm::inverse(frame.litViewProjection);
+    frame.litCameraPosition = glm::vec4(lit.position[0], lit.position[1], lit.position[2], 1.0f);
+    frame.sizes = glm::uvec4(desc.camera.width, desc.camera.height, lit.width, lit.height);
+    hizLevels = hizLayout(desc.camera.width, desc.camera.height, frame.hizLevels);
+    frame.frame = glm::uvec4(desc.frameIndex, desc_.settings.allocationPixelStride, hizLevels, 0);
+    frustumPlanes(frame.viewProjection, frame.frustumPlanes);
+    return frame;
+  }
+
+  void record(const FrameDesc& desc, VkCommandBuffer commandBuffer) {
+    const uint32_t slotIndex = desc.frameIndex % desc_.framesInFlight;
+    PerFrame& slot = *perFrame_[slotIndex];
+    slot.descriptors.reset();
+    uint32_t hizLevels = 0;
+    const shader::GiFrame frame = frameConstants(desc, hizLevels);
+    std::memcpy(slot.frameConstants.mapped(), &frame, sizeof(frame));
+    bool scrolled = false;
+    scene_.place(glm::vec3(frame.cameraPosition), desc.frameIndex, desc.hasLitFrame, scrolled);
+
+    gpu::CommandList commands(device_, commandBuffer, slot.descriptors, &slot.profiler);
+    slot.profiler.begin(commandBuffer);
+    {
+      auto scope = commands.scope("ssvgi: FrameSetup");
+      if (!initialised_) {
+        commands.fillBuffer(scene_.brickLookup(), shader::kInvalidBrick);
+        commands.fillBuffer(scene_.bricks(), 0);
+        commands.fillBuffer(scene_.poolState(), 0);
+        commands.fillBuffer(scene_.occupancyGrid(), 0);
+        initialised_ = true;
+      }
+      // This frame's counters and the two lists start empty (dispatch arguments {0, 1, 1}).
+      const uint32_t zeroCounters[5] = {};
+      commands.updateBuffer(scene_.poolState(), offsetof(shader::BrickPoolState, droppedThisFrame), zeroCounters,
+                            sizeof(zeroCounters));
+      const shader::IndirectList empty{0, 1, 1, 0};
+      commands.updateBuffer(scene_.changedCells(), 0, &empty, sizeof(empty));
+      commands.updateBuffer(visibleBricks_, 0, &empty, sizeof(empty));
+    }
+
+    const gi::VoxelFrameInputs inputs{slot.frameConstants, pointSampler_.handle(), desc.depth.view, hiz_, visibleBricks_};
+    hizBuild_.record(commands, inputs, frame, hizLevels);                               // 1. HiZBuild
+    if (scrolled) volumeScroll_.record(commands, scene_, inputs);                       // 2. VolumeScroll
+    brickAllocate_.record(commands, scene_, inputs, {desc.camera.width, desc.camera.height},
+                          desc_.settings.allocationPixelStride);                        // 3. BrickAllocate
+    brickCulling_.record(commands, scene_, inputs);                                     // 4. BrickCulling
+    if (desc.hasLitFrame)
+      sceneVoxelization_.record(commands, scene_, inputs,
+                                {desc.litColor.view, desc.litDepth.view, desc.litNormal.view});  // 5. SceneVoxelization
+    buildOctree_.record(commands, scene_);                                              // 6. BuildOctree
+
+    commands.copyBuffer(scene_.poolState(), slot.statsReadback, sizeof(shader::BrickPoolState));
+    commands.use(slot.statsReadback, gpu::Usage::HostRead);
+    commands.flushBarriers();
+    lastSlot_ = slotIndex;
+    dispatched_ = true;
+  }
+
+  ContextDesc desc_;
+  gpu::Device device_;
+  gi::VoxelScene scene_;
+  gpu::Sampler pointSampler_;
+  gpu::Buffer hiz_;
+  gpu::Buffer visibleBricks_;
+  std::vector<std::unique_ptr<PerFrame>> perFrame_;
+  gi::HiZBuild hizBuild_;
+  gi::VolumeScroll volumeScroll_;
+  gi::BrickAllocate brickAllocate_;
+  gi::BrickCulling brickCulling_;
+  gi::SceneVoxelization sceneVoxelization_;
+  gi::BuildOctree buildOctree_;
+  gi::VoxelDebugView debugView_;
+  uint32_t lastSlot_ = 0;
+  bool dispatched_ = false;
+  bool initialised_ = false;
+};
+
+}  // namespace
+
+Result<std::unique_ptr<Context>> Context::create(const ContextDesc& desc) {
+  if (Error error = validateSettings(desc)) return error;
+  try {
+    return std::unique_ptr<Context>(std::make_unique<ContextImplementation>(desc));
+  } catch (const gpu::GpuError& error) {
+    return toError(error);
+  }
+}
+
+}  // namespace ssvgi
+
+namespace ssvgi::gi {
+
+const VoxelScene& voxelSceneOf(const Context& context) {
+  return static_cast<const ContextImplementation&>(context).voxelScene();
+}
+
+}  // namespace ssvgi::gi

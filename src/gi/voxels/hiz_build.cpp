@@ -1,0 +1,21 @@
+#include "ssvgi_shaders.h"
+#include "voxel_passes.h"
+
+namespace ssvgi::gi {
+
+HiZBuild::HiZBuild(gpu::Device& device) : pipeline_(device, shaders::hiz_build_comp) {}
+
+void HiZBuild::record(gpu::CommandList& commands, const VoxelFrameInputs& inputs, const shader::GiFrame& frame,
+                      uint32_t levels) {
+  auto scope = commands.scope("ssvgi: HiZBuild");
+  const gpu::Bindings bindings = gpu::Bindings()
+                                     .buffer(shader::kBindGiFrame, inputs.frame)
+                                     .externalSampled(8, inputs.depth, inputs.pointSampler)
+                                     .buffer(9, inputs.hiz);
+  for (uint32_t level = 0; level < levels; ++level) {
+    const glm::uvec3 texels(frame.hizLevels[level].y, frame.hizLevels[level].z, 1);
+    commands.dispatch(pipeline_, bindings, texels, level);
+  }
+}
+
+}  // namespace ssvgi::gi

@@ -1,0 +1,20 @@
+#pragma once
+#include "gpu/command_list.h"
+#include "ssvgi/ssvgi.h"
+#include "voxel_scene.h"
+
+namespace ssvgi::gi {
+
+// VoxelDebugView: a picture of the voxel scene from a camera, ray-traced through the occupancy hierarchy: the stored
+// radiance of the first voxel hit, or a colour per brick.
+class VoxelDebugView {
+ public:
+  explicit VoxelDebugView(gpu::Device& device);
+  void record(gpu::CommandList& commands, const VoxelScene& scene, DebugView view, const View& camera, VkImage target,
+              VkImageView targetView);
+
+ private:
+  gpu::ComputePipeline pipeline_;
+};
+
+}  // namespace ssvgi::gi

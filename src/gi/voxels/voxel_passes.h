@@ -1,0 +1,76 @@
+#pragma once
+// The passes that build the voxel scene each frame (SPEC §4 steps 1–5; the talk's "Part1 GI Scene"), in frame order.
+// Each is one compute shader in shaders/gi/voxels/ and one small class that binds and dispatches it.
+#include "gpu/command_list.h"
+#include "shared/gi_frame.h"
+#include "voxel_scene.h"
+
+namespace ssvgi::gi {
+
+// Everything a voxel pass reads from the frame besides the voxel scene.
+struct VoxelFrameInputs {
+  const gpu::Buffer& frame;  // GiFrame uniform
+  VkSampler pointSampler;
+  VkImageView depth;         // current depth (host image)
+  const gpu::Buffer& hiz;    // Hi-Z pyramid
+  const gpu::Buffer& visibleBricks;  // IndirectList of pool indices, written by BrickCulling
+};
+
+// HiZBuild: farthest-depth pyramid of the current depth.
+class HiZBuild {
+ public:
+  explicit HiZBuild(gpu::Device& device);
+  void record(gpu::CommandList& commands, const VoxelFrameInputs& inputs, const shader::GiFrame& frame, uint32_t levels);
+
+ private:
+  gpu::ComputePipeline pipeline_;
+};
+
+// VolumeScroll: releases the bricks the moved volume left behind.
+class VolumeScroll {
+ public:
+  explicit VolumeScroll(gpu::Device& device);
+  void record(gpu::CommandList& commands, const VoxelScene& scene, const VoxelFrameInputs& inputs);
+
+ private:
+  gpu::ComputePipeline pipeline_;
+};
+
+// BrickAllocate: a pool slot for every brick with on-screen surface.
+class BrickAllocate {
+ public:
+  explicit BrickAllocate(gpu::Device& device);
+  void record(gpu::CommandList& commands, const VoxelScene& scene, const VoxelFrameInputs& inputs,
+              glm::uvec2 depthSize, uint32_t pixelStride);
+
+ private:
+  gpu::ComputePipeline pipeline_;
+};
+
+// BrickCulling: the live bricks in view and not occluded, as a list with its indirect dispatch.
+class BrickCulling {
+ public:
+  explicit BrickCulling(gpu::Device& device);
+  void record(gpu::CommandList& commands, const VoxelScene& scene, const VoxelFrameInputs& inputs);
+
+ private:
+  gpu::ComputePipeline pipeline_;
+};
+
+// SceneVoxelization: the lit frame injected into the listed bricks.
+struct LitFrameImages {
+  VkImageView color;
+  VkImageView depth;
+  VkImageView normal;
+};
+class SceneVoxelization {
+ public:
+  explicit SceneVoxelization(gpu::Device& device);
+  void record(gpu::CommandList& commands, const VoxelScene& scene, const VoxelFrameInputs& inputs,
+              const LitFrameImages& lit);
+
+ private:
+  gpu::ComputePipeline pipeline_;
+};
+
+}  // namespace ssvgi::gi

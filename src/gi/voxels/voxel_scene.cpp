@@ -1,0 +1,78 @@
+#include "voxel_scene.h"
+
+#include <cmath>
+#include <cstring>
+
+namespace ssvgi::gi {
+
+namespace {
+
+constexpr VkBufferUsageFlags kStorage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+
+uint32_t gridWords(glm::uvec3 dimensions) { return (dimensions.x * dimensions.y * dimensions.z + 31u) / 32u; }
+
+}  // namespace
+
+VoxelScene::VoxelScene(gpu::Device& device, const Settings& settings, uint32_t framesInFlight)
+    : settings_(settings),
+      brickLookup_(device, "ssvgi brick lookup",
+                   VkDeviceSize(settings.volumeBricks[0]) * settings.volumeBricks[1] * settings.volumeBricks[2] * 4,
+                   kStorage),
+      bricks_(device, "ssvgi brick pool headers", VkDeviceSize(settings.brickPoolCapacity) * sizeof(shader::Brick),
+              kStorage),
+      voxels_(device, "ssvgi brick pool voxels",
+              VkDeviceSize(settings.brickPoolCapacity) * shader::kVoxelsPerBrick * sizeof(shader::Voxel), kStorage),
+      occupancyGrid_(device, "ssvgi occupancy grid", 4 * [&] {
+        const glm::uvec3 dimensions(settings.volumeBricks[0], settings.volumeBricks[1], settings.volumeBricks[2]);
+        return gridWords(dimensions) + gridWords(dimensions / 2u) + gridWords(dimensions / 4u);
+      }(), kStorage),
+      poolState_(device, "ssvgi brick pool state and free list",
+                 sizeof(shader::BrickPoolState) + VkDeviceSize(settings.brickPoolCapacity) * 4, kStorage),
+      changedCells_(device, "ssvgi changed brick cells",
+                    sizeof(shader::IndirectList) + VkDeviceSize(settings.brickPoolCapacity) * 2 * 4,
+                    kStorage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT) {
+  for (uint32_t i = 0; i < framesInFlight; ++i)
+    volumes_.emplace_back(device, "ssvgi voxel volume", sizeof(shader::VoxelVolume), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                          gpu::MemoryUsage::HostUpload);
+  const glm::uvec3 dimensions(settings.volumeBricks[0], settings.volumeBricks[1], settings.volumeBricks[2]);
+  current_.dimensionsBricks = glm::ivec4(glm::ivec3(dimensions), int(settings.brickPoolCapacity));
+  current_.voxelSize = glm::vec4(settings.voxelSize, settings.voxelSize * shader::kBrickSizeVoxels,
+                                 1.0f / (settings.voxelSize * shader::kBrickSizeVoxels), 0.0f);
+  const uint32_t level2 = gridWords(dimensions), level3 = gridWords(dimensions / 2u), level4 = gridWords(dimensions / 4u);
+  current_.gridWordOffsets = glm::uvec4(0, level2, level2 + level3, level2 + level3 + level4);
+  current_.settings = glm::uvec4(settings.invalidFramesToClear, settings.emptyFramesToRelease, 0, 0);
+}
+
+gpu::Bindings VoxelScene::bindings() const {
+  return gpu::Bindings()
+      .buffer(shader::kBindVoxelVolume, volume())
+      .buffer(shader::kBindBrickLookup, brickLookup_)
+      .buffer(shader::kBindBricks, bricks_)
+      .buffer(shader::kBindVoxels, voxels_)
+      .buffer(shader::kBindOccupancyGrid, occupancyGrid_)
+      .buffer(shader::kBindPoolState, poolState_)
+      .buffer(shader::kBindChangedCells, changedCells_);
+}
+
+uint32_t VoxelScene::cellCount() const {
+  return settings_.volumeBricks[0] * settings_.volumeBricks[1] * settings_.volumeBricks[2];
+}
+
+shader::VoxelVolume VoxelScene::place(glm::vec3 cameraPosition, uint32_t frameIndex, bool hasLitFrame, bool& scrolled) {
+  const glm::ivec3 dimensions = glm::ivec3(current_.dimensionsBricks);
+  const float brickSize = current_.voxelSize.y;
+  const int step = shader::kScrollStepBricks;
+  // The step-aligned brick under the camera, minus half the volume (itself a multiple of the step: dimensions are
+  // multiples of 2 × step).
+  const glm::ivec3 cameraBrick = glm::ivec3(glm::floor(cameraPosition / (brickSize * float(step)))) * step;
+  const glm::ivec3 origin = cameraBrick - dimensions / 2;
+  scrolled = !placed_ || origin != glm::ivec3(current_.originBrick);
+  placed_ = true;
+  current_.originBrick = glm::ivec4(origin, int(frameIndex));
+  current_.settings.z = hasLitFrame ? 1u : 0u;
+  currentVolume_ = frameIndex % volumes_.size();
+  std::memcpy(volumes_[currentVolume_].mapped(), &current_, sizeof(current_));
+  return current_;
+}
+
+}  // namespace ssvgi::gi
