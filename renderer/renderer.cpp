@@ -69,7 +69,7 @@ Renderer::Renderer(gpu::Device& device, const Scene& scene, const RendererSettin
       directLighting_(device),
       composite_(device),
       tonemap_(device),
-      gbuffer_(device, settings.width, settings.height),
+      gbuffers_{GBuffer(device, settings.width, settings.height), GBuffer(device, settings.width, settings.height)},
       frameConstants_(device, "frame constants", sizeof(shader::FrameConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                       gpu::MemoryUsage::HostUpload),
       lights_(device, "local lights", std::max<size_t>(1, scene.lights.size()) * sizeof(shader::GpuLight),
@@ -79,17 +79,71 @@ Renderer::Renderer(gpu::Device& device, const Scene& scene, const RendererSettin
       indirectIrradiance_(storageImage(device, "indirect irradiance", VK_FORMAT_R16G16B16A16_SFLOAT,
                                        (settings.width + 1) / 2, (settings.height + 1) / 2)),
       indirectUsed_(storageImage(device, "indirect irradiance used", VK_FORMAT_R32G32B32A32_SFLOAT, settings.width, settings.height)),
-      finalRadiance_(storageImage(device, "final radiance", VK_FORMAT_R32G32B32A32_SFLOAT, settings.width, settings.height)),
+      finalRadiance_{storageImage(device, "final radiance", VK_FORMAT_R32G32B32A32_SFLOAT, settings.width, settings.height),
+                     storageImage(device, "final radiance", VK_FORMAT_R32G32B32A32_SFLOAT, settings.width, settings.height)},
       tonemapped_(storageImage(device, "tonemapped", VK_FORMAT_R8G8B8A8_UNORM, settings.width, settings.height)) {
   if (settings.width == 0 || settings.height == 0) throw gpu::GpuError("render size must be at least 1×1");
+  if (settings.gi) {
+    ssvgi::ContextDesc desc;
+    desc.instance = device.instance();
+    desc.physicalDevice = device.physicalDevice();
+    desc.device = device.device();
+    desc.debugUtilsEnabled = true;
+    desc.settings = *settings.gi;
+    desc.maxWidth = settings.width;
+    desc.maxHeight = settings.height;
+    desc.framesInFlight = 1;  // the renderer waits for every frame
+    auto context = ssvgi::Context::create(desc);
+    if (!context.ok()) throw gpu::GpuError("ssvgi: " + context.error().message);
+    gi_ = std::move(context.value());
+  }
+}
+
+namespace {
+ssvgi::View toView(const glm::mat4& viewProjection, glm::vec3 position, uint32_t width, uint32_t height) {
+  ssvgi::View view;
+  std::memcpy(view.viewProjection.data(), &viewProjection[0][0], sizeof(float) * 16);
+  view.position = {position.x, position.y, position.z};
+  view.width = width;
+  view.height = height;
+  return view;
+}
+}  // namespace
+
+void Renderer::recordGi(gpu::CommandList& commands, const shader::FrameConstants& frame) {
+  // ssvgi samples the host's images: they must be shader-readable, their writes visible, before it records.
+  const GBuffer& gbuffer = currentGBuffer();
+  const GBuffer& litGBuffer = gbuffers_[(frameIndex_ + 1) & 1u];
+  const gpu::Image& litColor = finalRadiance_[(frameIndex_ + 1) & 1u];
+  const bool hasLitFrame = frameIndex_ > 0;
+  commands.use(gbuffer.depth, gpu::Usage::ComputeSampled);
+  if (hasLitFrame) {
+    commands.use(litColor, gpu::Usage::ComputeSampled);
+    commands.use(litGBuffer.depth, gpu::Usage::ComputeSampled);
+    commands.use(litGBuffer.normal, gpu::Usage::ComputeSampled);
+  }
+  commands.flushBarriers();
+
+  ssvgi::FrameDesc desc;
+  desc.frameIndex = frameIndex_;
+  desc.camera = toView(frame.viewProjection, glm::vec3(frame.cameraPositionAndNear), settings_.width, settings_.height);
+  desc.depth.view = gbuffer.depth.view();
+  desc.hasLitFrame = hasLitFrame;
+  desc.litCamera = giView_;
+  desc.litColor.view = litColor.view();
+  desc.litDepth.view = litGBuffer.depth.view();
+  desc.litNormal.view = litGBuffer.normal.view();
+  if (const ssvgi::Error error = gi_->dispatch(desc, commands.handle())) throw gpu::GpuError("ssvgi: " + error.message);
+  giView_ = desc.camera;
 }
 
 void Renderer::render(const AnimatedState& state) {
+  const bool firstFrame = frameIndex_ == 0;
   descriptors_.reset();
   gpuScene_.updateInstances(scene_, state);
 
   shader::FrameConstants frame = makeFrameConstants(scene_, state, settings_.width, settings_.height, settings_.exposure);
-  if (!firstFrame_) frame.previousViewProjection = previousViewProjection_;
+  if (!firstFrame) frame.previousViewProjection = previousViewProjection_;
 
   std::vector<shader::GpuLight> lights;
   for (const LocalLight& light : scene_.lights) lights.push_back(toGpuLight(light));
@@ -100,18 +154,46 @@ void Renderer::render(const AnimatedState& state) {
   device_.submitAndWait([&](VkCommandBuffer commandBuffer) {
     gpu::CommandList commands(device_, commandBuffer, descriptors_, &profiler_);
     profiler_.begin(commandBuffer);
-    if (firstFrame_) commands.clearImage(indirectIrradiance_, VkClearColorValue{});
+    if (firstFrame) commands.clearImage(indirectIrradiance_, VkClearColorValue{});
+    const GBuffer& gbuffer = currentGBuffer();
+    const gpu::Image& finalRadiance = finalRadiance_[frameIndex_ & 1u];
     shadows_.record(commands, gpuScene_);
-    gbufferPass_.record(commands, gpuScene_, frameConstants_, gbuffer_);
-    directLighting_.record(commands, frameConstants_, lights_, shadows_, gbuffer_, pointSampler_.handle(),
+    gbufferPass_.record(commands, gpuScene_, frameConstants_, gbuffer);
+    directLighting_.record(commands, frameConstants_, lights_, shadows_, gbuffer, pointSampler_.handle(),
                            directIrradiance_, viewDistance_);
-    composite_.record(commands, frameConstants_, gbuffer_, pointSampler_.handle(), directIrradiance_,
-                      indirectIrradiance_, linearSampler_.handle(), finalRadiance_, indirectUsed_);
-    tonemap_.record(commands, frameConstants_, finalRadiance_, tonemapped_);
+    if (gi_) recordGi(commands, frame);
+    composite_.record(commands, frameConstants_, gbuffer, pointSampler_.handle(), directIrradiance_,
+                      indirectIrradiance_, linearSampler_.handle(), finalRadiance, indirectUsed_);
+    tonemap_.record(commands, frameConstants_, finalRadiance, tonemapped_);
   });
   timings_ = profiler_.resolve();
+  if (gi_)
+    for (const ssvgi::PassTime& pass : gi_->stats().passes) timings_.push_back({pass.name, pass.milliseconds});
   previousViewProjection_ = frame.viewProjection;
-  firstFrame_ = false;
+  ++frameIndex_;
+}
+
+std::optional<ssvgi::Stats> Renderer::giStats() {
+  if (!gi_) return std::nullopt;
+  return gi_->stats();
+}
+
+Renderer::DebugImage Renderer::giDebugView(ssvgi::DebugView view) {
+  if (!gi_) throw gpu::GpuError("debug views need the GI library to run");
+  if (!debugRadiance_)
+    debugRadiance_ = storageImage(device_, "ssvgi debug view", VK_FORMAT_R32G32B32A32_SFLOAT, settings_.width,
+                                  settings_.height);
+  device_.submitAndWait([&](VkCommandBuffer commandBuffer) {
+    gpu::CommandList commands(device_, commandBuffer, descriptors_);
+    if (const ssvgi::Error error = gi_->debugView(view, giView_, debugRadiance_.handle(), debugRadiance_.view(),
+                                                  commandBuffer))
+      throw gpu::GpuError("ssvgi: " + error.message);
+    // ssvgi left the image in GENERAL, written by a compute shader: tell the tracker before the tonemap reads it.
+    debugRadiance_.state() = {VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT, 0, 0,
+                              VK_IMAGE_LAYOUT_GENERAL};
+    tonemap_.record(commands, frameConstants_, debugRadiance_, tonemapped_);
+  });
+  return {readFloatImage(device_, debugRadiance_, 3), tonemapped()};
 }
 
 FloatImage readFloatImage(gpu::Device& device, const gpu::Image& image, uint32_t channels) {
@@ -143,13 +225,14 @@ FloatImage readFloatImage(gpu::Device& device, const gpu::Image& image, uint32_t
   return result;
 }
 
-FloatImage Renderer::finalRadiance() { return readFloatImage(device_, finalRadiance_, 3); }
+// Read after render(): the last frame is frameIndex_ - 1.
+FloatImage Renderer::finalRadiance() { return readFloatImage(device_, finalRadiance_[(frameIndex_ + 1) & 1u], 3); }
 FloatImage Renderer::directIrradiance() { return readFloatImage(device_, directIrradiance_, 3); }
 FloatImage Renderer::indirectIrradiance() { return readFloatImage(device_, indirectUsed_, 3); }
-FloatImage Renderer::albedo() { return readFloatImage(device_, gbuffer_.albedo, 3); }
-FloatImage Renderer::normal() { return readFloatImage(device_, gbuffer_.normal, 3); }
+FloatImage Renderer::albedo() { return readFloatImage(device_, gbuffers_[(frameIndex_ + 1) & 1u].albedo, 3); }
+FloatImage Renderer::normal() { return readFloatImage(device_, gbuffers_[(frameIndex_ + 1) & 1u].normal, 3); }
 FloatImage Renderer::viewDistance() { return readFloatImage(device_, viewDistance_, 1); }
-FloatImage Renderer::depthBuffer() { return readFloatImage(device_, gbuffer_.depth, 1); }
+FloatImage Renderer::depthBuffer() { return readFloatImage(device_, gbuffers_[(frameIndex_ + 1) & 1u].depth, 1); }
 
 std::vector<uint8_t> Renderer::tonemapped() {
   const auto bytes = gpu::readImage(device_, tonemapped_);

@@ -6,7 +6,11 @@
 #include "screen_passes.h"
 #include "shadow_pass.h"
 
+#include "ssvgi/ssvgi.h"
+
+#include <array>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace ssvgi::renderer {
@@ -26,16 +30,28 @@ struct RendererSettings {
   uint32_t height = 720;
   float exposure = 1.0f;  // multiplies radiance before the tonemap curve
   ShadowSettings shadows;
+  std::optional<ssvgi::Settings> gi;  // run the GI library with these settings (SPEC §3 integration)
 };
 
-// The host renderer (headless): shadows, G-buffer, direct light, composite and tonemap for one scene, one frame at a
-// time. It records and submits its own command buffers; the GI library will record into the same ones.
+// The host renderer (headless): shadows, G-buffer, direct light, the GI library, composite and tonemap for one scene,
+// one frame at a time. It records and submits its own command buffers; ssvgi records into the same ones. The G-buffer
+// and the final radiance alternate between two sets, so that the previous frame's stay intact as ssvgi's lit frame.
 class Renderer {
  public:
   Renderer(gpu::Device& device, const Scene& scene, const RendererSettings& settings);
 
   // Renders the scene as it is at `state` (camera, sun, moving object) and waits for the GPU.
   void render(const AnimatedState& state);
+
+  // The GI library's counters, memory and pass times for the last frame (nothing when it does not run).
+  std::optional<ssvgi::Stats> giStats();
+  const ssvgi::Context* giContext() const { return gi_.get(); }
+  // One of ssvgi's debug images of the last frame's camera: the linear image and its tonemapped RGBA8.
+  struct DebugImage {
+    FloatImage radiance;
+    std::vector<uint8_t> tonemapped;
+  };
+  DebugImage giDebugView(ssvgi::DebugView view);
 
   const std::vector<gpu::PassTiming>& passTimings() const { return timings_; }
   const Bounds& sceneBounds() const { return bounds_; }
@@ -52,6 +68,9 @@ class Renderer {
   std::vector<uint8_t> tonemapped();  // RGBA8, sRGB
 
  private:
+  const GBuffer& currentGBuffer() const { return gbuffers_[frameIndex_ & 1u]; }
+  void recordGi(gpu::CommandList& commands, const shader::FrameConstants& frame);
+
   gpu::Device& device_;
   const Scene& scene_;
   RendererSettings settings_;
@@ -66,18 +85,21 @@ class Renderer {
   DirectLighting directLighting_;
   Composite composite_;
   Tonemap tonemap_;
-  GBuffer gbuffer_;
+  std::array<GBuffer, 2> gbuffers_;
   gpu::Buffer frameConstants_;
   gpu::Buffer lights_;
   gpu::Image directIrradiance_;
   gpu::Image viewDistance_;
   gpu::Image indirectIrradiance_;  // half resolution, filled by the GI (black until then)
   gpu::Image indirectUsed_;
-  gpu::Image finalRadiance_;
+  std::array<gpu::Image, 2> finalRadiance_;
   gpu::Image tonemapped_;
+  std::unique_ptr<ssvgi::Context> gi_;
+  ssvgi::View giView_;  // the camera of the frame rendered last: next frame's lit-frame camera
+  gpu::Image debugRadiance_;
   std::vector<gpu::PassTiming> timings_;
   glm::mat4 previousViewProjection_{1.0f};
-  bool firstFrame_ = true;
+  uint32_t frameIndex_ = 0;
 };
 
 }  // namespace ssvgi::renderer

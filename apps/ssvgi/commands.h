@@ -12,5 +12,6 @@ CommandRunner addRenderCommand(CLI::App& app);
 CommandRunner addReferenceCommand(CLI::App& app);
 CommandRunner addCompareCommand(CLI::App& app);
 CommandRunner addInfoCommand(CLI::App& app);
+CommandRunner addBenchCommand(CLI::App& app);
 
 }  // namespace ssvgi::cli

@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   add(ssvgi::cli::addRenderCommand);
   add(ssvgi::cli::addReferenceCommand);
   add(ssvgi::cli::addCompareCommand);
+  add(ssvgi::cli::addBenchCommand);
   add(ssvgi::cli::addInfoCommand);
   try {
     app.parse(argc, argv);

@@ -22,6 +22,12 @@ void writeRenderedImages(const std::filesystem::path& out, const RenderedImages&
   std::ofstream(out / "stats.json") << stats.dump(2) << "\n";
 }
 
+void writeDebugImage(const std::filesystem::path& out, const std::string& name, const renderer::FloatImage& radiance,
+                     const std::vector<uint8_t>& tonemapped) {
+  renderer::writePng(out / (name + ".png"), radiance.width, radiance.height, tonemapped);
+  renderer::writeExr(out / (name + ".exr"), radiance);
+}
+
 nlohmann::json sceneStats(const gpu::Device& device, const SceneOptions& options, const ResolvedScene& resolved) {
   nlohmann::json stats;
   stats["device"] = device.description();

@@ -29,6 +29,10 @@ struct RenderedImages {
 // when it cannot be created; image files throw renderer::ImageIoError.
 void writeRenderedImages(const std::filesystem::path& out, const RenderedImages& images, const nlohmann::json& stats);
 
+// A debug image as `out`/`name`.png (tonemapped) and `out`/`name`.exr (linear); `out` must exist.
+void writeDebugImage(const std::filesystem::path& out, const std::string& name, const renderer::FloatImage& radiance,
+                     const std::vector<uint8_t>& tonemapped);
+
 // The names of what writeRenderedImages writes, for the commands' closing line.
 inline constexpr const char* kRenderedFileList =
     "final.png, final.exr, irradiance_direct.exr, irradiance_indirect.exr, albedo.exr, normal.exr, depth.exr, "

@@ -9,6 +9,8 @@
 
 #include <cstdio>
 #include <memory>
+#include <string>
+#include <vector>
 
 namespace ssvgi::cli {
 
@@ -22,11 +24,32 @@ struct RenderOptions {
   std::string gi = "off";
   std::string tier = "high";
   float exposure = 1.0f;
+  std::vector<std::string> debugViews;  // "voxels", "bricks"
   std::string out = "out";
 };
 
+ssvgi::QualityTier parseTier(const std::string& tier) {
+  return tier == "low" ? ssvgi::QualityTier::Low : tier == "medium" ? ssvgi::QualityTier::Medium : ssvgi::QualityTier::High;
+}
+
+nlohmann::json giStatsJson(const ssvgi::Stats& gi) {
+  nlohmann::json memory = nlohmann::json::object();
+  for (const auto& resource : gi.memory) memory[resource.name] = resource.bytes;
+  return {{"memoryBytes", {{"resources", memory}, {"total", gi.totalBytes}}},
+          {"brickPoolCapacity", gi.brickPoolCapacity},
+          {"bricksLive", gi.bricksLive},
+          {"bricksFree", gi.bricksFree},
+          {"bricksNeverUsed", gi.bricksNeverUsed},
+          {"bricksDroppedLastFrame", gi.bricksDroppedLastFrame},
+          {"bricksDroppedTotal", gi.bricksDroppedTotal},
+          {"bricksAllocatedLastFrame", gi.bricksAllocatedLastFrame},
+          {"bricksReleasedLastFrame", gi.bricksReleasedLastFrame},
+          {"bricksInjectedLastFrame", gi.bricksVisibleLastFrame},
+          {"voxelsValid", gi.voxelsValid}};
+}
+
 nlohmann::json statsJson(const gpu::Device& device, const RenderOptions& options, const ResolvedScene& resolved,
-                         const renderer::Renderer& renderer) {
+                         renderer::Renderer& renderer) {
   nlohmann::json stats = sceneStats(device, options.scene, resolved);
   stats["frames"] = options.frames;
   stats["gi"] = options.gi;
@@ -39,6 +62,7 @@ nlohmann::json statsJson(const gpu::Device& device, const RenderOptions& options
     frameMilliseconds += timing.milliseconds;
   }
   stats["gpuMilliseconds"] = {{"passes", passes}, {"frame", frameMilliseconds}};
+  if (const auto gi = renderer.giStats()) stats["ssvgi"] = giStatsJson(*gi);
   return stats;
 }
 
@@ -52,6 +76,8 @@ int runRender(const RenderOptions& options) {
   settings.width = resolved.width;
   settings.height = resolved.height;
   settings.exposure = options.exposure;
+  // The voxel scene runs whenever something of it is asked for; its indirect light arrives with the probe passes.
+  if (!options.debugViews.empty()) settings.gi = ssvgi::settingsForTier(parseTier(options.tier));
   renderer::Renderer renderer(device, resolved.scene, settings);
 
   const std::string label = "rendering " + resolved.scene.name;
@@ -65,6 +91,10 @@ int runRender(const RenderOptions& options) {
                                      renderer.indirectIrradiance(), renderer.albedo(), renderer.normal(),
                                      renderer.viewDistance(), renderer.tonemapped()},
                       statsJson(device, options, resolved, renderer));
+  for (const std::string& name : options.debugViews) {
+    const auto debug = renderer.giDebugView(name == "bricks" ? ssvgi::DebugView::Bricks : ssvgi::DebugView::Voxels);
+    writeDebugImage(options.out, "debug_" + name, debug.radiance, debug.tonemapped);
+  }
 
   if (options.scene.validation && device.validationErrorCount() > 0) {
     std::fprintf(stderr, "ssvgi: %u Vulkan validation errors\n", device.validationErrorCount());
@@ -90,6 +120,11 @@ CommandRunner addRenderCommand(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::IsMember({"low", "medium", "high"}));
   command->add_option("--exposure", options->exposure, "Multiplier on radiance before tonemapping")->capture_default_str();
+  command->add_option("--debug", options->debugViews,
+                      "Also write ssvgi's view of the last frame, ray-traced through its voxels from the camera: "
+                      "voxels (stored radiance) or bricks (a colour per brick), as DIR/debug_NAME.png and .exr; "
+                      "may be given twice")
+      ->check(CLI::IsMember({"voxels", "bricks"}));
   command->add_option("--out", options->out, "Output directory")->capture_default_str();
   return [options] { return runRender(*options); };
 }

@@ -1,0 +1,113 @@
+#include "commands.h"
+#include "output_files.h"
+#include "scene_options.h"
+
+#include "gpu/device.h"
+#include "renderer.h"
+#include "trace_benchmark.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <fstream>
+#include <memory>
+
+namespace ssvgi::cli {
+
+namespace {
+
+struct BenchOptions {
+  SceneOptions scene;
+  uint32_t frames = 16;
+  std::string tier = "high";
+  uint32_t rays = 1'000'000;
+  uint32_t repetitions = 3;
+  std::string out;  // JSON file; stdout when empty
+};
+
+nlohmann::json traceMethodJson(const bench::TraceMethodResult& result) {
+  return {{"milliseconds", result.milliseconds},
+          {"raysPerSecond", result.raysPerSecond},
+          {"readsPerRay", result.readsPerRay},
+          {"hitFraction", result.hitFraction}};
+}
+
+int runBench(const BenchOptions& options) {
+  const ResolvedScene resolved = resolveScene(options.scene);
+  gpu::Device device(gpu::DeviceDesc{options.scene.device, options.scene.validation});
+  renderer::RendererSettings settings;
+  settings.width = resolved.width;
+  settings.height = resolved.height;
+  settings.gi = ssvgi::settingsForTier(options.tier == "low"      ? ssvgi::QualityTier::Low
+                                       : options.tier == "medium" ? ssvgi::QualityTier::Medium
+                                                                  : ssvgi::QualityTier::High);
+  renderer::Renderer renderer(device, resolved.scene, settings);
+  const std::string label = "bench " + resolved.scene.name;
+  for (uint32_t frame = 0; frame < options.frames; ++frame) {
+    renderer.render(renderer::evaluateAnimation(resolved.scene, resolved.camera, 0.0f));
+    drawProgress(label, frame + 1, options.frames);
+  }
+
+  nlohmann::json report = sceneStats(device, options.scene, resolved);
+  report["frames"] = options.frames;
+  report["tier"] = options.tier;
+  nlohmann::json passes = nlohmann::json::object();
+  double ssvgiMilliseconds = 0.0;
+  for (const auto& timing : renderer.passTimings()) {
+    passes[timing.name] = timing.milliseconds;
+    if (timing.name.rfind("ssvgi: ", 0) == 0) ssvgiMilliseconds += timing.milliseconds;
+  }
+  report["gpuMilliseconds"] = {{"passes", passes}, {"ssvgiTotal", ssvgiMilliseconds}};
+  const ssvgi::Stats gi = *renderer.giStats();
+  report["ssvgiMemoryBytes"] = gi.totalBytes;
+  report["bricksLive"] = gi.bricksLive;
+  report["voxelsValid"] = gi.voxelsValid;
+
+  const auto trace = bench::benchmarkVoxelTrace(device, *renderer.giContext(), resolved.camera, renderer.viewDistance(),
+                                                renderer.normal(), options.rays, options.repetitions);
+  report["voxelTrace"] = {{"rays", trace.rays},
+                          {"hierarchical", traceMethodJson(trace.hierarchical)},
+                          {"flat", traceMethodJson(trace.flat)},
+                          {"hierarchicalSpeedup", trace.hierarchical.raysPerSecond / trace.flat.raysPerSecond},
+                          {"identicalHits", trace.identicalHits}};
+
+  const std::string json = report.dump(2);
+  if (options.out.empty()) {
+    std::printf("%s\n", json.c_str());
+  } else {
+    std::ofstream file(options.out);
+    if (!(file << json << "\n")) throw std::runtime_error("--out " + options.out + ": cannot write the file");
+    std::printf("wrote %s on %s\n", options.out.c_str(), device.description().c_str());
+  }
+  if (options.scene.validation && device.validationErrorCount() > 0) {
+    std::fprintf(stderr, "ssvgi: %u Vulkan validation errors\n", device.validationErrorCount());
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace
+
+CommandRunner addBenchCommand(CLI::App& app) {
+  auto options = std::make_shared<BenchOptions>();
+  CLI::App* command = app.add_subcommand(
+      "bench", "Render a scene with ssvgi and report, as JSON, the GPU time of every pass, GI memory and counters, "
+               "and rays/s of the hierarchical against the flat voxel trace on the same rays");
+  addSceneOptions(*command, options->scene);
+  command->add_option("--frames", options->frames, "Frames to render before measuring (the last one is reported)")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 100000u));
+  command->add_option("--tier", options->tier, "GI quality tier (SPEC §4.7)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"low", "medium", "high"}));
+  command->add_option("--rays", options->rays, "Rays for the voxel trace comparison")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 64'000'000u));
+  command->add_option("--repetitions", options->repetitions, "Timed runs of each trace; the fastest is reported")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 100u));
+  command->add_option("--out", options->out, "Write the JSON report to this file instead of standard output");
+  return [options] { return runBench(*options); };
+}
+
+}  // namespace ssvgi::cli
