@@ -38,9 +38,7 @@ int runBench(const BenchOptions& options) {
   renderer::RendererSettings settings;
   settings.width = resolved.width;
   settings.height = resolved.height;
-  settings.gi = ssvgi::settingsForTier(options.tier == "low"      ? ssvgi::QualityTier::Low
-                                       : options.tier == "medium" ? ssvgi::QualityTier::Medium
-                                                                  : ssvgi::QualityTier::High);
+  settings.gi = giSettingsForTier(options.tier);
   renderer::Renderer renderer(device, resolved.scene, settings);
   const std::string label = "bench " + resolved.scene.name;
   for (uint32_t frame = 0; frame < options.frames; ++frame) {

@@ -28,10 +28,6 @@ struct RenderOptions {
   std::string out = "out";
 };
 
-ssvgi::QualityTier parseTier(const std::string& tier) {
-  return tier == "low" ? ssvgi::QualityTier::Low : tier == "medium" ? ssvgi::QualityTier::Medium : ssvgi::QualityTier::High;
-}
-
 nlohmann::json giStatsJson(const ssvgi::Stats& gi) {
   nlohmann::json memory = nlohmann::json::object();
   for (const auto& resource : gi.memory) memory[resource.name] = resource.bytes;
@@ -77,7 +73,7 @@ int runRender(const RenderOptions& options) {
   settings.height = resolved.height;
   settings.exposure = options.exposure;
   // The voxel scene runs whenever something of it is asked for; its indirect light arrives with the probe passes.
-  if (!options.debugViews.empty()) settings.gi = ssvgi::settingsForTier(parseTier(options.tier));
+  if (!options.debugViews.empty()) settings.gi = giSettingsForTier(options.tier);
   renderer::Renderer renderer(device, resolved.scene, settings);
 
   const std::string label = "rendering " + resolved.scene.name;

@@ -125,4 +125,10 @@ ResolvedScene resolveScene(const SceneOptions& options) {
   return resolved;
 }
 
+ssvgi::Settings giSettingsForTier(const std::string& tier) {
+  return ssvgi::settingsForTier(tier == "low"      ? ssvgi::QualityTier::Low
+                                : tier == "medium" ? ssvgi::QualityTier::Medium
+                                                   : ssvgi::QualityTier::High);
+}
+
 }  // namespace ssvgi::cli

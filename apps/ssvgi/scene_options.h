@@ -2,6 +2,7 @@
 // The scene, view, light, sky and device options shared by the commands that render a scene (render, and the
 // reference path tracer to come), so that both see exactly the same scene for the same arguments.
 #include "scene.h"
+#include "ssvgi/ssvgi.h"
 
 #include <CLI/CLI.hpp>
 
@@ -34,5 +35,8 @@ struct ResolvedScene {
   uint32_t height = 0;
 };
 ResolvedScene resolveScene(const SceneOptions& options);
+
+// The GI settings of a --tier value (low, medium, high; the option's check has already refused anything else).
+ssvgi::Settings giSettingsForTier(const std::string& tier);
 
 }  // namespace ssvgi::cli

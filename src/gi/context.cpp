@@ -67,6 +67,7 @@ Error validateSettings(const ContextDesc& desc) {
   if (settings.allocationPixelStride == 0) return invalid("Settings::allocationPixelStride must be positive");
   if (settings.invalidFramesToClear == 0 || settings.invalidFramesToClear > 0xffff)
     return invalid("Settings::invalidFramesToClear must be in 1..65535");
+  if (settings.emptyFramesToRelease == 0) return invalid("Settings::emptyFramesToRelease must be positive");
   if (desc.framesInFlight == 0 || desc.framesInFlight > 8) return invalid("ContextDesc::framesInFlight must be in 1..8");
   if (desc.maxWidth == 0 || desc.maxHeight == 0) return invalid("ContextDesc::maxWidth/maxHeight must be positive");
   return {};
