@@ -56,6 +56,15 @@ struct Settings {
   uint32_t invalidFramesToClear = 8;                  // frames a voxel may be seen through before it is cleared
   uint32_t emptyFramesToRelease = 8;                  // frames a brick may stay empty before it returns to the pool
   uint32_t allocationPixelStride = 2;                 // BrickAllocate reads every Nth pixel in X and Y
+  // The probe radiance cache (SPEC §4.5): three levels of probeGrid probes around the camera, level l spaced
+  // probeSpacing · 2^l; one level updated per frame.
+  std::array<uint32_t, 3> probeGrid{48, 24, 48};  // probes per level (X, Y, Z); each a multiple of 4, at most 4096
+  float probeSpacing = 1.0f;                      // metres between the probes of level 0
+  uint32_t probeBudget = 4096;                    // probes traced per frame at most (the talk updates 2000–4000)
+  uint32_t raysPerProbe = 32;                     // rays per probe update: a power of two, 1..32; a probe has seen
+                                                  // all 1024 directions of its fixed set after 1024 / raysPerProbe
+  uint32_t probeHistoryCap = 32;                  // cap of the history count m, 1..255: α = 1/(m+1) averages the
+                                                  // first cap+1 updates, then keeps a window of about that many
 };
 
 Settings settingsForTier(QualityTier tier);
@@ -100,6 +109,9 @@ struct FrameDesc {
   SampledImage litColor;      // linear HDR radiance
   SampledImage litDepth;      // D32 reversed-Z
   SampledImage litNormal;     // world normal in rgb
+  // The sky's radiance as SH2 (SPEC §2), W/(sr·m²): coefficients 0–3 red, 4–7 green, 8–11 blue, each in the order
+  // Y00, Y1,-1, Y1,0, Y1,1. Probe rays that leave the voxel volume see it (clamped at 0). All zero: a black sky.
+  std::array<float, 12> skyRadianceSh{};
 };
 
 struct ResourceMemory {
@@ -125,6 +137,8 @@ struct Stats {
   uint32_t bricksReleasedLastFrame = 0;
   uint32_t bricksVisibleLastFrame = 0;  // bricks updated by injection
   uint32_t voxelsValid = 0;            // counted before the last frame's injection
+  uint32_t probeLevelUpdatedLastFrame = 0;  // the clipmap level the last frame updated (frame index % 3)
+  uint32_t probesUpdatedLastFrame = 0;      // probes it traced: in view, near voxels, within the budget
   std::vector<PassTime> passes;        // the last completed frame's GPU times
 };
 

@@ -33,6 +33,17 @@ SSVGI_INLINE vec2 giPixelToNdc(vec2 pixel, vec2 size) {
 // NDC -> continuous pixel coordinates (inverse of giPixelToNdc without the half-pixel).
 SSVGI_INLINE vec2 giNdcToPixel(vec2 ndc, vec2 size) { return vec2(0.5f + 0.5f * ndc.x, 0.5f - 0.5f * ndc.y) * size; }
 
+// Whether an axis-aligned box reaches into a frustum given by inward planes (frustumPlanes): for each plane, the box's
+// corner farthest along its normal must lie inside. Conservative: a box outside near a frustum corner may pass.
+SSVGI_INLINE bool boxInFrustum(vec3 lo, vec3 hi, const vec4 planes[6]) {
+  for (int i = 0; i < 6; ++i) {
+    vec3 normal = vec3(planes[i]);
+    vec3 farthestAlongNormal = mix(lo, hi, greaterThan(normal, vec3(0.0f)));
+    if (dot(normal, farthestAlongNormal) + planes[i].w < 0.0f) return false;
+  }
+  return true;
+}
+
 SSVGI_SHARED_END
 
 #endif

@@ -1,6 +1,7 @@
 // The GI context: owns the passes and their resources and records a frame in the order of SPEC §4.
 #include "gpu/command_list.h"
 #include "gpu/profiler.h"
+#include "probes/probe_passes.h"
 #include "shared/gi_frame.h"
 #include "ssvgi/ssvgi.h"
 #include "voxels/build_octree.h"
@@ -68,6 +69,19 @@ Error validateSettings(const ContextDesc& desc) {
   if (settings.invalidFramesToClear == 0 || settings.invalidFramesToClear > 0xffff)
     return invalid("Settings::invalidFramesToClear must be in 1..65535");
   if (settings.emptyFramesToRelease == 0) return invalid("Settings::emptyFramesToRelease must be positive");
+  for (int axis = 0; axis < 3; ++axis)
+    if (settings.probeGrid[axis] == 0 || settings.probeGrid[axis] % shader::kProbeBlockSize != 0 ||
+        settings.probeGrid[axis] > 4096)  // 1024 blocks: packProbeBlock's 10 bits
+      return invalid("Settings::probeGrid must be multiples of 4 in 4..4096 (got " +
+                     std::to_string(settings.probeGrid[axis]) + ")");
+  if (!(settings.probeSpacing > 0.0f)) return invalid("Settings::probeSpacing must be positive");
+  if (settings.probeBudget == 0) return invalid("Settings::probeBudget must be positive");
+  // A power of two up to the workgroup size divides the 1024 directions into whole slices.
+  if (settings.raysPerProbe == 0 || settings.raysPerProbe > shader::kProbeTraceGroupSize ||
+      (settings.raysPerProbe & (settings.raysPerProbe - 1)) != 0)
+    return invalid("Settings::raysPerProbe must be a power of two in 1..32");
+  if (settings.probeHistoryCap == 0 || settings.probeHistoryCap > 255)
+    return invalid("Settings::probeHistoryCap must be in 1..255");
   if (desc.framesInFlight == 0 || desc.framesInFlight > 8) return invalid("ContextDesc::framesInFlight must be in 1..8");
   if (desc.maxWidth == 0 || desc.maxHeight == 0) return invalid("ContextDesc::maxWidth/maxHeight must be positive");
   return {};
@@ -87,6 +101,7 @@ class ContextImplementation final : public Context {
       : desc_(desc),
         device_(gpu::ExternalDevice{desc.instance, desc.physicalDevice, desc.device, desc.debugUtilsEnabled}),
         scene_(device_, desc.settings, desc.framesInFlight),
+        probes_(device_, desc.settings, desc.framesInFlight),
         pointSampler_(device_, pointSamplerInfo(), "ssvgi point sampler"),
         hiz_(device_, "ssvgi hi-z pyramid", hizBytes(desc), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT),
         visibleBricks_(device_, "ssvgi visible bricks",
@@ -98,6 +113,8 @@ class ContextImplementation final : public Context {
         brickCulling_(device_),
         sceneVoxelization_(device_),
         buildOctree_(device_),
+        probePlacement_(device_),
+        probeTrace_(device_),
         debugView_(device_) {
     for (uint32_t i = 0; i < desc.framesInFlight; ++i) {
       perFrame_.push_back(std::make_unique<PerFrame>(device_));
@@ -121,6 +138,7 @@ class ContextImplementation final : public Context {
   }
 
   const gi::VoxelScene& voxelScene() const { return scene_; }
+  const gi::ProbeVolume& probeVolume() const { return probes_; }
 
   Stats stats() override {
     Stats stats;
@@ -142,6 +160,10 @@ class ContextImplementation final : public Context {
     stats.bricksReleasedLastFrame = pool.releasedThisFrame;
     stats.bricksVisibleLastFrame = pool.visibleThisFrame;
     stats.voxelsValid = pool.voxelsValid;
+    shader::IndirectList probeList{};
+    std::memcpy(&probeList, slot.probeListReadback.mapped(), sizeof(probeList));
+    stats.probeLevelUpdatedLastFrame = slot.probeLevel;
+    stats.probesUpdatedLastFrame = probeList.count;
     for (const auto& timing : slot.profiler.resolve()) stats.passes.push_back({timing.name, timing.milliseconds});
     return stats;
   }
@@ -155,11 +177,15 @@ class ContextImplementation final : public Context {
           frameConstants(device, "ssvgi frame constants", sizeof(shader::GiFrame), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                          gpu::MemoryUsage::HostUpload),
           statsReadback(device, "ssvgi stats readback", sizeof(shader::BrickPoolState),
-                        VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::MemoryUsage::HostReadback) {}
+                        VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::MemoryUsage::HostReadback),
+          probeListReadback(device, "ssvgi probe list readback", sizeof(shader::IndirectList),
+                            VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::MemoryUsage::HostReadback) {}
     gpu::DescriptorArena descriptors;
     gpu::Profiler profiler;
     gpu::Buffer frameConstants;
     gpu::Buffer statsReadback;
+    gpu::Buffer probeListReadback;  // the probe list's header: how many probes were traced
+    uint32_t probeLevel = 0;        // the probe level the frame updated
   };
 
   static VkSamplerCreateInfo pointSamplerInfo() {
@@ -220,7 +246,11 @@ class ContextImplementation final : public Context {
     const shader::GiFrame frame = frameConstants(desc, hizLevels);
     std::memcpy(slot.frameConstants.mapped(), &frame, sizeof(frame));
     bool scrolled = false;
-    scene_.place(glm::vec3(frame.cameraPosition), desc.frameIndex, desc.hasLitFrame, scrolled);
+    const shader::VoxelVolume volume =
+        scene_.place(glm::vec3(frame.cameraPosition), desc.frameIndex, desc.hasLitFrame, scrolled);
+    const uint32_t probeBlocksInView = probes_.prepare(desc.frameIndex, glm::vec3(frame.cameraPosition),
+                                                       frame.frustumPlanes, desc.skyRadianceSh, volume);
+    slot.probeLevel = uint32_t(probes_.current().originProbe.w);
 
     gpu::CommandList commands(device_, commandBuffer, slot.descriptors, &slot.profiler);
     slot.profiler.begin(commandBuffer);
@@ -231,6 +261,7 @@ class ContextImplementation final : public Context {
         commands.fillBuffer(scene_.bricks(), 0);
         commands.fillBuffer(scene_.poolState(), 0);
         commands.fillBuffer(scene_.occupancyGrid(), 0);
+        commands.fillBuffer(probes_.probes(), 0);  // every probe kProbeStateNeverTraced
         initialised_ = true;
       }
       // This frame's counters and the two lists start empty (dispatch arguments {0, 1, 1}).
@@ -240,6 +271,7 @@ class ContextImplementation final : public Context {
       const shader::IndirectList empty{0, 1, 1, 0};
       commands.updateBuffer(scene_.changedCells(), 0, &empty, sizeof(empty));
       commands.updateBuffer(visibleBricks_, 0, &empty, sizeof(empty));
+      commands.updateBuffer(probes_.list(), 0, &empty, sizeof(empty));
     }
 
     const gi::VoxelFrameInputs inputs{slot.frameConstants, pointSampler_.handle(), desc.depth.view, hiz_, visibleBricks_};
@@ -252,9 +284,13 @@ class ContextImplementation final : public Context {
       sceneVoxelization_.record(commands, scene_, inputs,
                                 {desc.litColor.view, desc.litDepth.view, desc.litNormal.view});  // 5. SceneVoxelization
     buildOctree_.record(commands, scene_);                                              // 6. BuildOctree
+    probePlacement_.record(commands, scene_, probes_, slot.frameConstants, probeBlocksInView);  // 7. ProbePlacement
+    probeTrace_.record(commands, scene_, probes_);                                      // 8. ProbeTrace
 
     commands.copyBuffer(scene_.poolState(), slot.statsReadback, sizeof(shader::BrickPoolState));
     commands.use(slot.statsReadback, gpu::Usage::HostRead);
+    commands.copyBuffer(probes_.list(), slot.probeListReadback, sizeof(shader::IndirectList));
+    commands.use(slot.probeListReadback, gpu::Usage::HostRead);
     commands.flushBarriers();
     lastSlot_ = slotIndex;
     dispatched_ = true;
@@ -263,6 +299,7 @@ class ContextImplementation final : public Context {
   ContextDesc desc_;
   gpu::Device device_;
   gi::VoxelScene scene_;
+  gi::ProbeVolume probes_;
   gpu::Sampler pointSampler_;
   gpu::Buffer hiz_;
   gpu::Buffer visibleBricks_;
@@ -273,6 +310,8 @@ class ContextImplementation final : public Context {
   gi::BrickCulling brickCulling_;
   gi::SceneVoxelization sceneVoxelization_;
   gi::BuildOctree buildOctree_;
+  gi::ProbePlacement probePlacement_;
+  gi::ProbeTrace probeTrace_;
   gi::VoxelDebugView debugView_;
   uint32_t lastSlot_ = 0;
   bool dispatched_ = false;
@@ -296,6 +335,10 @@ namespace ssvgi::gi {
 
 const VoxelScene& voxelSceneOf(const Context& context) {
   return static_cast<const ContextImplementation&>(context).voxelScene();
+}
+
+const ProbeVolume& probeVolumeOf(const Context& context) {
+  return static_cast<const ContextImplementation&>(context).probeVolume();
 }
 
 }  // namespace ssvgi::gi

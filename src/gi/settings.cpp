@@ -2,8 +2,10 @@
 
 namespace ssvgi {
 
-// SPEC §4.7: the tiers differ in the voxel range, the probe budget and the rays per probe (the latter two arrive with
-// the probe passes); the pool shrinks with the range.
+// SPEC §4.7: the tiers differ in the voxel range, the probe budget and the rays per probe; the pool shrinks with the
+// range. Medium and low keep 32×16×32 probes per level (level 0 then covers 32×16×32 m, level 2 128×64×128 m, past
+// their voxel ranges, as high's does). Low traces 16 rays per update, so its history cap doubles to keep a window of
+// all 1024 directions.
 Settings settingsForTier(QualityTier tier) {
   Settings settings;
   switch (tier) {
@@ -12,10 +14,16 @@ Settings settingsForTier(QualityTier tier) {
     case QualityTier::Medium:
       settings.volumeBricks = {96, 32, 96};
       settings.brickPoolCapacity = 16384;
+      settings.probeGrid = {32, 16, 32};
+      settings.probeBudget = 2048;
       break;
     case QualityTier::Low:
       settings.volumeBricks = {64, 32, 64};
       settings.brickPoolCapacity = 8192;
+      settings.probeGrid = {32, 16, 32};
+      settings.probeBudget = 1024;
+      settings.raysPerProbe = 16;
+      settings.probeHistoryCap = 64;
       break;
   }
   return settings;

@@ -14,15 +14,6 @@ layout(binding = 9) buffer VisibleBricks {
   uint visibleBricks[];
 };
 
-bool insideFrustum(vec3 lo, vec3 hi) {
-  for (int i = 0; i < 6; ++i) {
-    vec4 plane = frame.frustumPlanes[i];
-    vec3 farthestAlongNormal = mix(lo, hi, greaterThan(plane.xyz, vec3(0.0)));
-    if (dot(plane.xyz, farthestAlongNormal) + plane.w < 0.0) return false;
-  }
-  return true;
-}
-
 bool occludedByHiZ(vec3 lo, vec3 hi) {
   vec2 minPixel = vec2(1e30), maxPixel = vec2(-1e30);
   float nearestDepth = 0.0;  // reversed-Z: larger is nearer
@@ -56,7 +47,7 @@ void main() {
   atomicAdd(pool.voxelsValid, uint(bitCount(bricks[brick].occupancy.x) + bitCount(bricks[brick].occupancy.y)));
   vec3 lo = vec3(bricks[brick].coordinate.xyz) * volume.voxelSize.y;
   vec3 hi = lo + vec3(volume.voxelSize.y);
-  if (!insideFrustum(lo, hi) || occludedByHiZ(lo, hi)) return;
+  if (!boxInFrustum(lo, hi, frame.frustumPlanes) || occludedByHiZ(lo, hi)) return;
   uint slot = atomicAdd(visible.count, 1u);
   atomicAdd(visible.groupCountX, 1u);
   visibleBricks[slot] = brick;

@@ -1,0 +1,60 @@
+#version 450
+// ProbePlacement (SPEC §4.5; the talk's "Adaptive Placement"): of the probes in the blocks the CPU found in view, keep
+// those whose range reaches into the frustum and holds a voxel, up to the per-frame budget, as the list ProbeTrace
+// works through (one workgroup per probe).
+//
+// A probe's range is one spacing on each axis: the 8 grid cells it is a corner of. A surface point is shaded from
+// the 8 probes at the corners of its cell, so these are exactly the probes a gather can read; the others would be
+// traced for nothing ("only place probes around the scene, to cut the number updated", the talk). The search reads the
+// occupancy hierarchy (voxel_access.glsl) at the level whose cells are the spacing (the talk: "probes of each level
+// use the voxel octree to speed up the search"): 8 bits for a level whose spacing is 1, 2 or 4 bricks.
+#include "gi/gi_frame.glsl"
+#include "gi/voxels/voxel_access.glsl"
+#include "shared/probe_interface.h"
+
+layout(local_size_x = 64) in;  // one block of kProbeBlockSize³ probes
+
+layout(binding = kBindProbeUpdate) uniform ProbeUpdateBlock { ProbeUpdate update; };
+layout(binding = kBindProbeBlocks) readonly buffer ProbeBlocks { uint blocksInView[]; };
+layout(binding = kBindProbeList) buffer ProbeList {
+  IndirectList list;
+  uint listedProbes[];
+};
+
+// Whether any voxel lies in [lo, hi): the cells of the search level that cover it, each inside the voxel volume
+// (a cell of a grid level is wholly inside or outside it; outside, its toroidal bit belongs to another cell).
+bool voxelsWithin(vec3 lo, vec3 hi) {
+  uint level = update.settings.w;
+  float cellSize = volume.voxelSize.x * float(1u << level);
+  ivec3 first = ivec3(floor(lo / cellSize));
+  ivec3 last = ivec3(ceil(hi / cellSize)) - 1;
+  int bricksPerCell = 1 << (level - kFirstGridLevel);
+  for (int z = first.z; z <= last.z; ++z)
+    for (int y = first.y; y <= last.y; ++y)
+      for (int x = first.x; x <= last.x; ++x) {
+        ivec3 cell = ivec3(x, y, z);
+        if (brickInVolume(cell * bricksPerCell, volume) && gridOccupied(level, cell)) return true;
+      }
+  return false;
+}
+
+void main() {
+  uvec3 block = unpackProbeBlock(blocksInView[gl_WorkGroupID.x]);
+  uint inBlock = gl_LocalInvocationID.x;
+  uvec3 probeInBlock = uvec3(inBlock % kProbeBlockSize, (inBlock / kProbeBlockSize) % kProbeBlockSize,
+                             inBlock / (kProbeBlockSize * kProbeBlockSize));
+  ivec3 probe = update.originProbe.xyz + ivec3(block * kProbeBlockSize + probeInBlock);
+  float spacing = update.distances.x;
+  vec3 lo = vec3(probe - 1) * spacing;
+  vec3 hi = vec3(probe + 1) * spacing;
+  if (!boxInFrustum(lo, hi, frame.frustumPlanes) || !voxelsWithin(lo, hi)) return;
+
+  uint slot = atomicAdd(list.count, 1u);
+  if (slot >= update.settings.z) {  // over budget: undo, so that count ends as the number listed
+    atomicAdd(list.count, uint(-1));
+    return;
+  }
+  atomicAdd(list.groupCountX, 1u);
+  uint level = uint(update.originProbe.w);
+  listedProbes[slot] = level * uint(update.dimensions.w) + probeSlotIndex(probe, update.dimensions.xyz);
+}

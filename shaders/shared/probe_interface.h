@@ -1,0 +1,110 @@
+// The probe radiance cache of SPEC §4.5 (the talk's "Part2 Indirect Light"): layouts, binding slots, constants and
+// addressing shared by the probe shaders and the host.
+//
+// Three levels of probeGrid probes around the camera, spacing doubling per level. Probe (world probe coordinate) c of a
+// level sits at c · spacing, so the levels nest (every probe of level l+1 coincides with one of level l) and the
+// probes around a point are the corners of the grid cell holding it. Each level is addressed toroidally like the voxel
+// volume (slot = c mod dimensions); a probe stores a tag of its world coordinate, so a slot that scrolled to another
+// probe is recognised as stale and starts afresh (as bricks store their coordinate, SPEC §4.1).
+#ifndef SSVGI_SHARED_PROBE_INTERFACE_H
+#define SSVGI_SHARED_PROBE_INTERFACE_H
+
+#include "shared/sampling.h"
+#include "shared/sh.h"
+#include "shared/voxel_interface.h"
+
+SSVGI_SHARED_BEGIN
+
+SSVGI_CONSTANT(uint, kProbeLevels, 3u);     // SPEC §4.5: 3 clipmap levels, one updated per frame
+SSVGI_CONSTANT(uint, kProbeBlockSize, 4u);  // the CPU culls a level in blocks of 4×4×4 probes (one placement group)
+SSVGI_CONSTANT(uint, kProbeTraceGroupSize, 32u);  // ProbeTrace: one workgroup per probe, one thread per ray
+// The distance SH records hit distances up to this many spacings. The gather compares it with the distance from the
+// probe to a point of one of the grid cells around it (at most √3 spacings); clamping keeps far hits and misses from
+// swamping the low-order SH of a probe beside a wall.
+SSVGI_CONSTANT(float, kProbeDistanceRangeSpacings, 2.0f);
+
+// Binding slots of the probe passes (after the voxel scene's shared slots and the GiFrame uniform).
+SSVGI_CONSTANT(uint, kBindProbeUpdate, kBindFirstPassSlot);         // ProbeUpdate (uniform)
+SSVGI_CONSTANT(uint, kBindProbes, kBindFirstPassSlot + 1u);         // Probe[kProbeLevels · probes per level]
+SSVGI_CONSTANT(uint, kBindProbeList, kBindFirstPassSlot + 2u);      // IndirectList of probe indices to trace
+SSVGI_CONSTANT(uint, kBindProbeBlocks, kBindFirstPassSlot + 3u);    // the blocks in view, packed by packProbeBlock
+
+// Probe::normalDotAndState.z, the probe's state word: bits 0–7 the history count m (SPEC §4.5, capped by
+// Settings::probeHistoryCap ≤ 255); bits 8–17 the first of the 1024 ray directions its next update traces; bits 24–31
+// the placement state.
+SSVGI_CONSTANT(uint, kProbeStateNeverTraced, 0u);
+SSVGI_CONSTANT(uint, kProbeStateActive, 1u);
+
+// One probe, 48 bytes: four SH2 (4 coefficients each, in sh.h's order) as half floats packed two per uint.
+struct Probe {
+  uvec4 radianceRedGreen;         // xy: red radiance SH2; zw: green
+  uvec4 radianceBlueAndDistance;  // xy: blue radiance SH2; zw: hit distance SH2 (m, clamped, see above)
+  uvec4 normalDotAndState;        // xy: normal-dot SH2 (dot(-ray, hit normal), +1 for a miss); z: state word;
+                                  // w: tag of its world probe coordinate (probeCoordinateTag)
+};
+SSVGI_CHECK_SIZE(Probe, 48);
+
+// What ProbePlacement and ProbeTrace need to know of this frame's update (uniform buffer, one per frame in flight).
+struct ProbeUpdate {
+  ivec4 originProbe;     // xyz: world probe coordinate of the updated level's minimum corner; w: the level
+  ivec4 dimensions;      // xyz: probes per level and axis (multiples of kProbeBlockSize); w: probes per level
+  vec4 distances;        // x: the level's spacing (m); y: how far rays are traced (m); z: the distance SH's clamp (m);
+                         // w: the SH projection weight 4π / rays per probe (SPEC §2)
+  uvec4 settings;        // x: rays per probe; y: history cap; z: probe budget per frame; w: occupancy level (2–4) whose
+                         // cells ProbePlacement searches for voxels
+  Sh2Rgb skyRadiance;    // the host's sky (FrameDesc::skyRadianceSh): what a ray that leaves the voxel volume sees
+};
+SSVGI_CHECK_SIZE(ProbeUpdate, 4 * 16 + 48);
+
+SSVGI_INLINE uint packProbeState(uint historyCount, uint nextDirection, uint placement) {
+  return historyCount | (nextDirection << 8u) | (placement << 24u);
+}
+SSVGI_INLINE uint probeHistoryCount(uint state) { return state & 0xffu; }
+SSVGI_INLINE uint probeNextDirection(uint state) { return (state >> 8u) & 0x3ffu; }
+SSVGI_INLINE uint probePlacement(uint state) { return state >> 24u; }
+
+// 10 bits of each axis of a world probe coordinate. A stale slot holds a probe a multiple of the dimensions away on
+// some axis; it carries the same tag only when that distance is also a multiple of 1024 probes (kilometres).
+SSVGI_INLINE uint probeCoordinateTag(ivec3 worldProbe) {
+  return uint(worldProbe.x & 0x3ff) | (uint(worldProbe.y & 0x3ff) << 10u) | (uint(worldProbe.z & 0x3ff) << 20u);
+}
+
+// Index of a probe within its level: its toroidal slot, linearised.
+SSVGI_INLINE uint probeSlotIndex(ivec3 worldProbe, ivec3 dimensions) {
+  ivec3 slot = wrapCoordinate(worldProbe, dimensions);
+  return uint(slot.x + dimensions.x * (slot.y + dimensions.y * slot.z));
+}
+
+// The world coordinate of the probe in a slot: the one coordinate in [origin, origin + dimensions) that wraps to it.
+SSVGI_INLINE ivec3 probeWorldCoordinate(uint slotIndex, ivec3 origin, ivec3 dimensions) {
+  uint planeSize = uint(dimensions.x * dimensions.y);
+  ivec3 slot = ivec3(int(slotIndex % uint(dimensions.x)), int((slotIndex / uint(dimensions.x)) % uint(dimensions.y)),
+                     int(slotIndex / planeSize));
+  return origin + wrapCoordinate(slot - origin, dimensions);
+}
+
+// A block of the CPU cull, in blocks from the level's minimum corner, 10 bits per axis.
+SSVGI_INLINE uint packProbeBlock(uvec3 block) { return block.x | (block.y << 10u) | (block.z << 20u); }
+SSVGI_INLINE uvec3 unpackProbeBlock(uint packed) {
+  return uvec3(packed & 0x3ffu, (packed >> 10u) & 0x3ffu, packed >> 20u);
+}
+
+// Ray `ray` of an update that starts at direction `firstDirection` of the fixed set (SPEC §2): an update traces the
+// next raysPerProbe directions, so a probe sees all kProbeRayDirectionCount after 1024 / raysPerProbe updates.
+SSVGI_INLINE vec3 probeRayDirection(uint firstDirection, uint ray) {
+  return haltonSphereDirection((firstDirection + ray) % kProbeRayDirectionCount);
+}
+
+// SH2 with half-float coefficients, two per uint.
+SSVGI_INLINE uvec2 packSh2Half(vec4 coefficients) {
+  return uvec2(packHalf2x16(vec2(coefficients.x, coefficients.y)), packHalf2x16(vec2(coefficients.z, coefficients.w)));
+}
+SSVGI_INLINE vec4 unpackSh2Half(uvec2 packed) {
+  vec2 low = unpackHalf2x16(packed.x);
+  vec2 high = unpackHalf2x16(packed.y);
+  return vec4(low.x, low.y, high.x, high.y);
+}
+
+SSVGI_SHARED_END
+
+#endif

@@ -1,0 +1,31 @@
+#pragma once
+// The passes that update the probe radiance cache each frame (SPEC §4 steps 7–8; the talk's "Part2 Indirect Light"),
+// in frame order. Each is one compute shader in shaders/gi/probes/ and one small class that binds and dispatches it.
+#include "gi/voxels/voxel_scene.h"
+#include "gpu/command_list.h"
+#include "probe_volume.h"
+
+namespace ssvgi::gi {
+
+// ProbePlacement: the probes of this frame's level that are in view and near voxels, listed up to the budget.
+class ProbePlacement {
+ public:
+  explicit ProbePlacement(gpu::Device& device);
+  void record(gpu::CommandList& commands, const VoxelScene& scene, const ProbeVolume& probes, const gpu::Buffer& frame,
+              uint32_t blocksInView);
+
+ private:
+  gpu::ComputePipeline pipeline_;
+};
+
+// ProbeTrace: rays from each listed probe through the voxels, projected onto SH2 and blended into its history.
+class ProbeTrace {
+ public:
+  explicit ProbeTrace(gpu::Device& device);
+  void record(gpu::CommandList& commands, const VoxelScene& scene, const ProbeVolume& probes);
+
+ private:
+  gpu::ComputePipeline pipeline_;
+};
+
+}  // namespace ssvgi::gi

@@ -1,0 +1,79 @@
+#include "probe_volume.h"
+
+#include "shared/gi_frame.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace ssvgi::gi {
+
+namespace {
+
+glm::uvec3 gridOf(const Settings& settings) {
+  return glm::uvec3(settings.probeGrid[0], settings.probeGrid[1], settings.probeGrid[2]);
+}
+
+}  // namespace
+
+ProbeVolume::ProbeVolume(gpu::Device& device, const Settings& settings, uint32_t framesInFlight)
+    : settings_(settings),
+      probes_(device, "ssvgi probe volume",
+              VkDeviceSize(shader::kProbeLevels) * settings.probeGrid[0] * settings.probeGrid[1] *
+                  settings.probeGrid[2] * sizeof(shader::Probe),
+              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT),
+      list_(device, "ssvgi probe list", sizeof(shader::IndirectList) + VkDeviceSize(settings.probeBudget) * 4,
+            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT) {
+  const glm::uvec3 blocks = gridOf(settings) / shader::kProbeBlockSize;
+  for (uint32_t i = 0; i < framesInFlight; ++i) {
+    updates_.emplace_back(device, "ssvgi probe update", sizeof(shader::ProbeUpdate), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                          gpu::MemoryUsage::HostUpload);
+    blocks_.emplace_back(device, "ssvgi probe blocks in view", VkDeviceSize(blocks.x) * blocks.y * blocks.z * 4,
+                         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::HostUpload);
+  }
+}
+
+uint32_t ProbeVolume::probesPerLevel() const {
+  return settings_.probeGrid[0] * settings_.probeGrid[1] * settings_.probeGrid[2];
+}
+
+uint32_t ProbeVolume::prepare(uint32_t frameIndex, glm::vec3 cameraPosition, const glm::vec4 frustumPlanes[6],
+                              const std::array<float, 12>& skyRadianceSh, const shader::VoxelVolume& voxels) {
+  const uint32_t level = frameIndex % shader::kProbeLevels;
+  const float spacing = settings_.probeSpacing * float(1u << level);
+  const glm::ivec3 dimensions(gridOf(settings_));
+  const glm::ivec3 origin = glm::ivec3(glm::floor(cameraPosition / spacing)) - dimensions / 2;
+  // Rays go as far as the voxel volume reaches (its diagonal; the trace stops at its boundary anyway): a far wall
+  // still hides the sky, and empty space costs one read per 4 m cell.
+  const float maxTraceDistance = glm::length(glm::vec3(voxels.dimensionsBricks) * voxels.voxelSize.y);
+  // The search level of ProbePlacement: the coarsest occupancy grid level whose cells are no wider than the spacing.
+  const int searchLevel =
+      std::clamp(int(std::floor(std::log2(spacing / voxels.voxelSize.x))), int(shader::kFirstGridLevel),
+                 int(shader::kOccupancyLevels) - 1);
+
+  current_.originProbe = glm::ivec4(origin, int(level));
+  current_.dimensions = glm::ivec4(dimensions, int(probesPerLevel()));
+  current_.distances = glm::vec4(spacing, maxTraceDistance, shader::kProbeDistanceRangeSpacings * spacing,
+                                 4.0f * shader::kPi / float(settings_.raysPerProbe));
+  current_.settings = glm::uvec4(settings_.raysPerProbe, settings_.probeHistoryCap, settings_.probeBudget, searchLevel);
+  std::memcpy(&current_.skyRadiance, skyRadianceSh.data(), sizeof(current_.skyRadiance));
+
+  // SPEC §4.5: "the CPU culls the level's volume against the frustum coarsely" — per block, the union of its probes'
+  // ranges (one spacing around each).
+  currentFrame_ = frameIndex % updates_.size();
+  std::memcpy(updates_[currentFrame_].mapped(), &current_, sizeof(current_));
+  auto* blocksInView = static_cast<uint32_t*>(blocks_[currentFrame_].mapped());
+  const glm::uvec3 blocks = gridOf(settings_) / shader::kProbeBlockSize;
+  uint32_t count = 0;
+  for (uint32_t z = 0; z < blocks.z; ++z)
+    for (uint32_t y = 0; y < blocks.y; ++y)
+      for (uint32_t x = 0; x < blocks.x; ++x) {
+        const glm::ivec3 firstProbe = origin + glm::ivec3(glm::uvec3(x, y, z) * shader::kProbeBlockSize);
+        const glm::vec3 lo = glm::vec3(firstProbe - 1) * spacing;
+        const glm::vec3 hi = glm::vec3(firstProbe + int(shader::kProbeBlockSize)) * spacing;
+        if (shader::boxInFrustum(lo, hi, frustumPlanes)) blocksInView[count++] = shader::packProbeBlock(glm::uvec3(x, y, z));
+      }
+  return count;
+}
+
+}  // namespace ssvgi::gi

@@ -1,0 +1,42 @@
+#pragma once
+// The GPU resources of the probe radiance cache (SPEC §4.5) and each frame's choice of what to update: the level
+// (round-robin), its placement around the camera and the CPU's coarse frustum cull of its blocks.
+#include "gpu/pipelines.h"
+#include "shared/probe_interface.h"
+#include "ssvgi/ssvgi.h"
+
+#include <glm/glm.hpp>
+
+#include <array>
+#include <vector>
+
+namespace ssvgi::gi {
+
+class ProbeVolume {
+ public:
+  ProbeVolume(gpu::Device& device, const Settings& settings, uint32_t framesInFlight);
+
+  // Prepares this frame's update and uploads its ProbeUpdate and block list: level frameIndex % kProbeLevels, centred
+  // on the camera, its blocks of kProbeBlockSize³ probes whose ranges reach into the frustum (planes pointing inwards,
+  // as GiFrame's), the sky, and rays traced as far as the voxel volume reaches. Returns the number of blocks listed.
+  uint32_t prepare(uint32_t frameIndex, glm::vec3 cameraPosition, const glm::vec4 frustumPlanes[6],
+                   const std::array<float, 12>& skyRadianceSh, const shader::VoxelVolume& voxels);
+
+  const gpu::Buffer& probes() const { return probes_; }  // Probe[kProbeLevels · probes per level], level-major
+  const gpu::Buffer& list() const { return list_; }      // IndirectList of probe indices, then the indices
+  const gpu::Buffer& update() const { return updates_[currentFrame_]; }  // this frame's ProbeUpdate
+  const gpu::Buffer& blocksInView() const { return blocks_[currentFrame_]; }
+  const shader::ProbeUpdate& current() const { return current_; }
+  uint32_t probesPerLevel() const;
+
+ private:
+  Settings settings_;
+  gpu::Buffer probes_;
+  gpu::Buffer list_;
+  std::vector<gpu::Buffer> updates_;
+  std::vector<gpu::Buffer> blocks_;
+  size_t currentFrame_ = 0;
+  shader::ProbeUpdate current_{};
+};
+
+}  // namespace ssvgi::gi
