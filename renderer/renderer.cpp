@@ -117,6 +117,7 @@ void Renderer::recordGi(gpu::CommandList& commands, const shader::FrameConstants
   const gpu::Image& litColor = finalRadiance_[(frameIndex_ + 1) & 1u];
   const bool hasLitFrame = frameIndex_ > 0;
   commands.use(gbuffer.depth, gpu::Usage::ComputeSampled);
+  commands.use(gbuffer.normal, gpu::Usage::ComputeSampled);
   if (hasLitFrame) {
     commands.use(litColor, gpu::Usage::ComputeSampled);
     commands.use(litGBuffer.depth, gpu::Usage::ComputeSampled);
@@ -128,11 +129,14 @@ void Renderer::recordGi(gpu::CommandList& commands, const shader::FrameConstants
   desc.frameIndex = frameIndex_;
   desc.camera = toView(frame.viewProjection, glm::vec3(frame.cameraPositionAndNear), settings_.width, settings_.height);
   desc.depth.view = gbuffer.depth.view();
+  desc.normal.view = gbuffer.normal.view();
   desc.hasLitFrame = hasLitFrame;
   desc.litCamera = giView_;
   desc.litColor.view = litColor.view();
   desc.litDepth.view = litGBuffer.depth.view();
   desc.litNormal.view = litGBuffer.normal.view();
+  const shader::Sh2Rgb sky = projectSkyToSh2(frame.sky);  // what probe rays that leave the voxel volume see
+  std::memcpy(desc.skyRadianceSh.data(), &sky, sizeof(sky));
   if (const ssvgi::Error error = gi_->dispatch(desc, commands.handle())) throw gpu::GpuError("ssvgi: " + error.message);
   giView_ = desc.camera;
 }
@@ -144,6 +148,8 @@ void Renderer::render(const AnimatedState& state) {
 
   shader::FrameConstants frame = makeFrameConstants(scene_, state, settings_.width, settings_.height, settings_.exposure);
   if (!firstFrame) frame.previousViewProjection = previousViewProjection_;
+  const bool giLighting = gi_ && settings_.giLighting;
+  if (giLighting) frame.lightCountAndExposure.z = 1.0f;  // the composite adds ssvgi's indirect irradiance
 
   std::vector<shader::GpuLight> lights;
   for (const LocalLight& light : scene_.lights) lights.push_back(toGpuLight(light));
@@ -162,8 +168,13 @@ void Renderer::render(const AnimatedState& state) {
     directLighting_.record(commands, frameConstants_, lights_, shadows_, gbuffer, pointSampler_.handle(),
                            directIrradiance_, viewDistance_);
     if (gi_) recordGi(commands, frame);
-    composite_.record(commands, frameConstants_, gbuffer, pointSampler_.handle(), directIrradiance_,
-                      indirectIrradiance_, linearSampler_.handle(), finalRadiance, indirectUsed_);
+    VkImageView indirect = indirectIrradiance_.view();
+    if (giLighting)
+      indirect = gi_->output().view;  // left by dispatch() ready for compute reads (ssvgi::OutputImage)
+    else
+      commands.use(indirectIrradiance_, gpu::Usage::ComputeSampled);
+    composite_.record(commands, frameConstants_, gbuffer, pointSampler_.handle(), directIrradiance_, indirect,
+                      linearSampler_.handle(), finalRadiance, indirectUsed_);
     tonemap_.record(commands, frameConstants_, finalRadiance, tonemapped_);
   });
   timings_ = profiler_.resolve();

@@ -31,6 +31,7 @@ struct RendererSettings {
   float exposure = 1.0f;  // multiplies radiance before the tonemap curve
   ShadowSettings shadows;
   std::optional<ssvgi::Settings> gi;  // run the GI library with these settings (SPEC §3 integration)
+  bool giLighting = true;  // composite its indirect light; false: it runs for its debug views only, no ambient at all
 };
 
 // The host renderer (headless): shadows, G-buffer, direct light, the GI library, composite and tonemap for one scene,
@@ -90,7 +91,7 @@ class Renderer {
   gpu::Buffer lights_;
   gpu::Image directIrradiance_;
   gpu::Image viewDistance_;
-  gpu::Image indirectIrradiance_;  // half resolution, filled by the GI (black until then)
+  gpu::Image indirectIrradiance_;  // half resolution, black: what the composite binds when the GI is off
   gpu::Image indirectUsed_;
   std::array<gpu::Image, 2> finalRadiance_;
   gpu::Image tonemapped_;

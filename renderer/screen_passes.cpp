@@ -31,7 +31,7 @@ void DirectLighting::record(gpu::CommandList& commands, const gpu::Buffer& frame
 Composite::Composite(gpu::Device& device) : pipeline_(device, shaders::composite_comp) {}
 
 void Composite::record(gpu::CommandList& commands, const gpu::Buffer& frameConstants, const GBuffer& gbuffer,
-                       VkSampler pointSampler, const gpu::Image& directIrradiance, const gpu::Image& indirectIrradiance,
+                       VkSampler pointSampler, const gpu::Image& directIrradiance, VkImageView indirectIrradiance,
                        VkSampler linearSampler, const gpu::Image& finalRadiance, const gpu::Image& indirectUsed) {
   auto scope = commands.scope("renderer: Composite");
   commands.dispatch(pipeline_,
@@ -41,7 +41,7 @@ void Composite::record(gpu::CommandList& commands, const gpu::Buffer& frameConst
                         .sampled(shader::kBindCompositeAlbedo, gbuffer.albedo, pointSampler)
                         .sampled(shader::kBindCompositeEmission, gbuffer.emission, pointSampler)
                         .image(shader::kBindCompositeDirect, directIrradiance)
-                        .sampled(shader::kBindCompositeIndirect, indirectIrradiance, linearSampler)
+                        .externalSampled(shader::kBindCompositeIndirect, indirectIrradiance, linearSampler)
                         .image(shader::kBindCompositeFinal, finalRadiance)
                         .image(shader::kBindCompositeIndirectUsed, indirectUsed),
                     pixels(finalRadiance));

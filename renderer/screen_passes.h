@@ -17,12 +17,13 @@ class DirectLighting {
   gpu::ComputePipeline pipeline_;
 };
 
-// Composite: final = emission + albedo/π · (E_direct + E_indirect), the sky behind (SPEC §3).
+// Composite: final = emission + albedo/π · (E_direct + E_indirect), the sky behind (SPEC §3). `indirectIrradiance` is a
+// half-resolution image (ssvgi's output) that the caller has made ready for compute reads: it is bound untracked.
 class Composite {
  public:
   explicit Composite(gpu::Device& device);
   void record(gpu::CommandList& commands, const gpu::Buffer& frameConstants, const GBuffer& gbuffer,
-              VkSampler pointSampler, const gpu::Image& directIrradiance, const gpu::Image& indirectIrradiance,
+              VkSampler pointSampler, const gpu::Image& directIrradiance, VkImageView indirectIrradiance,
               VkSampler linearSampler, const gpu::Image& finalRadiance, const gpu::Image& indirectUsed);
 
  private:

@@ -135,6 +135,7 @@ class VoxelScene : public testing::GpuTest {
     frame.frameIndex = frameIndex_++;
     frame.camera = current.view;
     frame.depth.view = current.depth.view();
+    frame.normal.view = current.normal.view();
     if (lit) {
       frame.hasLitFrame = true;
       frame.litCamera = lit->view;

@@ -63,8 +63,6 @@ nlohmann::json statsJson(const gpu::Device& device, const RenderOptions& options
 }
 
 int runRender(const RenderOptions& options) {
-  if (options.gi == "on")
-    throw std::runtime_error("--gi on: the GI passes are not part of this build yet; render with --gi off");
   const ResolvedScene resolved = resolveScene(options.scene);
 
   gpu::Device device(gpu::DeviceDesc{options.scene.device, options.scene.validation});
@@ -72,8 +70,9 @@ int runRender(const RenderOptions& options) {
   settings.width = resolved.width;
   settings.height = resolved.height;
   settings.exposure = options.exposure;
-  // The voxel scene runs whenever something of it is asked for; its indirect light arrives with the probe passes.
-  if (!options.debugViews.empty()) settings.gi = giSettingsForTier(options.tier);
+  // ssvgi runs for its indirect light, or only for the debug views of its voxels (--gi off: no indirect light).
+  if (options.gi == "on" || !options.debugViews.empty()) settings.gi = giSettingsForTier(options.tier);
+  settings.giLighting = options.gi == "on";
   renderer::Renderer renderer(device, resolved.scene, settings);
 
   const std::string label = "rendering " + resolved.scene.name;

@@ -102,6 +102,8 @@ struct FrameDesc {
   uint32_t frameIndex = 0;
   View camera;                // the frame being rendered
   SampledImage depth;         // its depth, D32 reversed-Z (1 near, 0 infinitely far)
+  SampledImage normal;        // its unit world normal in rgb (any float format); the gather shades with it and the
+                              // filters compare it (SPEC §4.6)
   // The latest lit frame (SPEC §3): the previous frame's HDR scene colour (direct + emissive + the GI it composited)
   // with the depth and camera it was rendered with. Injecting it closes the multi-bounce loop.
   bool hasLitFrame = false;   // false on the first frame
@@ -148,6 +150,24 @@ enum class DebugView {
   Bricks,  // brick occupancy: each live brick in a colour of its own
 };
 
+// ssvgi's result (SPEC §3), owned by the context: the indirect irradiance E(n) of the last dispatched frame at half
+// resolution, filtered and ready to sample at full resolution. The host composites albedo/π · E.
+//   - Texel h holds E at full-resolution pixel 2h (its depth and normal); rgb: E, W/m²; a: that pixel's depth
+//     (0 where nothing was drawn; E is 0 there too).
+//   - After the commands of dispatch() it is in `layout` with its writes visible to compute shaders. A host that
+//     samples it in another stage adds its own barrier; the host never writes it, and its reads must be complete or
+//     ordered before the next dispatch() (two images alternate as output and history).
+//   - Query it after each dispatch(): the image changes from frame to frame. The frame's result covers the top-left
+//     width × height texels of an image of ceil(maxWidth/2) × ceil(maxHeight/2).
+struct OutputImage {
+  VkImage image = VK_NULL_HANDLE;
+  VkImageView view = VK_NULL_HANDLE;
+  VkImageLayout layout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+  VkFormat format = VK_FORMAT_R16G16B16A16_SFLOAT;
+  uint32_t width = 0;   // ceil(camera.width / 2) of the last dispatch
+  uint32_t height = 0;  // ceil(camera.height / 2)
+};
+
 class Context {
  public:
   static Result<std::unique_ptr<Context>> create(const ContextDesc& desc);
@@ -155,6 +175,9 @@ class Context {
 
   // Records the GI of one frame into `commandBuffer` (SPEC §4 order).
   virtual Error dispatch(const FrameDesc& frame, VkCommandBuffer commandBuffer) = 0;
+
+  // The image the last dispatch() writes its result into (see OutputImage); nothing (null handles) before the first.
+  virtual OutputImage output() const = 0;
 
   // Records a debug view into `target`, an rgba32f storage image of the view's size that ssvgi leaves in
   // VK_IMAGE_LAYOUT_GENERAL (it must be in GENERAL or UNDEFINED before).

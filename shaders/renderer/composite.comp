@@ -1,6 +1,7 @@
 #version 450
 // Composite: final = emission + albedo/π · (E_direct + E_indirect), the sky where nothing was drawn (SPEC §3). With GI off
-// E_indirect is black: there is no ambient term at all.
+// E_indirect is black: there is no ambient term at all. With GI on it is ssvgi's half-resolution output, sampled
+// bilinearly (not yet edge-aware): its texel h holds full-resolution pixel 2h, so pixel p reads at texel p/2.
 #include "shared/renderer_interface.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -27,7 +28,7 @@ void main() {
   } else {
     vec3 albedo = texelFetch(albedoBuffer, pixel, 0).rgb;
     if (frame.lightCountAndExposure.z > 0.0) {
-      vec2 uv = (vec2(pixel) + 0.5) * frame.viewportSize.zw;
+      vec2 uv = (vec2(pixel) * 0.5 + 0.5) / vec2(textureSize(indirectIrradiance, 0));
       indirect = textureLod(indirectIrradiance, uv, 0.0).rgb;
     }
     vec3 irradiance = imageLoad(directIrradiance, pixel).rgb + indirect;

@@ -1,4 +1,5 @@
 // The GI context: owns the passes and their resources and records a frame in the order of SPEC §4.
+#include "gather/gather_passes.h"
 #include "gpu/command_list.h"
 #include "gpu/profiler.h"
 #include "probes/probe_passes.h"
@@ -102,6 +103,7 @@ class ContextImplementation final : public Context {
         device_(gpu::ExternalDevice{desc.instance, desc.physicalDevice, desc.device, desc.debugUtilsEnabled}),
         scene_(device_, desc.settings, desc.framesInFlight),
         probes_(device_, desc.settings, desc.framesInFlight),
+        gather_(device_, desc.maxWidth, desc.maxHeight, desc.framesInFlight),
         pointSampler_(device_, pointSamplerInfo(), "ssvgi point sampler"),
         hiz_(device_, "ssvgi hi-z pyramid", hizBytes(desc), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT),
         visibleBricks_(device_, "ssvgi visible bricks",
@@ -115,6 +117,9 @@ class ContextImplementation final : public Context {
         buildOctree_(device_),
         probePlacement_(device_),
         probeTrace_(device_),
+        finalGather_(device_),
+        upsample_(device_),
+        temporalFilter_(device_),
         debugView_(device_) {
     for (uint32_t i = 0; i < desc.framesInFlight; ++i) {
       perFrame_.push_back(std::make_unique<PerFrame>(device_));
@@ -137,8 +142,16 @@ class ContextImplementation final : public Context {
     });
   }
 
+  OutputImage output() const override {
+    if (!dispatched_) return {};
+    const gpu::Image& image = gather_.output();
+    return {image.handle(), image.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, image.desc().format,
+            gather_.halfSize().x, gather_.halfSize().y};
+  }
+
   const gi::VoxelScene& voxelScene() const { return scene_; }
   const gi::ProbeVolume& probeVolume() const { return probes_; }
+  const gi::GatherTargets& gatherTargets() const { return gather_; }
 
   Stats stats() override {
     Stats stats;
@@ -214,6 +227,7 @@ class ContextImplementation final : public Context {
   Error validateFrame(const FrameDesc& frame) const {
     if (Error error = validateView(frame.camera, "FrameDesc::camera", desc_)) return error;
     if (!frame.depth.view) return invalid("FrameDesc::depth: an image view is required");
+    if (!frame.normal.view) return invalid("FrameDesc::normal: an image view is required");
     if (frame.hasLitFrame) {
       if (Error error = validateView(frame.litCamera, "FrameDesc::litCamera", desc_)) return error;
       if (!frame.litColor.view || !frame.litDepth.view || !frame.litNormal.view)
@@ -251,6 +265,13 @@ class ContextImplementation final : public Context {
     const uint32_t probeBlocksInView = probes_.prepare(desc.frameIndex, glm::vec3(frame.cameraPosition),
                                                        frame.frustumPlanes, desc.skyRadianceSh, volume);
     slot.probeLevel = uint32_t(probes_.current().originProbe.w);
+    gi::GatherTargets::ProbeLevels probeLevels{};
+    probeLevels.dimensions = glm::ivec3(probes_.current().dimensions);
+    for (uint32_t level = 0; level < shader::kProbeLevels; ++level) {
+      probeLevels.origins[level] = probes_.levelOrigin(level, glm::vec3(frame.cameraPosition));
+      probeLevels.spacings[level] = probes_.levelSpacing(level);
+    }
+    gather_.prepare(desc.frameIndex, frame.viewProjection, desc.camera.width, desc.camera.height, probeLevels);
 
     gpu::CommandList commands(device_, commandBuffer, slot.descriptors, &slot.profiler);
     slot.profiler.begin(commandBuffer);
@@ -286,6 +307,11 @@ class ContextImplementation final : public Context {
     buildOctree_.record(commands, scene_);                                              // 6. BuildOctree
     probePlacement_.record(commands, scene_, probes_, slot.frameConstants, probeBlocksInView);  // 7. ProbePlacement
     probeTrace_.record(commands, scene_, probes_);                                      // 8. ProbeTrace
+    const gi::GatherInputs gatherInputs{slot.frameConstants, pointSampler_.handle(), desc.depth.view, desc.normal.view};
+    finalGather_.record(commands, gatherInputs, gather_, probes_.probes());            // 10. FinalGather
+    upsample_.record(commands, gatherInputs, gather_);                                 // 11. Upsample
+    temporalFilter_.record(commands, gatherInputs, gather_);                           // 12. TemporalFilter
+    commands.use(gather_.output(), gpu::Usage::ComputeSampled);  // the output's contract (OutputImage)
 
     commands.copyBuffer(scene_.poolState(), slot.statsReadback, sizeof(shader::BrickPoolState));
     commands.use(slot.statsReadback, gpu::Usage::HostRead);
@@ -300,6 +326,7 @@ class ContextImplementation final : public Context {
   gpu::Device device_;
   gi::VoxelScene scene_;
   gi::ProbeVolume probes_;
+  gi::GatherTargets gather_;
   gpu::Sampler pointSampler_;
   gpu::Buffer hiz_;
   gpu::Buffer visibleBricks_;
@@ -312,6 +339,9 @@ class ContextImplementation final : public Context {
   gi::BuildOctree buildOctree_;
   gi::ProbePlacement probePlacement_;
   gi::ProbeTrace probeTrace_;
+  gi::FinalGather finalGather_;
+  gi::Upsample upsample_;
+  gi::TemporalFilter temporalFilter_;
   gi::VoxelDebugView debugView_;
   uint32_t lastSlot_ = 0;
   bool dispatched_ = false;
@@ -339,6 +369,10 @@ const VoxelScene& voxelSceneOf(const Context& context) {
 
 const ProbeVolume& probeVolumeOf(const Context& context) {
   return static_cast<const ContextImplementation&>(context).probeVolume();
+}
+
+const GatherTargets& gatherTargetsOf(const Context& context) {
+  return static_cast<const ContextImplementation&>(context).gatherTargets();
 }
 
 }  // namespace ssvgi::gi

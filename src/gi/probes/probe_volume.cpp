@@ -37,12 +37,18 @@ uint32_t ProbeVolume::probesPerLevel() const {
   return settings_.probeGrid[0] * settings_.probeGrid[1] * settings_.probeGrid[2];
 }
 
+float ProbeVolume::levelSpacing(uint32_t level) const { return settings_.probeSpacing * float(1u << level); }
+
+glm::ivec3 ProbeVolume::levelOrigin(uint32_t level, glm::vec3 cameraPosition) const {
+  return glm::ivec3(glm::floor(cameraPosition / levelSpacing(level))) - glm::ivec3(gridOf(settings_)) / 2;
+}
+
 uint32_t ProbeVolume::prepare(uint32_t frameIndex, glm::vec3 cameraPosition, const glm::vec4 frustumPlanes[6],
                               const std::array<float, 12>& skyRadianceSh, const shader::VoxelVolume& voxels) {
   const uint32_t level = frameIndex % shader::kProbeLevels;
-  const float spacing = settings_.probeSpacing * float(1u << level);
+  const float spacing = levelSpacing(level);
   const glm::ivec3 dimensions(gridOf(settings_));
-  const glm::ivec3 origin = glm::ivec3(glm::floor(cameraPosition / spacing)) - dimensions / 2;
+  const glm::ivec3 origin = levelOrigin(level, cameraPosition);
   // Rays go as far as the voxel volume reaches (its diagonal; the trace stops at its boundary anyway): a far wall
   // still hides the sky, and empty space costs one read per 4 m cell.
   const float maxTraceDistance = glm::length(glm::vec3(voxels.dimensionsBricks) * voxels.voxelSize.y);

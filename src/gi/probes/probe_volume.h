@@ -28,6 +28,9 @@ class ProbeVolume {
   const gpu::Buffer& blocksInView() const { return blocks_[currentFrame_]; }
   const shader::ProbeUpdate& current() const { return current_; }
   uint32_t probesPerLevel() const;
+  // Where a level stands for a camera: every level is centred on it (SPEC §4.5).
+  float levelSpacing(uint32_t level) const;
+  glm::ivec3 levelOrigin(uint32_t level, glm::vec3 cameraPosition) const;  // world probe coordinate of its min corner
 
  private:
   Settings settings_;

@@ -1,0 +1,103 @@
+#version 450
+// FinalGather (SPEC §4.6; the talk's "DownSample: Probe Volume sampling with custom weights, 1 sample per 4x4 pixels,
+// temporal jitter; output indirect light + normal + depth"): one thread per 4×4 tile samples the probe volume at one
+// pixel of its tile, a different one each frame (gatherSampleOffset), with the talk's three leak remedies.
+#include "gi/gi_frame.glsl"
+#include "shared/gather_interface.h"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(binding = kBindGatherConstants) uniform GatherConstantsBlock { GatherConstants gather; };
+layout(binding = kBindGatherDepth) uniform sampler2D depthBuffer;
+layout(binding = kBindGatherNormal) uniform sampler2D normalBuffer;
+layout(binding = kBindGatherProbes) readonly buffer Probes { Probe probes[]; };
+layout(binding = kBindGatherTileIrradiance, rgba16f) writeonly uniform image2D tileIrradiance;
+layout(binding = kBindGatherTileGeometry, rgba16f) writeonly uniform image2D tileGeometry;
+
+// How far a point lies inside the cells of a level, in spacings; negative when some of its 8 probes are outside it.
+float insideMargin(uint level, vec3 position) {
+  vec3 probeUnits = position / gather.probeSpacings[level] - vec3(gather.probeOrigins[level].xyz);
+  vec3 margins = min(probeUnits, vec3(gather.probeDimensions.xyz - 1) - probeUnits);
+  return min(margins.x, min(margins.y, margins.z));
+}
+
+// The finest level holding the point, or near its boundary — with a probability growing toward it — the next coarser
+// one (the talk's "Probe Volume Interpolation: Noise + Light Gather Temporal Filter"). kProbeLevels: none holds it.
+uint chooseLevel(vec3 position, float noise) {
+  for (uint level = 0u; level < kProbeLevels; ++level) {
+    float margin = insideMargin(level, position);
+    if (margin < 0.0) continue;
+    bool coarserHoldsIt = level + 1u < kProbeLevels && insideMargin(level + 1u, position) >= 0.0;
+    if (coarserHoldsIt && noise * kGatherLevelBlendSpacings > margin) continue;
+    return level;
+  }
+  return kProbeLevels;
+}
+
+// Irradiance at a surface point from the 8 probes of a level around it: rgb, and a = 1 when any probe contributed.
+vec4 gatherLevel(uint level, vec3 position, vec3 normal) {
+  float spacing = gather.probeSpacings[level];
+  ivec3 origin = gather.probeOrigins[level].xyz;
+  ivec3 dimensions = gather.probeDimensions.xyz;
+  // "Normal Bias" (the talk): interpolate and test visibility from a point off the surface, so that the probes just
+  // behind a wall do not see the point on its front as unoccluded.
+  vec3 biased = position + normal * (kGatherNormalBiasSpacings * spacing);
+  vec3 grid = biased / spacing;
+  ivec3 base = ivec3(floor(grid));
+  vec3 fraction = grid - vec3(base);
+  vec3 irradiance = vec3(0.0);
+  float totalWeight = 0.0;
+  for (int corner = 0; corner < 8; ++corner) {
+    ivec3 offset = ivec3(corner & 1, (corner >> 1) & 1, corner >> 2);
+    ivec3 probe = base + offset;
+    if (any(lessThan(probe, origin)) || any(greaterThanEqual(probe, origin + dimensions))) continue;
+    Probe stored = probes[level * uint(gather.probeDimensions.w) + probeSlotIndex(probe, dimensions)];
+    // A probe never traced, or a slot that still holds a probe the level scrolled away from, knows nothing here.
+    if (probePlacement(stored.normalDotAndState.z) != kProbeStateActive ||
+        stored.normalDotAndState.w != probeCoordinateTag(probe))
+      continue;
+    vec3 trilinear = mix(vec3(1.0) - fraction, fraction, vec3(offset));
+    float weight = trilinear.x * trilinear.y * trilinear.z;
+    vec3 probePosition = vec3(probe) * spacing;
+    // "Normal Weight": probes behind the surface count less (from the true point, as DDGI does).
+    vec3 toProbe = probePosition - position;
+    float facing = 0.5 * (dot(toProbe, normal) / max(length(toProbe), 1e-4) + 1.0);
+    weight *= facing * facing + kGatherBackfacingProbeWeight;
+    // "Distance Weight": the probe's traced distance toward the point against the point's distance.
+    vec3 fromProbe = biased - probePosition;
+    float pointDistance = length(fromProbe);
+    if (pointDistance > 1e-4) {
+      float traced = dot(unpackSh2Half(stored.radianceBlueAndDistance.zw), sh2Basis(fromProbe / pointDistance));
+      float visible = clamp(traced / pointDistance, 0.0, 1.0);
+      weight *= max(visible * visible * visible, kGatherOccludedProbeWeight);
+    }
+    Sh2Rgb radiance = Sh2Rgb(unpackSh2Half(stored.radianceRedGreen.xy), unpackSh2Half(stored.radianceRedGreen.zw),
+                             unpackSh2Half(stored.radianceBlueAndDistance.xy));
+    // SH2 rings below zero opposite bright light; negative irradiance is not light.
+    irradiance += weight * max(sh2Irradiance(radiance, normal), vec3(0.0));
+    totalWeight += weight;
+  }
+  return totalWeight > 0.0 ? vec4(irradiance / totalWeight, 1.0) : vec4(0.0);
+}
+
+void main() {
+  uvec2 tile = gl_GlobalInvocationID.xy;
+  if (any(greaterThanEqual(tile, gather.sizes.xy))) return;
+  uint frameIndex = gather.frame.x;
+  ivec2 pixel = ivec2(min(tile * kGatherTileSize + gatherSampleOffset(frameIndex), frame.sizes.xy - 1u));
+  float depth = texelFetch(depthBuffer, pixel, 0).r;
+  if (depth <= 0.0) {  // nothing drawn: no irradiance, and depth 0 tells the upsample to skip the tile
+    imageStore(tileIrradiance, ivec2(tile), vec4(0.0));
+    imageStore(tileGeometry, ivec2(tile), vec4(0.0));
+    return;
+  }
+  vec3 normal = normalize(texelFetch(normalBuffer, pixel, 0).xyz);
+  vec3 position = reconstructPosition(frame.inverseViewProjection, vec2(pixel), vec2(frame.sizes.xy), depth);
+  // Where a level's probes are stale or untraced, a coarser level (seeded earlier, SPEC §4.5) answers.
+  vec4 irradiance = vec4(0.0);
+  for (uint level = chooseLevel(position, hashToUnitCube(uvec3(tile, frameIndex)).x);
+       level < kProbeLevels && irradiance.a == 0.0; ++level)
+    irradiance = gatherLevel(level, position, normal);
+  imageStore(tileIrradiance, ivec2(tile), irradiance);
+  imageStore(tileGeometry, ivec2(tile), vec4(normal, depth));
+}

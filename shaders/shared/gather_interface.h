@@ -1,0 +1,76 @@
+// Final gather, upsample and temporal filter (SPEC §4.6; the talk's "Part3 Shading"): layouts, binding slots,
+// constants and the sample pattern shared by the gather shaders and the host.
+//
+// Resolutions: the gather takes one sample per kGatherTileSize² pixel tile ("1/4 resolution"), Upsample and
+// TemporalFilter work at half resolution. A half-resolution pixel p stands for full-resolution pixel 2p: it takes that
+// pixel's depth and normal, so every filter weight compares real G-buffer samples.
+#ifndef SSVGI_SHARED_GATHER_INTERFACE_H
+#define SSVGI_SHARED_GATHER_INTERFACE_H
+
+#include "shared/probe_interface.h"
+
+SSVGI_SHARED_BEGIN
+
+SSVGI_CONSTANT(uint, kGatherTileSize, 4u);  // SPEC §4.6: 1 sample per 4×4 pixels
+
+// FinalGather's leak weights (the talk's "Light Leaking" slides), in units of the chosen level's probe spacing where
+// they are lengths.
+SSVGI_CONSTANT(float, kGatherNormalBiasSpacings, 0.25f);  // "Normal Bias": the sample point moves off the surface
+// "Normal Weight": a probe behind the surface (direction to it against the normal) keeps this much of its weight, so a
+// point whose probes all lie behind it still gets their light rather than none.
+SSVGI_CONSTANT(float, kGatherBackfacingProbeWeight, 0.02f);
+// "Distance Weight": a probe whose traced distance toward the point is shorter than the point's distance probably sees a
+// surface in between; its weight falls with the cube of the ratio, down to this floor.
+SSVGI_CONSTANT(float, kGatherOccludedProbeWeight, 0.02f);
+// Levels blend over the last this-many probe spacings inside a level's boundary: the gather picks the coarser level
+// with a probability that grows toward the boundary ("Noise + Light Gather Temporal Filter", the talk), so the seam
+// becomes noise that the temporal filter averages.
+SSVGI_CONSTANT(float, kGatherLevelBlendSpacings, 2.0f);
+
+// Upsample and TemporalFilter: a neighbour counts when it lies within this fraction of the view distance of the
+// pixel's tangent plane (a depth test that tilted surfaces pass and depth edges and creases fail) and its normal agrees
+// (weight dot^kGatherNormalPower).
+SSVGI_CONSTANT(float, kGatherPlaneTolerance, 0.02f);
+SSVGI_CONSTANT(float, kGatherNormalPower, 8.0f);
+// TemporalFilter: the weight of the new frame. 1/16 spans the 16 frames the gather's jitter needs to visit a tile's
+// every pixel.
+SSVGI_CONSTANT(float, kTemporalBlend, 1.0f / 16.0f);
+// History whose geometry weight (summed over its bilinear taps) falls below this is rejected.
+SSVGI_CONSTANT(float, kTemporalMinimumHistoryWeight, 0.25f);
+
+// Binding slots of the gather passes (after GiFrame, kBindGiFrame; the voxel scene is not bound).
+SSVGI_CONSTANT(uint, kBindGatherConstants, kBindFirstPassSlot);            // GatherConstants (uniform)
+SSVGI_CONSTANT(uint, kBindGatherDepth, kBindFirstPassSlot + 1u);           // the host's current depth (sampled)
+SSVGI_CONSTANT(uint, kBindGatherNormal, kBindFirstPassSlot + 2u);          // the host's current world normal (sampled)
+SSVGI_CONSTANT(uint, kBindGatherProbes, kBindFirstPassSlot + 3u);          // Probe[] (probe_interface.h)
+SSVGI_CONSTANT(uint, kBindGatherTileIrradiance, kBindFirstPassSlot + 4u);  // rgba16f, 1/4: rgb E; a: 1 where sampled
+SSVGI_CONSTANT(uint, kBindGatherTileGeometry, kBindFirstPassSlot + 5u);    // rgba16f, 1/4: xyz normal; w: depth
+SSVGI_CONSTANT(uint, kBindGatherUpsampled, kBindFirstPassSlot + 6u);       // r32ui, 1/2: E as R11G11B10F
+SSVGI_CONSTANT(uint, kBindGatherHistory, kBindFirstPassSlot + 7u);         // rgba16f, 1/2: last output
+SSVGI_CONSTANT(uint, kBindGatherOutput, kBindFirstPassSlot + 8u);          // rgba16f, 1/2: rgb E; a: depth
+
+// What the gather passes know of this frame beyond GiFrame (uniform buffer, one per frame in flight).
+struct GatherConstants {
+  mat4 historyViewProjection;         // the camera of the last dispatch, whose output is this frame's history
+  mat4 historyInverseViewProjection;
+  ivec4 probeOrigins[kProbeLevels];   // xyz: world probe coordinate of each level's minimum corner this frame
+  ivec4 probeDimensions;              // xyz: probes per level and axis; w: probes per level
+  vec4 probeSpacings;                 // xyz: probe spacing of levels 0, 1, 2 (m)
+  uvec4 sizes;                        // xy: tiles (1/4 resolution); zw: half resolution
+  uvec4 frame;                        // x: frame index; y: 1 when the history is usable (same size, dispatched before)
+};
+SSVGI_CHECK_SIZE(GatherConstants, 2 * 64 + 3 * 16 + 4 * 16);
+
+// The pixel a tile samples in frame `frameIndex`: the 4×4 Bayer order, so that consecutive frames sample far apart
+// and all 16 pixels are visited in any 16 consecutive frames (SPEC §4.6).
+SSVGI_INLINE uvec2 gatherSampleOffset(uint frameIndex) {
+  uint i = frameIndex % 16u;
+  // With i = b3 b2 b1 b0 in bits, this is the inverse of the index matrix [0 8 2 10; 12 4 14 6; 3 11 1 9; 15 7 13 5]:
+  // 0→(0,0), 1→(2,2), 2→(2,0), 3→(0,2), 4→(1,1), …
+  uint b0 = i & 1u, b1 = (i >> 1u) & 1u, b2 = (i >> 2u) & 1u, b3 = (i >> 3u) & 1u;
+  return uvec2(2u * (b0 ^ b1) + (b2 ^ b3), 2u * b0 + b2);
+}
+
+SSVGI_SHARED_END
+
+#endif

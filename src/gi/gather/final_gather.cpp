@@ -1,0 +1,22 @@
+#include "gather_passes.h"
+#include "ssvgi_shaders.h"
+
+namespace ssvgi::gi {
+
+FinalGather::FinalGather(gpu::Device& device) : pipeline_(device, shaders::final_gather_comp) {}
+
+void FinalGather::record(gpu::CommandList& commands, const GatherInputs& inputs, const GatherTargets& targets,
+                         const gpu::Buffer& probes) {
+  auto scope = commands.scope("ssvgi: FinalGather");
+  const gpu::Bindings bindings = gpu::Bindings()
+                                     .buffer(shader::kBindGiFrame, inputs.frame)
+                                     .buffer(shader::kBindGatherConstants, targets.constants())
+                                     .externalSampled(shader::kBindGatherDepth, inputs.depth, inputs.pointSampler)
+                                     .externalSampled(shader::kBindGatherNormal, inputs.normal, inputs.pointSampler)
+                                     .buffer(shader::kBindGatherProbes, probes)
+                                     .image(shader::kBindGatherTileIrradiance, targets.tileIrradiance())
+                                     .image(shader::kBindGatherTileGeometry, targets.tileGeometry());
+  commands.dispatch(pipeline_, bindings, glm::uvec3(targets.tiles(), 1));  // one thread per tile
+}
+
+}  // namespace ssvgi::gi

@@ -1,0 +1,51 @@
+#pragma once
+// The passes that turn the probe volume into ssvgi's output image (SPEC §4 steps 10–12; the talk's "Part3 Shading"),
+// in frame order. Each is one compute shader in shaders/gi/gather/ and one small class that binds and dispatches it.
+#include "gather_targets.h"
+#include "gpu/command_list.h"
+#include "shared/gi_frame.h"
+
+namespace ssvgi::gi {
+
+// What every gather pass reads of the host's frame: GiFrame and the current depth and normal (untracked host images).
+struct GatherInputs {
+  const gpu::Buffer& frame;  // GiFrame (shared/gi_frame.h)
+  VkSampler pointSampler;
+  VkImageView depth;
+  VkImageView normal;
+};
+
+// FinalGather: one probe-volume sample per 4×4 tile, with the leak weights → tile irradiance and geometry.
+class FinalGather {
+ public:
+  explicit FinalGather(gpu::Device& device);
+  // `probes`: Probe[kProbeLevels · probes per level], level-major (ProbeVolume::probes()).
+  void record(gpu::CommandList& commands, const GatherInputs& inputs, const GatherTargets& targets,
+              const gpu::Buffer& probes);
+
+ private:
+  gpu::ComputePipeline pipeline_;
+};
+
+// Upsample: joint bilateral upsampling of the tile irradiance to half resolution.
+class Upsample {
+ public:
+  explicit Upsample(gpu::Device& device);
+  void record(gpu::CommandList& commands, const GatherInputs& inputs, const GatherTargets& targets);
+
+ private:
+  gpu::ComputePipeline pipeline_;
+};
+
+// TemporalFilter: reprojected, geometry-tested, neighbourhood-clamped history blended with the upsampled frame → the
+// output image.
+class TemporalFilter {
+ public:
+  explicit TemporalFilter(gpu::Device& device);
+  void record(gpu::CommandList& commands, const GatherInputs& inputs, const GatherTargets& targets);
+
+ private:
+  gpu::ComputePipeline pipeline_;
+};
+
+}  // namespace ssvgi::gi

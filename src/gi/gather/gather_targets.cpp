@@ -1,0 +1,62 @@
+#include "gather_targets.h"
+
+#include <cstring>
+
+namespace ssvgi::gi {
+
+namespace {
+
+uint32_t divideRoundingUp(uint32_t value, uint32_t divisor) { return (value + divisor - 1) / divisor; }
+
+gpu::Image storageImage(gpu::Device& device, const char* name, VkFormat format, uint32_t width, uint32_t height,
+                        VkImageUsageFlags extraUsage = 0) {
+  return gpu::Image(device, {name, format, width, height, 1, 1, VK_IMAGE_USAGE_STORAGE_BIT | extraUsage});
+}
+
+}  // namespace
+
+// The tile images are sampled-capable so that the library's tests can upload them (uploadImage leaves an image ready
+// to be sampled).
+GatherTargets::GatherTargets(gpu::Device& device, uint32_t maxWidth, uint32_t maxHeight, uint32_t framesInFlight)
+    : tileIrradiance_(storageImage(device, "ssvgi gather tile irradiance", VK_FORMAT_R16G16B16A16_SFLOAT,
+                                   divideRoundingUp(maxWidth, shader::kGatherTileSize),
+                                   divideRoundingUp(maxHeight, shader::kGatherTileSize), VK_IMAGE_USAGE_SAMPLED_BIT)),
+      tileGeometry_(storageImage(device, "ssvgi gather tile geometry", VK_FORMAT_R16G16B16A16_SFLOAT,
+                                 divideRoundingUp(maxWidth, shader::kGatherTileSize),
+                                 divideRoundingUp(maxHeight, shader::kGatherTileSize), VK_IMAGE_USAGE_SAMPLED_BIT)),
+      upsampled_(storageImage(device, "ssvgi gather upsampled", VK_FORMAT_R32_UINT, divideRoundingUp(maxWidth, 2),
+                              divideRoundingUp(maxHeight, 2))),
+      // The host samples the output (Context::output()); each alternates as the other's history.
+      outputs_{storageImage(device, "ssvgi gather output", VK_FORMAT_R16G16B16A16_SFLOAT, divideRoundingUp(maxWidth, 2),
+                            divideRoundingUp(maxHeight, 2), VK_IMAGE_USAGE_SAMPLED_BIT),
+               storageImage(device, "ssvgi gather output", VK_FORMAT_R16G16B16A16_SFLOAT, divideRoundingUp(maxWidth, 2),
+                            divideRoundingUp(maxHeight, 2), VK_IMAGE_USAGE_SAMPLED_BIT)} {
+  for (uint32_t i = 0; i < framesInFlight; ++i)
+    constants_.emplace_back(device, "ssvgi gather constants", sizeof(shader::GatherConstants),
+                            VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryUsage::HostUpload);
+}
+
+void GatherTargets::prepare(uint32_t frameIndex, const glm::mat4& viewProjection, uint32_t width, uint32_t height,
+                            const ProbeLevels& probes) {
+  const glm::uvec4 sizes(divideRoundingUp(width, shader::kGatherTileSize),
+                         divideRoundingUp(height, shader::kGatherTileSize), divideRoundingUp(width, 2),
+                         divideRoundingUp(height, 2));
+  const bool historyUsable = prepared_ && sizes == current_.sizes;
+  // The history is the last frame's output, seen through the last frame's camera.
+  current_.historyViewProjection = prepared_ ? previousViewProjection_ : viewProjection;
+  current_.historyInverseViewProjection = glm::inverse(current_.historyViewProjection);
+  for (uint32_t level = 0; level < shader::kProbeLevels; ++level) {
+    current_.probeOrigins[level] = glm::ivec4(probes.origins[level], 0);
+    current_.probeSpacings[int(level)] = probes.spacings[level];
+  }
+  current_.probeDimensions = glm::ivec4(probes.dimensions, probes.dimensions.x * probes.dimensions.y * probes.dimensions.z);
+  current_.sizes = sizes;
+  current_.frame = glm::uvec4(frameIndex, historyUsable ? 1u : 0u, 0u, 0u);
+  currentFrame_ = frameIndex % constants_.size();
+  std::memcpy(constants_[currentFrame_].mapped(), &current_, sizeof(current_));
+  if (prepared_) currentOutput_ = 1 - currentOutput_;
+  previousViewProjection_ = viewProjection;
+  prepared_ = true;
+}
+
+}  // namespace ssvgi::gi

@@ -1,0 +1,51 @@
+#pragma once
+// The images of the final gather (SPEC §4.6) and each frame's GatherConstants. Sized once for the largest frame
+// (ContextDesc::maxWidth/maxHeight); a frame uses their top-left corner.
+#include "gpu/pipelines.h"
+#include "shared/gather_interface.h"
+
+#include <glm/glm.hpp>
+
+#include <array>
+#include <vector>
+
+namespace ssvgi::gi {
+
+class GatherTargets {
+ public:
+  GatherTargets(gpu::Device& device, uint32_t maxWidth, uint32_t maxHeight, uint32_t framesInFlight);
+
+  // The placement of the probe levels this frame, as the gather reads them.
+  struct ProbeLevels {
+    std::array<glm::ivec3, shader::kProbeLevels> origins;  // world probe coordinate of each level's minimum corner
+    glm::ivec3 dimensions;                                 // probes per level and axis
+    std::array<float, shader::kProbeLevels> spacings;      // m
+  };
+  // Prepares a frame of `width` × `height` seen through `viewProjection`: uploads its GatherConstants and swaps the
+  // output with the history (the last frame's output). The history is used when the last frame had the same size.
+  void prepare(uint32_t frameIndex, const glm::mat4& viewProjection, uint32_t width, uint32_t height,
+               const ProbeLevels& probes);
+
+  const gpu::Buffer& constants() const { return constants_[currentFrame_]; }
+  const gpu::Image& tileIrradiance() const { return tileIrradiance_; }  // rgba16f, 1/4: rgb E; a: 1 where sampled
+  const gpu::Image& tileGeometry() const { return tileGeometry_; }      // rgba16f, 1/4: xyz normal; w: depth
+  const gpu::Image& upsampled() const { return upsampled_; }            // r32ui, 1/2: E as R11G11B10F
+  const gpu::Image& history() const { return outputs_[1 - currentOutput_]; }
+  const gpu::Image& output() const { return outputs_[currentOutput_]; }  // rgba16f, 1/2: rgb E; a: depth
+  glm::uvec2 tiles() const { return {current_.sizes.x, current_.sizes.y}; }
+  glm::uvec2 halfSize() const { return {current_.sizes.z, current_.sizes.w}; }
+
+ private:
+  std::vector<gpu::Buffer> constants_;
+  gpu::Image tileIrradiance_;
+  gpu::Image tileGeometry_;
+  gpu::Image upsampled_;
+  std::array<gpu::Image, 2> outputs_;
+  size_t currentFrame_ = 0;
+  uint32_t currentOutput_ = 0;
+  bool prepared_ = false;
+  glm::mat4 previousViewProjection_{1.0f};
+  shader::GatherConstants current_{};
+};
+
+}  // namespace ssvgi::gi

@@ -1,0 +1,367 @@
+// Final gather, upsample and temporal filter (SPEC §4.6): the jitter pattern on the CPU; Upsample and TemporalFilter
+// on hand-made inputs (a constant field stays exactly constant, a depth edge stays sharp); FinalGather through the
+// public API on a probe volume written by the test (constant SH gives the analytic irradiance); and the whole loop in
+// the renderer: the Cornell box's shadowed floor gets indirect light with GI on and none with GI off.
+#include "builtin_scenes.h"
+#include "camera.h"
+#include "gi/context_internals.h"
+#include "gi/gather/gather_passes.h"
+#include "gpu/resources.h"
+#include "gpu_test_device.h"
+#include "renderer.h"
+#include "shared/gather_interface.h"
+#include "shared/gi_frame.h"
+#include "ssvgi/ssvgi.h"
+
+#include <glm/gtc/packing.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include <cstring>
+#include <set>
+#include <vector>
+
+namespace ssvgi {
+namespace {
+
+using shader::kPi;
+
+TEST(GatherJitter, anySixteenConsecutiveFramesSampleEveryPixelOfATile) {
+  for (uint32_t first = 0; first < 16; ++first) {
+    std::set<std::pair<uint32_t, uint32_t>> visited;
+    for (uint32_t frame = first; frame < first + 16; ++frame) {
+      const glm::uvec2 offset = shader::gatherSampleOffset(frame);
+      ASSERT_LT(offset.x, shader::kGatherTileSize);
+      ASSERT_LT(offset.y, shader::kGatherTileSize);
+      visited.insert({offset.x, offset.y});
+    }
+    EXPECT_EQ(visited.size(), 16u) << "from frame " << first;
+  }
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Upsample and TemporalFilter on their own: a camera at the origin looking along −Z at a near wall (x < 0, at z = −2)
+// in front of a far wall (z = −8).
+
+constexpr uint32_t kSize = 32;
+constexpr float kNear = 0.1f;
+constexpr float kNearWallZ = -2.0f, kFarWallZ = -8.0f;
+// Values exact in half floats and in R11G11B10F, so "unchanged" can be tested for equality.
+constexpr float kConstant = 0.75f, kNearValue = 0.5f, kFarValue = 1.5f;
+
+struct TestView {
+  glm::mat4 viewProjection;
+  std::vector<float> depth;        // reversed-Z, per pixel
+  std::vector<glm::vec4> normal;   // per pixel
+  std::vector<bool> onNearWall;    // per pixel
+};
+
+TestView viewFrom(glm::vec3 position) {
+  renderer::Camera camera;
+  camera.position = position;
+  camera.target = position - glm::vec3(0.0f, 0.0f, 1.0f);
+  camera.up = {0.0f, 1.0f, 0.0f};
+  camera.verticalFov = glm::radians(60.0f);
+  camera.nearPlane = kNear;
+  TestView view;
+  view.viewProjection = renderer::reversedZInfiniteProjection(camera.verticalFov, 1.0f, kNear) * renderer::viewMatrix(camera);
+  const glm::mat4 inverse = glm::inverse(view.viewProjection);
+  for (uint32_t y = 0; y < kSize; ++y)
+    for (uint32_t x = 0; x < kSize; ++x) {
+      const glm::vec4 far = inverse * glm::vec4(shader::giPixelToNdc(glm::vec2(x, y), glm::vec2(kSize)), 0.5f, 1.0f);
+      const glm::vec3 direction = glm::normalize(glm::vec3(far) / far.w - position);
+      const float nearT = (kNearWallZ - position.z) / direction.z;
+      const bool near = position.x + nearT * direction.x < 0.0f;
+      const float viewZ = position.z - (near ? kNearWallZ : kFarWallZ);  // distance along the view axis
+      view.depth.push_back(kNear / viewZ);
+      view.normal.emplace_back(0.0f, 0.0f, 1.0f, 0.0f);
+      view.onNearWall.push_back(near);
+    }
+  return view;
+}
+
+class GatherFilters : public testing::GpuTest {
+ protected:
+  GatherFilters()
+      : targets_(device(), kSize, kSize, 1),
+        upsample_(device()),
+        temporalFilter_(device()),
+        frame_(device(), "test gi frame", sizeof(shader::GiFrame), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+               gpu::MemoryUsage::HostUpload),
+        depth_(device(), {"test depth", VK_FORMAT_R32_SFLOAT, kSize, kSize, 1, 1, VK_IMAGE_USAGE_SAMPLED_BIT}),
+        normal_(device(), {"test normal", VK_FORMAT_R32G32B32A32_SFLOAT, kSize, kSize, 1, 1, VK_IMAGE_USAGE_SAMPLED_BIT}),
+        sampler_(device(), pointSampler(), "test point sampler"),
+        descriptors_(device()) {}
+
+  static VkSamplerCreateInfo pointSampler() {
+    VkSamplerCreateInfo info{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+    info.magFilter = info.minFilter = VK_FILTER_NEAREST;
+    info.addressModeU = info.addressModeV = info.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+    return info;
+  }
+
+  // Makes `view` the current frame (frame index 0: every tile samples its top-left pixel). uploadImage leaves the depth
+  // and normal ready to be sampled, as FrameDesc requires.
+  void setFrame(const TestView& view, glm::vec3 position) {
+    shader::GiFrame frame{};
+    frame.viewProjection = view.viewProjection;
+    frame.inverseViewProjection = glm::inverse(view.viewProjection);
+    frame.cameraPosition = glm::vec4(position, 1.0f);
+    frame.sizes = glm::uvec4(kSize, kSize, kSize, kSize);
+    std::memcpy(frame_.mapped(), &frame, sizeof(frame));
+    gpu::uploadImage(device(), depth_, std::as_bytes(std::span(view.depth)));
+    gpu::uploadImage(device(), normal_, std::as_bytes(std::span(view.normal)));
+    targets_.prepare(0, view.viewProjection, kSize, kSize, {});
+  }
+
+  // Tile images as FinalGather writes them: each tile's sample pixel's geometry, and `irradiance` of that pixel.
+  template <typename Irradiance>
+  void writeTiles(const TestView& view, Irradiance irradiance) {
+    const uint32_t tiles = kSize / shader::kGatherTileSize;
+    std::vector<uint16_t> radiance, geometry;
+    for (uint32_t y = 0; y < tiles; ++y)
+      for (uint32_t x = 0; x < tiles; ++x) {
+        const size_t pixel = size_t(y * shader::kGatherTileSize) * kSize + x * shader::kGatherTileSize;
+        const float value = irradiance(pixel);
+        for (float channel : {value, value, value, 1.0f}) radiance.push_back(glm::packHalf1x16(channel));
+        const glm::vec4 normal = view.normal[pixel];
+        for (float channel : {normal.x, normal.y, normal.z, view.depth[pixel]}) geometry.push_back(glm::packHalf1x16(channel));
+      }
+    gpu::uploadImage(device(), targets_.tileIrradiance(), std::as_bytes(std::span(radiance)));
+    gpu::uploadImage(device(), targets_.tileGeometry(), std::as_bytes(std::span(geometry)));
+  }
+
+  void runUpsample() {
+    record([&](gpu::CommandList& commands) { upsample_.record(commands, inputs(), targets_); });
+  }
+  void runTemporalFilter() {
+    record([&](gpu::CommandList& commands) { temporalFilter_.record(commands, inputs(), targets_); });
+  }
+
+  // The half-resolution results, one value per texel (the red channel; the filters treat channels alike).
+  std::vector<float> upsampled() {
+    const auto bytes = gpu::readImage(device(), targets_.upsampled());
+    std::vector<float> values;
+    for (size_t texel = 0; texel < bytes.size() / 4; ++texel) {
+      uint32_t packed = 0;
+      std::memcpy(&packed, bytes.data() + texel * 4, 4);
+      values.push_back(shader::unpackR11G11B10F(packed).x);
+    }
+    return values;
+  }
+  std::vector<float> output() {
+    const auto bytes = gpu::readImage(device(), targets_.output());
+    std::vector<float> values;
+    for (size_t texel = 0; texel < bytes.size() / 8; ++texel) {
+      uint16_t red = 0;
+      std::memcpy(&red, bytes.data() + texel * 8, 2);
+      values.push_back(glm::unpackHalf1x16(red));
+    }
+    return values;
+  }
+
+  VkImageView depthView() const { return depth_.view(); }
+  VkImageView normalView() const { return normal_.view(); }
+
+  gi::GatherTargets targets_;
+
+ private:
+  gi::GatherInputs inputs() const { return {frame_, sampler_.handle(), depth_.view(), normal_.view()}; }
+  template <typename Record>
+  void record(Record body) {
+    descriptors_.reset();
+    device().submitAndWait([&](VkCommandBuffer commandBuffer) {
+      gpu::CommandList commands(device(), commandBuffer, descriptors_);
+      body(commands);
+    });
+  }
+
+  gi::Upsample upsample_;
+  gi::TemporalFilter temporalFilter_;
+  gpu::Buffer frame_;
+  gpu::Image depth_;
+  gpu::Image normal_;
+  gpu::Sampler sampler_;
+  gpu::DescriptorArena descriptors_;
+};
+
+// The side of the edge a half-resolution texel is on: that of full-resolution pixel 2h.
+bool halfTexelOnNearWall(const TestView& view, size_t texel) {
+  const size_t x = texel % (kSize / 2), y = texel / (kSize / 2);
+  return view.onNearWall[2 * y * kSize + 2 * x];
+}
+
+TEST_F(GatherFilters, upsampleAndTemporalFilterKeepAConstantFieldExactly) {
+  const glm::vec3 position(0.0f);
+  const TestView view = viewFrom(position);
+  setFrame(view, position);
+  writeTiles(view, [](size_t) { return kConstant; });
+  runUpsample();
+  for (float value : upsampled()) ASSERT_EQ(value, kConstant);
+  runTemporalFilter();  // no history yet: the output is the upsampled frame
+  for (float value : output()) ASSERT_EQ(value, kConstant);
+  // A second frame from a slightly moved camera: the history is reprojected, clamped and blended.
+  const glm::vec3 moved(0.05f, 0.02f, 0.0f);
+  const TestView next = viewFrom(moved);
+  setFrame(next, moved);
+  writeTiles(next, [](size_t) { return kConstant; });
+  runUpsample();
+  runTemporalFilter();
+  for (float value : output()) ASSERT_EQ(value, kConstant);
+}
+
+TEST_F(GatherFilters, upsampleAndTemporalFilterDoNotBlurAcrossADepthEdge) {
+  // Each wall has its own irradiance; any weight across the edge would put a value in between beside it.
+  const glm::vec3 position(0.0f);
+  const TestView view = viewFrom(position);
+  setFrame(view, position);
+  writeTiles(view, [&](size_t pixel) { return view.onNearWall[pixel] ? kNearValue : kFarValue; });
+  runUpsample();
+  const std::vector<float> values = upsampled();
+  uint32_t near = 0;
+  for (size_t texel = 0; texel < values.size(); ++texel) {
+    const bool onNear = halfTexelOnNearWall(view, texel);
+    near += onNear ? 1u : 0u;
+    ASSERT_EQ(values[texel], onNear ? kNearValue : kFarValue) << "texel " << texel;
+  }
+  ASSERT_GT(near, 0u);
+  ASSERT_LT(near, values.size());
+  runTemporalFilter();
+  // A camera moved by a fraction of a texel sideways: the history's bilinear taps straddle the edge, and parallax
+  // moves the walls apart. The history must still come from the texel's own wall.
+  const glm::vec3 moved(0.03f, 0.0f, 0.0f);
+  const TestView next = viewFrom(moved);
+  setFrame(next, moved);
+  writeTiles(next, [&](size_t pixel) { return next.onNearWall[pixel] ? kNearValue : kFarValue; });
+  runUpsample();
+  runTemporalFilter();
+  // Within one half-float step: the normalised blend of equal values may land a float ulp low, and the store to the
+  // half-float image may truncate. Blur across the edge would move a value by the walls' difference (1.0) times its
+  // weight: any weight above 1/700 shows.
+  const std::vector<float> filtered = output();
+  for (size_t texel = 0; texel < filtered.size(); ++texel) {
+    const float expected = halfTexelOnNearWall(next, texel) ? kNearValue : kFarValue;
+    ASSERT_NEAR(filtered[texel], expected, expected / 1024.0f) << "texel " << texel;
+  }
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// FinalGather through the public API: every probe of every level active, with the same radiance and distance SH.
+
+TEST_F(GatherFilters, finalGatherOfProbesWithConstantRadianceGivesPiTimesTheRadianceEverywhere) {
+  Settings settings;
+  settings.volumeBricks = {16, 8, 16};
+  settings.brickPoolCapacity = 256;
+  settings.probeGrid = {16, 8, 16};
+  ContextDesc desc;
+  desc.instance = device().instance();
+  desc.physicalDevice = device().physicalDevice();
+  desc.device = device().device();
+  desc.debugUtilsEnabled = true;
+  desc.settings = settings;
+  desc.maxWidth = desc.maxHeight = kSize;
+  auto created = Context::create(desc);
+  ASSERT_TRUE(created.ok()) << created.error().message;
+  Context& context = *created.value();
+
+  // Walls 2 and 8 m away; no lit frame, so nothing is injected and no probe is traced: the test's probes stay.
+  const glm::vec3 position(0.5f, 0.5f, 3.5f);
+  const TestView view = viewFrom(position);
+  setFrame(view, position);
+  FrameDesc frame;
+  std::copy(glm::value_ptr(view.viewProjection), glm::value_ptr(view.viewProjection) + 16,
+            frame.camera.viewProjection.begin());
+  frame.camera.position = {position.x, position.y, position.z};
+  frame.camera.width = frame.camera.height = kSize;
+  frame.depth.view = depthView();
+  frame.normal.view = normalView();
+  const auto dispatch = [&] {
+    Error error;
+    device().submitAndWait([&](VkCommandBuffer commandBuffer) { error = context.dispatch(frame, commandBuffer); });
+    ASSERT_FALSE(error) << error.message;
+    ++frame.frameIndex;
+  };
+  EXPECT_EQ(context.output().view, VkImageView(VK_NULL_HANDLE));
+  dispatch();  // the first frame clears the probe volume
+
+  constexpr float kRadiance = 0.8f;
+  const gi::ProbeVolume& volume = gi::probeVolumeOf(context);
+  const glm::ivec3 dimensions(settings.probeGrid[0], settings.probeGrid[1], settings.probeGrid[2]);
+  std::vector<shader::Probe> probes;
+  for (uint32_t level = 0; level < shader::kProbeLevels; ++level) {
+    // Radiance L everywhere: L00 = 4π·Y00·L; a distance of two spacings in every direction: D00 = 4π·Y00·D.
+    const float band0 = 4.0f * kPi * shader::kSh2Band0Basis;
+    const glm::uvec2 radiance = shader::packSh2Half(glm::vec4(band0 * kRadiance, 0.0f, 0.0f, 0.0f));
+    const glm::uvec2 distance = shader::packSh2Half(glm::vec4(band0 * 2.0f * volume.levelSpacing(level), 0, 0, 0));
+    const glm::uvec2 normalDot = shader::packSh2Half(glm::vec4(band0, 0.0f, 0.0f, 0.0f));
+    for (uint32_t slot = 0; slot < volume.probesPerLevel(); ++slot) {
+      const glm::ivec3 coordinate = shader::probeWorldCoordinate(slot, volume.levelOrigin(level, position), dimensions);
+      probes.push_back({glm::uvec4(radiance, radiance), glm::uvec4(radiance, distance),
+                        glm::uvec4(normalDot, shader::packProbeState(1, 0, shader::kProbeStateActive),
+                                   shader::probeCoordinateTag(coordinate))});
+    }
+  }
+  gpu::uploadBuffer(device(), volume.probes(), std::as_bytes(std::span(probes)));
+  dispatch();
+
+  const gi::GatherTargets& targets = gi::gatherTargetsOf(context);
+  const auto bytes = gpu::readImage(device(), targets.tileIrradiance());
+  ASSERT_EQ(bytes.size(), size_t(kSize / 4) * (kSize / 4) * 8);
+  for (size_t tile = 0; tile < bytes.size() / 8; ++tile) {
+    uint16_t texel[4];
+    std::memcpy(texel, bytes.data() + tile * 8, sizeof(texel));
+    // Half-float SH and a half-float result: 2 roundings of 2^-11 relative each.
+    for (int channel = 0; channel < 3; ++channel)
+      ASSERT_NEAR(glm::unpackHalf1x16(texel[channel]), kPi * kRadiance, 2.0f * kPi * kRadiance / 2048.0f) << tile;
+    ASSERT_EQ(glm::unpackHalf1x16(texel[3]), 1.0f);
+  }
+  const OutputImage output = context.output();
+  EXPECT_EQ(output.view, targets.output().view());
+  EXPECT_EQ(output.layout, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  EXPECT_EQ(output.width, kSize / 2);
+  EXPECT_EQ(output.height, kSize / 2);
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// The whole loop in the renderer: GI off vs on in the Cornell box.
+
+struct CornellRender {
+  renderer::FloatImage direct, indirect, normal, depth;
+};
+
+CornellRender renderCornell(bool gi) {
+  constexpr uint32_t kCornellSize = 64, kFrames = 32;  // 32 frames: every probe level updated 10 times
+  const auto scene = renderer::makeBuiltinScene("cornell");
+  renderer::RendererSettings settings;
+  settings.width = settings.height = kCornellSize;
+  if (gi) settings.gi = settingsForTier(QualityTier::Low);
+  renderer::Renderer renderer(testing::gpuTestDevice(), *scene, settings);
+  for (uint32_t frame = 0; frame < kFrames; ++frame)
+    renderer.render(renderer::evaluateAnimation(*scene, scene->cameras[0], 0.0f));
+  return {renderer.directIrradiance(), renderer.indirectIrradiance(), renderer.normal(), renderer.depthBuffer()};
+}
+
+class GatherCornell : public testing::GpuTest {};
+
+TEST_F(GatherCornell, theFloorInTheBoxesShadowGetsIndirectLightWithGiOnAndNoneWithGiOff) {
+  const CornellRender off = renderCornell(false);
+  const CornellRender on = renderCornell(true);
+  // The umbrae on the floor: drawn, facing up, no direct light at all (the renderer's umbra is exactly 0). Only the
+  // right half of the image: the short box's shadow (the tall box stands on the left).
+  uint32_t shadowed = 0;
+  const uint32_t size = off.direct.width;
+  for (uint32_t y = 0; y < size; ++y)
+    for (uint32_t x = size / 2; x < size; ++x) {
+      const size_t pixel = size_t(y) * size + x;
+      if (off.depth.pixels[pixel] <= 0.0f || off.normal.pixels[pixel * 3 + 1] < 0.9f) continue;
+      if (off.direct.pixels[pixel * 3] != 0.0f) continue;
+      ++shadowed;
+      for (uint32_t channel = 0; channel < 3; ++channel) {
+        EXPECT_EQ(off.indirect.pixels[pixel * 3 + channel], 0.0f) << x << "," << y;
+        EXPECT_GT(on.indirect.pixels[pixel * 3 + channel], 0.0f) << x << "," << y;
+      }
+    }
+  EXPECT_GE(shadowed, 8u);
+}
+
+}  // namespace
+}  // namespace ssvgi
