@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <vector>
 
 namespace ssvgi {
@@ -77,6 +78,31 @@ TEST(ProbeDirections, aSlotRecognisesItsProbeAfterWrappingAndAStaleOneDoesNot) {
   }
 }
 
+TEST(ProbeDirections, theStateWordKeepsHistoryDirectionOffsetAndPlacementApartAndTheOffsetUnderHalfASpacing) {
+  EXPECT_LT(float(shader::kProbeMaxOffsetSteps) / shader::kProbeOffsetStepsPerSpacing, 0.5f);
+  const int limit = shader::kProbeMaxOffsetSteps;
+  for (int z = -limit; z <= limit; ++z)
+    for (int y = -limit; y <= limit; ++y)
+      for (int x = -limit; x <= limit; ++x) {
+        const glm::ivec3 steps(x, y, z);
+        const uint32_t state = shader::packProbeState(255u, 1023u, shader::kProbeStateInvalid,
+                                                      shader::packProbeOffset(steps));
+        ASSERT_EQ(shader::probeHistoryCount(state), 255u);
+        ASSERT_EQ(shader::probeNextDirection(state), 1023u);
+        ASSERT_EQ(shader::probePlacement(state), shader::kProbeStateInvalid);
+        ASSERT_EQ(shader::unpackProbeOffset(shader::probeOffsetCode(state)), steps);
+      }
+  // The 26 neighbours: distinct, none the probe itself.
+  std::vector<glm::ivec3> neighbours;
+  for (uint32_t i = 0; i < shader::kProbeNeighbourCount; ++i) {
+    const glm::ivec3 offset = shader::probeNeighbourOffset(i);
+    EXPECT_NE(offset, glm::ivec3(0));
+    EXPECT_LE(glm::max(glm::abs(offset.x), glm::max(glm::abs(offset.y), glm::abs(offset.z))), 1);
+    EXPECT_EQ(std::count(neighbours.begin(), neighbours.end(), offset), 0);
+    neighbours.push_back(offset);
+  }
+}
+
 // ---------------------------------------------------------------------------------------------------------------------
 // GPU: scenes of bricks under the probes.
 
@@ -106,7 +132,7 @@ constexpr uint64_t kFullBrick = ~uint64_t(0);
 
 class ProbeCache : public testing::GpuTest {
  protected:
-  void create(const Settings& settings) {
+  void create(const Settings& settings, glm::vec3 cameraPosition = kCameraPosition) {
     settings_ = settings;
     ContextDesc desc;
     desc.instance = device().instance();
@@ -124,18 +150,23 @@ class ProbeCache : public testing::GpuTest {
                                    VK_IMAGE_USAGE_SAMPLED_BIT});
     const std::vector<float> farAway(kFrameSize * kFrameSize, 0.0f);
     gpu::uploadImage(device(), depth_, std::as_bytes(std::span(farAway)));
+    moveCamera(cameraPosition);
+    runFrames(1);  // places the voxel volume and clears it
+  }
+
+  // The camera of the following frames: at `position`, looking along −Z.
+  void moveCamera(glm::vec3 position) {
     renderer::Camera camera;
-    camera.position = kCameraPosition;
-    camera.target = kCameraPosition - glm::vec3(0.0f, 0.0f, 1.0f);
+    camera.position = position;
+    camera.target = position - glm::vec3(0.0f, 0.0f, 1.0f);
     camera.up = {0.0f, 1.0f, 0.0f};
     camera.verticalFov = glm::radians(90.0f);
     camera.nearPlane = 0.1f;
     const glm::mat4 viewProjection =
         renderer::reversedZInfiniteProjection(camera.verticalFov, 1.0f, camera.nearPlane) * renderer::viewMatrix(camera);
     std::copy(glm::value_ptr(viewProjection), glm::value_ptr(viewProjection) + 16, view_.viewProjection.begin());
-    view_.position = {kCameraPosition.x, kCameraPosition.y, kCameraPosition.z};
+    view_.position = {position.x, position.y, position.z};
     view_.width = view_.height = kFrameSize;
-    runFrames(1);  // places the voxel volume and clears it
   }
 
   void runFrames(uint32_t count) {
@@ -224,6 +255,10 @@ glm::vec4 normalDotSh(const shader::Probe& probe) { return shader::unpackSh2Half
 uint32_t historyCount(const shader::Probe& probe) { return shader::probeHistoryCount(probe.normalDotAndState.z); }
 bool isActive(const shader::Probe& probe) {
   return shader::probePlacement(probe.normalDotAndState.z) == shader::kProbeStateActive;
+}
+// Traced at least once: active, or found inside geometry (invalid).
+bool wasTraced(const shader::Probe& probe) {
+  return shader::probePlacement(probe.normalDotAndState.z) != shader::kProbeStateNeverTraced;
 }
 // The Y coordinate of a probe from its tag's 10 bits (the scenes lie within ±512 probes of the world origin).
 int tagY(uint32_t tag) {
@@ -367,11 +402,11 @@ TEST_F(ProbeCache, placementTracesOnlyProbesNearVoxelsAndNoMoreThanTheBudget) {
   EXPECT_EQ(stats.probeLevelUpdatedLastFrame, 0u);
   EXPECT_EQ(stats.probesUpdatedLastFrame, 8u);
   std::vector<shader::Probe> probes = readProbes();
-  uint32_t active = 0;
-  for (uint32_t slot = 0; slot < probesPerLevel(); ++slot) active += isActive(probes[slot]) ? 1u : 0u;
-  EXPECT_EQ(active, 8u);
+  uint32_t traced = 0;
+  for (uint32_t slot = 0; slot < probesPerLevel(); ++slot) traced += wasTraced(probes[slot]) ? 1u : 0u;
+  EXPECT_EQ(traced, 8u);
   for (int corner = 0; corner < 8; ++corner)
-    EXPECT_TRUE(isActive(probeAt(probes, 0, glm::vec3(corner & 1, -3 + (corner >> 1 & 1), 4 + (corner >> 2)))));
+    EXPECT_TRUE(wasTraced(probeAt(probes, 0, glm::vec3(corner & 1, -3 + (corner >> 1 & 1), 4 + (corner >> 2)))));
 
   // A wall near the camera with a budget of 5: exactly 5 listed and traced.
   settings.probeBudget = 5;
@@ -386,9 +421,174 @@ TEST_F(ProbeCache, placementTracesOnlyProbesNearVoxelsAndNoMoreThanTheBudget) {
   EXPECT_EQ(stats.probeLevelUpdatedLastFrame, 0u);
   EXPECT_EQ(stats.probesUpdatedLastFrame, 5u);
   probes = readProbes();
-  active = 0;
-  for (uint32_t slot = 0; slot < probesPerLevel(); ++slot) active += isActive(probes[slot]) ? 1u : 0u;
-  EXPECT_EQ(active, 5u);
+  traced = 0;
+  for (uint32_t slot = 0; slot < probesPerLevel(); ++slot) traced += wasTraced(probes[slot]) ? 1u : 0u;
+  EXPECT_EQ(traced, 5u);
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Second slice: new probes start from the coarser level; virtual offset, invalid probes and dilation.
+
+uint32_t placement(const shader::Probe& probe) { return shader::probePlacement(probe.normalDotAndState.z); }
+// The virtual offset of a probe of a level with `spacing`, metres.
+glm::vec3 offsetOf(const shader::Probe& probe, float spacing) {
+  return glm::vec3(shader::unpackProbeOffset(shader::probeOffsetCode(probe.normalDotAndState.z))) * spacing /
+         shader::kProbeOffsetStepsPerSpacing;
+}
+// The least of the normal-dot SH along the 26 neighbour directions: negative when the probe sees back faces.
+float leastNormalDot(const shader::Probe& probe) {
+  float least = 1e30f;
+  for (uint32_t i = 0; i < shader::kProbeNeighbourCount; ++i)
+    least = std::min(least, glm::dot(normalDotSh(probe),
+                                     shader::sh2Basis(glm::normalize(glm::vec3(shader::probeNeighbourOffset(i))))));
+  return least;
+}
+
+TEST_F(ProbeCache, aProbeThatScrollsInStartsFromTheCoarserLevelAndProbesThatStayKeepTheirValuesBitForBit) {
+  // From z = 13.5 m level 0 spans probes z 5..20 and does not hold kProbe (z 4); levels 1 and 2 do. Inside the closed
+  // box every ray sees the walls, so every level's kProbe holds exactly the walls' radiance A. Then the walls change
+  // to B and the camera moves back one spacing, so that the next frame (level 0's) scrolls kProbe in: its first trace
+  // sees B, and it starts from level 1's A (the levels nest: kProbe coincides with a level-1 probe, whose weight is 1)
+  // as one earlier update, so it holds (A + B)/2 — not B, as it would starting afresh, nor B/2 starting from zero.
+  const glm::vec3 before(2.5f, 0.5f, 13.5f), after(2.5f, 0.5f, 12.5f);
+  create(probeTestSettings(), before);
+  const float wallA = 1.0f, wallB = 3.0f;
+  writeScene(closedBox(glm::vec3(wallA)));
+  runUpdates(2);
+  runFrames((3 - frameIndex_ % 3) % 3);  // the next frame updates level 0
+  const std::vector<shader::Probe> probesBefore = readProbes();
+  const shader::Probe coarser = probeAt(probesBefore, 1, glm::vec3(kProbe));
+  ASSERT_TRUE(isActive(coarser) && historyCount(coarser) > 0);
+  ASSERT_NEAR(sphereMean(radianceSh(coarser).r), wallA, 2e-3f * wallA);
+  const glm::ivec3 levelZeroOrigin = glm::ivec3(glm::floor(before)) - probeGrid() / 2;
+  ASSERT_GT(levelZeroOrigin.z, kProbe.z) << "kProbe must be new to level 0";
+
+  writeScene(closedBox(glm::vec3(wallB)));
+  moveCamera(after);
+  runFrames(1);
+  const std::vector<shader::Probe> probesAfter = readProbes();
+  const shader::Probe scrolledIn = probeAt(probesAfter, 0, glm::vec3(kProbe));
+  EXPECT_TRUE(isActive(scrolledIn));
+  EXPECT_EQ(historyCount(scrolledIn), 1u);
+  // Two half-float stores (level 1's value, then the blend): 2^-11 relative each.
+  const float expected = 0.5f * (wallA + wallB);
+  EXPECT_NEAR(sphereMean(radianceSh(scrolledIn).r), expected, 2e-3f * expected);
+
+  // Only the probes traced this frame change: levels 1 and 2 and every unlisted probe of level 0 keep every bit.
+  const std::vector<uint32_t> list = gpu::readBufferAs<uint32_t>(device(), gi::probeVolumeOf(*context_).list());
+  const uint32_t listed = list[3];
+  ASSERT_GT(listed, 0u);
+  std::vector<bool> traced(probesAfter.size(), false);
+  for (uint32_t i = 0; i < listed; ++i) traced[list[shader::kIndirectListHeaderWords + i]] = true;
+  uint32_t unchanged = 0;
+  for (size_t i = 0; i < probesAfter.size(); ++i) {
+    if (traced[i]) continue;
+    ASSERT_EQ(std::memcmp(&probesAfter[i], &probesBefore[i], sizeof(shader::Probe)), 0) << "probe " << i;
+    ++unchanged;
+  }
+  EXPECT_EQ(unchanged, probesAfter.size() - listed);
+}
+
+// The closed wall of `wallTest`: one voxel layer at x ∈ [0, 0.25) m facing −X, spanning the volume (y −8..8 m,
+// z −8..24 m). kProbe, at x = 0, lies inside its voxels.
+std::vector<TestBrick> wallThroughTheProbe() {
+  std::vector<TestBrick> wall;
+  for (int z = -8; z < 24; ++z)
+    for (int y = -8; y < 8; ++y) wall.push_back({{0, y, z}, 0x1111'1111'1111'1111ull, glm::vec3(0.0f), {-1, 0, 0}});
+  return wall;
+}
+
+TEST_F(ProbeCache, aProbeInsideAWallMovesOutInFrontOfItWithinHalfASpacingAndThenSeesNoBackFaces) {
+  // Traced from inside an occupied voxel, every ray stops at distance 0 and half of them see a back face. The
+  // nearest back face is along −X (all distances tie at 0; the normal-dot is least there), so the probe moves along
+  // −X out of the voxel, and its following traces see the black wall from the front and the sky behind it.
+  create(probeTestSettings());
+  writeScene(wallThroughTheProbe());
+  runUpdates(4);
+  const std::vector<shader::Probe> probes = readProbes();
+  for (uint32_t level = 0; level < shader::kProbeLevels; ++level) {
+    SCOPED_TRACE("level " + std::to_string(level));
+    const shader::Probe probe = probeAt(probes, level, glm::vec3(kProbe));
+    ASSERT_TRUE(isActive(probe));
+    const glm::vec3 offset = offsetOf(probe, spacing(level));
+    EXPECT_LT(offset.x, 0.0f);  // in front of the wall's voxels, which start at x = 0
+    EXPECT_GT(offset.x, -0.5f * spacing(level));
+    EXPECT_EQ(offset.y, 0.0f);
+    EXPECT_EQ(offset.z, 0.0f);
+    EXPECT_GE(historyCount(probe), 1u);  // traced since it moved
+    EXPECT_GE(leastNormalDot(probe), 0.0f);
+    // Half misses (+1), half front faces (cos, mean 1/2): 3/4. From inside the voxel it was 0.
+    EXPECT_NEAR(sphereMean(normalDotSh(probe)), 0.75f, 0.1f);
+    EXPECT_NEAR(sphereMean(radianceSh(probe).g) / kSkyRadiance, 0.5f, 0.1f);  // the sky again; 0 from inside
+  }
+}
+
+// A solid block of 2×2×2 full bricks around kProbe (±1 m), radiance `radiance`, all its voxels facing up.
+std::vector<TestBrick> solidBlock(glm::vec3 radiance) {
+  std::vector<TestBrick> bricks;
+  for (int corner = 0; corner < 8; ++corner)
+    bricks.push_back({kProbe - 1 + glm::ivec3(corner & 1, (corner >> 1) & 1, corner >> 2), kFullBrick, radiance,
+                      {0.0f, 1.0f, 0.0f}});
+  return bricks;
+}
+
+TEST_F(ProbeCache, aProbeInsideABlockItCannotLeaveWithinHalfASpacingIsInvalidAndOneThatCanMovesOut) {
+  // kProbe is 1 m from every face of the block. Levels 0 and 1 may move it at most 7/16 and 7/8 m per axis: still
+  // inside, so it is invalid (and keeps no offset). Level 2 may move it 1.75 m: it leaves through the top (the back
+  // faces it sees from inside the upward-facing voxels are above it) and stays out.
+  create(probeTestSettings());
+  writeScene(solidBlock(glm::vec3(0.5f)));
+  runUpdates(3);
+  const std::vector<shader::Probe> probes = readProbes();
+  for (uint32_t level = 0; level < 2; ++level) {
+    SCOPED_TRACE("level " + std::to_string(level));
+    const shader::Probe probe = probeAt(probes, level, glm::vec3(kProbe));
+    EXPECT_EQ(placement(probe), shader::kProbeStateInvalid);
+    EXPECT_EQ(offsetOf(probe, spacing(level)), glm::vec3(0.0f));
+  }
+  const shader::Probe escaped = probeAt(probes, 2, glm::vec3(kProbe));
+  ASSERT_TRUE(isActive(escaped));
+  const glm::vec3 offset = offsetOf(escaped, spacing(2));
+  EXPECT_EQ(offset.x, 0.0f);
+  EXPECT_GE(offset.y, 1.0f);  // above the block's top
+  EXPECT_LT(offset.y, 0.5f * spacing(2));
+  EXPECT_EQ(offset.z, 0.0f);
+  EXPECT_GE(leastNormalDot(escaped), 0.0f);
+}
+
+TEST_F(ProbeCache, anInvalidProbeTakesTheMeanRadianceOfItsUsableNeighbours) {
+  // Level 0's kProbe is invalid inside the block (previous test); its neighbours above the block and beside it see
+  // the sky and the block's top. After the frame that updated level 0, its radiance is their mean, channel by channel
+  // and coefficient by coefficient — not what it traced inside (the block's faces, black behind them).
+  create(probeTestSettings());
+  writeScene(solidBlock(glm::vec3(0.5f)));
+  runUpdates(3);
+  const std::vector<shader::Probe> probes = readProbes();
+  const shader::Probe invalid = probeAt(probes, 0, glm::vec3(kProbe));
+  ASSERT_EQ(placement(invalid), shader::kProbeStateInvalid);
+  shader::Sh2Rgb mean{};
+  uint32_t usable = 0;
+  for (uint32_t i = 0; i < shader::kProbeNeighbourCount; ++i) {
+    const glm::ivec3 coordinate = kProbe + shader::probeNeighbourOffset(i);
+    const shader::Probe& neighbour = probes[shader::probeSlotIndex(coordinate, probeGrid())];
+    if (!shader::probeIsUsable(neighbour, coordinate)) continue;
+    const shader::Sh2Rgb radiance = radianceSh(neighbour);
+    mean.r += radiance.r;
+    mean.g += radiance.g;
+    mean.b += radiance.b;
+    ++usable;
+  }
+  // At least the 9 above the block's top (they see its front faces and the sky).
+  ASSERT_GE(usable, 9u);
+  const shader::Sh2Rgb filled = radianceSh(invalid);
+  for (int channel = 0; channel < 3; ++channel) {
+    const glm::vec4 expected = (channel == 0 ? mean.r : channel == 1 ? mean.g : mean.b) / float(usable);
+    const glm::vec4 actual = channel == 0 ? filled.r : channel == 1 ? filled.g : filled.b;
+    EXPECT_GT(expected.x, 0.0f);
+    // One half-float store of a mean of half floats: 2^-11 relative, and half's spacing near zero.
+    for (int i = 0; i < 4; ++i)
+      EXPECT_NEAR(actual[i], expected[i], 1e-3f * std::abs(expected[i]) + 1e-4f) << "channel " << channel << " " << i;
+  }
 }
 
 TEST(ProbeCacheMemory, theHighTierProbeVolumeFitsItsShareOfTheMemoryBudget) {

@@ -30,10 +30,19 @@ SSVGI_CONSTANT(uint, kBindProbeList, kBindFirstPassSlot + 2u);      // IndirectL
 SSVGI_CONSTANT(uint, kBindProbeBlocks, kBindFirstPassSlot + 3u);    // the blocks in view, packed by packProbeBlock
 
 // Probe::normalDotAndState.z, the probe's state word: bits 0–7 the history count m (SPEC §4.5, capped by
-// Settings::probeHistoryCap ≤ 255); bits 8–17 the first of the 1024 ray directions its next update traces; bits 24–31
-// the placement state.
+// Settings::probeHistoryCap ≤ 255); bits 8–17 the first of the 1024 ray directions its next update traces; bits 18–29
+// its virtual offset (probeOffsetCode); bits 30–31 the placement state.
 SSVGI_CONSTANT(uint, kProbeStateNeverTraced, 0u);
 SSVGI_CONSTANT(uint, kProbeStateActive, 1u);
+// Inside geometry and no way out within half a spacing (ProbeRelocate): traced from its grid position, so that it
+// becomes active again when the geometry goes, but left out of gathers and filled by ProbeDilate (SPEC §4.5).
+SSVGI_CONSTANT(uint, kProbeStateInvalid, 2u);
+
+// The virtual offset (SPEC §4.5; the talk's "Virtual Offset") moves a probe in steps of 1/16 of its spacing, at most 7
+// on each axis: always less than half a spacing, so a probe stays nearer its own grid position than any other's and
+// the gather's trilinear weights keep their meaning. 4 bits per axis (two's complement); 6 cm steps at level 0.
+SSVGI_CONSTANT(float, kProbeOffsetStepsPerSpacing, 16.0f);
+SSVGI_CONSTANT(int, kProbeMaxOffsetSteps, 7);
 
 // One probe, 48 bytes: four SH2 (4 coefficients each, in sh.h's order) as half floats packed two per uint.
 struct Probe {
@@ -56,12 +65,32 @@ struct ProbeUpdate {
 };
 SSVGI_CHECK_SIZE(ProbeUpdate, 4 * 16 + 48);
 
+SSVGI_INLINE uint packProbeState(uint historyCount, uint nextDirection, uint placement, uint offsetCode) {
+  return historyCount | (nextDirection << 8u) | (offsetCode << 18u) | (placement << 30u);
+}
+// A probe at its grid position (no virtual offset).
 SSVGI_INLINE uint packProbeState(uint historyCount, uint nextDirection, uint placement) {
-  return historyCount | (nextDirection << 8u) | (placement << 24u);
+  return packProbeState(historyCount, nextDirection, placement, 0u);
 }
 SSVGI_INLINE uint probeHistoryCount(uint state) { return state & 0xffu; }
 SSVGI_INLINE uint probeNextDirection(uint state) { return (state >> 8u) & 0x3ffu; }
-SSVGI_INLINE uint probePlacement(uint state) { return state >> 24u; }
+SSVGI_INLINE uint probeOffsetCode(uint state) { return (state >> 18u) & 0xfffu; }
+SSVGI_INLINE uint probePlacement(uint state) { return state >> 30u; }
+
+// An offset in steps (each component within ±kProbeMaxOffsetSteps) as the state word's 12 bits, and back.
+SSVGI_INLINE uint packProbeOffset(ivec3 steps) {
+  return uint(steps.x & 0xf) | (uint(steps.y & 0xf) << 4u) | (uint(steps.z & 0xf) << 8u);
+}
+SSVGI_INLINE ivec3 unpackProbeOffset(uint offsetCode) {
+  ivec3 nibbles = ivec3(int(offsetCode & 0xfu), int((offsetCode >> 4u) & 0xfu), int(offsetCode >> 8u));
+  return nibbles - 16 * ivec3(greaterThanEqual(nibbles, ivec3(8)));
+}
+
+// Where a probe's rays leave from and where a gather should place it: its grid position plus its virtual offset.
+SSVGI_INLINE vec3 probeWorldPosition(ivec3 worldProbe, float spacing, uint state) {
+  vec3 offset = vec3(unpackProbeOffset(probeOffsetCode(state))) * (spacing / kProbeOffsetStepsPerSpacing);
+  return vec3(worldProbe) * spacing + offset;
+}
 
 // 10 bits of each axis of a world probe coordinate. A stale slot holds a probe a multiple of the dimensions away on
 // some axis; it carries the same tag only when that distance is also a multiple of 1024 probes (kilometres).
@@ -81,6 +110,23 @@ SSVGI_INLINE ivec3 probeWorldCoordinate(uint slotIndex, ivec3 origin, ivec3 dime
   ivec3 slot = ivec3(int(slotIndex % uint(dimensions.x)), int((slotIndex / uint(dimensions.x)) % uint(dimensions.y)),
                      int(slotIndex / planeSize));
   return origin + wrapCoordinate(slot - origin, dimensions);
+}
+
+// Whether a probe's radiance may be read — by a gather, by a finer level starting a new probe, by ProbeDilate: the
+// slot holds this world probe (its tag), the probe is active (not inside geometry) and it has been traced since it
+// last started afresh (m > 0; a probe just moved by its virtual offset still holds what it saw from inside).
+SSVGI_INLINE bool probeIsUsable(Probe probe, ivec3 worldProbe) {
+  uint state = probe.normalDotAndState.z;
+  return probe.normalDotAndState.w == probeCoordinateTag(worldProbe) && probePlacement(state) == kProbeStateActive &&
+         probeHistoryCount(state) > 0u;
+}
+
+// The 26 neighbours of a probe in its level's grid (index 0..25; the probe itself, index 13 of the 3×3×3 block, is
+// skipped). ProbeRelocate evaluates the SH along their directions, ProbeDilate reads them.
+SSVGI_CONSTANT(uint, kProbeNeighbourCount, 26u);
+SSVGI_INLINE ivec3 probeNeighbourOffset(uint neighbour) {
+  uint cell = neighbour < 13u ? neighbour : neighbour + 1u;
+  return ivec3(int(cell % 3u), int((cell / 3u) % 3u), int(cell / 9u)) - ivec3(1);
 }
 
 // A block of the CPU cull, in blocks from the level's minimum corner, 10 bits per axis.

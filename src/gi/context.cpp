@@ -117,6 +117,8 @@ class ContextImplementation final : public Context {
         buildOctree_(device_),
         probePlacement_(device_),
         probeTrace_(device_),
+        probeRelocate_(device_),
+        probeDilate_(device_),
         finalGather_(device_),
         upsample_(device_),
         temporalFilter_(device_),
@@ -307,6 +309,8 @@ class ContextImplementation final : public Context {
     buildOctree_.record(commands, scene_);                                              // 6. BuildOctree
     probePlacement_.record(commands, scene_, probes_, slot.frameConstants, probeBlocksInView);  // 7. ProbePlacement
     probeTrace_.record(commands, scene_, probes_);                                      // 8. ProbeTrace
+    probeRelocate_.record(commands, scene_, probes_);                                   // 9. ProbeRelocate
+    probeDilate_.record(commands, probes_);                                             //    ProbeDilate
     const gi::GatherInputs gatherInputs{slot.frameConstants, pointSampler_.handle(), desc.depth.view, desc.normal.view};
     finalGather_.record(commands, gatherInputs, gather_, probes_.probes());            // 10. FinalGather
     upsample_.record(commands, gatherInputs, gather_);                                 // 11. Upsample
@@ -339,6 +343,8 @@ class ContextImplementation final : public Context {
   gi::BuildOctree buildOctree_;
   gi::ProbePlacement probePlacement_;
   gi::ProbeTrace probeTrace_;
+  gi::ProbeRelocate probeRelocate_;
+  gi::ProbeDilate probeDilate_;
   gi::FinalGather finalGather_;
   gi::Upsample upsample_;
   gi::TemporalFilter temporalFilter_;

@@ -1,5 +1,5 @@
 #pragma once
-// The passes that update the probe radiance cache each frame (SPEC §4 steps 7–8; the talk's "Part2 Indirect Light"),
+// The passes that update the probe radiance cache each frame (SPEC §4 steps 7–9; the talk's "Part2 Indirect Light"),
 // in frame order. Each is one compute shader in shaders/gi/probes/ and one small class that binds and dispatches it.
 #include "gi/voxels/voxel_scene.h"
 #include "gpu/command_list.h"
@@ -23,6 +23,26 @@ class ProbeTrace {
  public:
   explicit ProbeTrace(gpu::Device& device);
   void record(gpu::CommandList& commands, const VoxelScene& scene, const ProbeVolume& probes);
+
+ private:
+  gpu::ComputePipeline pipeline_;
+};
+
+// ProbeRelocate: the virtual offset — listed probes that see back faces move out of the geometry or become invalid.
+class ProbeRelocate {
+ public:
+  explicit ProbeRelocate(gpu::Device& device);
+  void record(gpu::CommandList& commands, const VoxelScene& scene, const ProbeVolume& probes);
+
+ private:
+  gpu::ComputePipeline pipeline_;
+};
+
+// ProbeDilate: listed invalid probes take the mean radiance of their usable neighbours.
+class ProbeDilate {
+ public:
+  explicit ProbeDilate(gpu::Device& device);
+  void record(gpu::CommandList& commands, const ProbeVolume& probes);
 
  private:
   gpu::ComputePipeline pipeline_;

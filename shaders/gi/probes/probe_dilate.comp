@@ -1,0 +1,56 @@
+#version 450
+// ProbeDilate (SPEC §4.5; the talk's "Probe Dilation": "blend the neighbouring probes"): each listed probe that
+// ProbeRelocate left invalid takes the mean radiance of its usable neighbours on its level (the 26 around it). Gathers
+// leave invalid probes out anyway; the fill is for what reads a probe without asking — a finer level starting a new
+// probe, hardware-filtered copies, debug views — so that they see the light around it rather than the black inside a
+// wall. Only radiance is filled: distance and normal-dot stay the probe's own, which ProbeRelocate re-checks.
+#include "shared/probe_interface.h"
+
+layout(local_size_x = kProbeTraceGroupSize) in;  // one workgroup per listed probe; thread i < 26: neighbour i
+
+layout(binding = kBindProbeUpdate) uniform ProbeUpdateBlock { ProbeUpdate update; };
+layout(binding = kBindProbes) buffer Probes { Probe probes[]; };
+layout(binding = kBindProbeList) readonly buffer ProbeList {
+  IndirectList list;
+  uint listedProbes[];
+};
+
+shared Sh2Rgb neighbourRadiance[kProbeTraceGroupSize];
+shared float neighbourUsable[kProbeTraceGroupSize];
+
+void main() {
+  uint probeIndex = listedProbes[gl_WorkGroupID.x];
+  // The same for the whole workgroup: it leaves together, before the barrier.
+  if (probePlacement(probes[probeIndex].normalDotAndState.z) != kProbeStateInvalid) return;
+
+  uint thread = gl_LocalInvocationID.x;
+  uint levelStart = uint(update.originProbe.w) * uint(update.dimensions.w);
+  ivec3 probe = probeWorldCoordinate(probeIndex % uint(update.dimensions.w), update.originProbe.xyz, update.dimensions.xyz);
+  neighbourRadiance[thread] = Sh2Rgb(vec4(0.0), vec4(0.0), vec4(0.0));
+  neighbourUsable[thread] = 0.0;
+  if (thread < kProbeNeighbourCount) {
+    ivec3 coordinate = probe + probeNeighbourOffset(thread);
+    Probe neighbour = probes[levelStart + probeSlotIndex(coordinate, update.dimensions.xyz)];
+    // Invalid neighbours are not usable, so no workgroup reads a probe that another one writes.
+    if (probeIsUsable(neighbour, coordinate)) {
+      neighbourRadiance[thread] = Sh2Rgb(unpackSh2Half(neighbour.radianceRedGreen.xy),
+                                         unpackSh2Half(neighbour.radianceRedGreen.zw),
+                                         unpackSh2Half(neighbour.radianceBlueAndDistance.xy));
+      neighbourUsable[thread] = 1.0;
+    }
+  }
+  barrier();
+  if (thread != 0u) return;
+
+  Sh2Rgb sum = Sh2Rgb(vec4(0.0), vec4(0.0), vec4(0.0));
+  float count = 0.0;
+  for (uint i = 0u; i < kProbeNeighbourCount; ++i) {
+    sum.r += neighbourRadiance[i].r;
+    sum.g += neighbourRadiance[i].g;
+    sum.b += neighbourRadiance[i].b;
+    count += neighbourUsable[i];
+  }
+  if (count == 0.0) return;  // nothing around to fill from: it keeps what it has until a neighbour is traced
+  probes[probeIndex].radianceRedGreen = uvec4(packSh2Half(sum.r / count), packSh2Half(sum.g / count));
+  probes[probeIndex].radianceBlueAndDistance.xy = packSh2Half(sum.b / count);
+}
