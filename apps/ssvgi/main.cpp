@@ -20,8 +20,12 @@ int main(int argc, char** argv) {
   add(ssvgi::cli::addInfoCommand);
   try {
     app.parse(argc, argv);
+  } catch (const CLI::Success& help) {  // --help
+    return app.exit(help);
   } catch (const CLI::ParseError& error) {
-    return app.exit(error);
+    // One line naming the problem, like every other error of the tool.
+    std::fprintf(stderr, "ssvgi: %s (see ssvgi --help)\n", error.what());
+    return 2;
   }
   try {
     for (auto& [command, runner] : runners)

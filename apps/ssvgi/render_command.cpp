@@ -20,8 +20,8 @@ constexpr float kFrameSeconds = 1.0f / 30.0f;  // animation time step per render
 
 struct RenderOptions {
   SceneOptions scene;
-  uint32_t frames = 1;
-  std::string gi = "off";
+  uint32_t frames = 32;  // enough for the GI of a still view to settle (SPEC §4.5: probes converge over updates)
+  std::string gi = "on";
   std::string tier = "high";
   float exposure = 1.0f;
   std::vector<std::string> debugViews;  // "voxels", "bricks"

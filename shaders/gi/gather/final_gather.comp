@@ -52,13 +52,12 @@ vec4 gatherLevel(uint level, vec3 position, vec3 normal) {
     ivec3 probe = base + offset;
     if (any(lessThan(probe, origin)) || any(greaterThanEqual(probe, origin + dimensions))) continue;
     Probe stored = probes[level * uint(gather.probeDimensions.w) + probeSlotIndex(probe, dimensions)];
-    // A probe never traced, or a slot that still holds a probe the level scrolled away from, knows nothing here.
-    if (probePlacement(stored.normalDotAndState.z) != kProbeStateActive ||
-        stored.normalDotAndState.w != probeCoordinateTag(probe))
-      continue;
+    // A probe never traced, inside geometry, just moved, or a slot that still holds a probe the level scrolled away
+    // from, knows nothing here.
+    if (!probeIsUsable(stored, probe)) continue;
     vec3 trilinear = mix(vec3(1.0) - fraction, fraction, vec3(offset));
     float weight = trilinear.x * trilinear.y * trilinear.z;
-    vec3 probePosition = vec3(probe) * spacing;
+    vec3 probePosition = probeWorldPosition(probe, spacing, stored.normalDotAndState.z);  // with its virtual offset
     // "Normal Weight": probes behind the surface count less (from the true point, as DDGI does).
     vec3 toProbe = probePosition - position;
     float facing = 0.5 * (dot(toProbe, normal) / max(length(toProbe), 1e-4) + 1.0);
