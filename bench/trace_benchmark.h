@@ -11,7 +11,7 @@
 namespace ssvgi::bench {
 
 struct TraceMethodResult {
-  double milliseconds = 0.0;  // best of the repetitions
+  double milliseconds = 0.0;  // median of the repetitions
   double raysPerSecond = 0.0;
   double readsPerRay = 0.0;   // buffer loads per ray (lookups, masks, grid words, the hit voxel)
   double hitFraction = 0.0;

@@ -21,7 +21,7 @@ struct BenchOptions {
   uint32_t frames = 16;
   std::string tier = "high";
   uint32_t rays = 1'000'000;
-  uint32_t repetitions = 3;
+  uint32_t repetitions = 5;
   std::string out;  // JSON file; stdout when empty
 };
 
@@ -101,7 +101,7 @@ CommandRunner addBenchCommand(CLI::App& app) {
   command->add_option("--rays", options->rays, "Rays for the voxel trace comparison")
       ->capture_default_str()
       ->check(CLI::Range(1u, 64'000'000u));
-  command->add_option("--repetitions", options->repetitions, "Timed runs of each trace; the fastest is reported")
+  command->add_option("--repetitions", options->repetitions, "Timed runs of each trace; the median is reported")
       ->capture_default_str()
       ->check(CLI::Range(1u, 100u));
   command->add_option("--out", options->out, "Write the JSON report to this file instead of standard output");
