@@ -252,13 +252,7 @@ TEST_F(GatherFilters, finalGatherOfProbesWithConstantRadianceGivesPiTimesTheRadi
   settings.volumeBricks = {16, 8, 16};
   settings.brickPoolCapacity = 256;
   settings.probeGrid = {16, 8, 16};
-  ContextDesc desc;
-  desc.instance = device().instance();
-  desc.physicalDevice = device().physicalDevice();
-  desc.device = device().device();
-  desc.debugUtilsEnabled = true;
-  desc.settings = settings;
-  desc.maxWidth = desc.maxHeight = kSize;
+  const ContextDesc desc = testing::gpuTestContextDesc(settings, kSize);
   auto created = Context::create(desc);
   ASSERT_TRUE(created.ok()) << created.error().message;
   Context& context = *created.value();

@@ -3,12 +3,25 @@
 // device and compiling pipelines dominate the run time on a CPU device. Deriving a test from GpuTest makes any
 // validation error reported during that test fail it.
 #include "gpu/device.h"
+#include "ssvgi/ssvgi.h"
 
 #include <gtest/gtest.h>
 
 namespace ssvgi::testing {
 
 gpu::Device& gpuTestDevice();
+
+// A GI context description on the shared test device, for frames of at most `maxSize`² pixels.
+inline ContextDesc gpuTestContextDesc(const Settings& settings, uint32_t maxSize) {
+  ContextDesc desc;
+  desc.instance = gpuTestDevice().instance();
+  desc.physicalDevice = gpuTestDevice().physicalDevice();
+  desc.device = gpuTestDevice().device();
+  desc.debugUtilsEnabled = true;
+  desc.settings = settings;
+  desc.maxWidth = desc.maxHeight = maxSize;
+  return desc;
+}
 
 class GpuTest : public ::testing::Test {
  protected:

@@ -134,13 +134,7 @@ class ProbeCache : public testing::GpuTest {
  protected:
   void create(const Settings& settings, glm::vec3 cameraPosition = kCameraPosition) {
     settings_ = settings;
-    ContextDesc desc;
-    desc.instance = device().instance();
-    desc.physicalDevice = device().physicalDevice();
-    desc.device = device().device();
-    desc.debugUtilsEnabled = true;
-    desc.settings = settings;
-    desc.maxWidth = desc.maxHeight = kFrameSize;
+    const ContextDesc desc = testing::gpuTestContextDesc(settings, kFrameSize);
     auto result = Context::create(desc);
     ASSERT_TRUE(result.ok()) << result.error().message;
     context_ = std::move(result.value());

@@ -117,13 +117,7 @@ struct GpuState {
 class VoxelScene : public testing::GpuTest {
  protected:
   void create(const Settings& settings) {
-    ContextDesc desc;
-    desc.instance = device().instance();
-    desc.physicalDevice = device().physicalDevice();
-    desc.device = device().device();
-    desc.debugUtilsEnabled = true;
-    desc.settings = settings;
-    desc.maxWidth = desc.maxHeight = kSize;
+    const ContextDesc desc = testing::gpuTestContextDesc(settings, kSize);
     auto result = Context::create(desc);
     ASSERT_TRUE(result.ok()) << result.error().message;
     context_ = std::move(result.value());
