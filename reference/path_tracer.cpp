@@ -164,12 +164,7 @@ PathTracer::PathTracer(gpu::Device& device, const renderer::Scene& scene, const 
     commands.clearImage(tonemapped_, VkClearColorValue{});
     auto scope = commands.scope("reference: PrimaryHits");
     commands.dispatch(primaryHitsPipeline_,
-                      sceneBindings()
-                          .image(shader::kBindPrimaryRayOrigin, rayOrigins_)
-                          .image(shader::kBindPrimaryNormal, normals_)
-                          .image(shader::kBindPrimaryAlbedo, albedos_)
-                          .image(shader::kBindPrimaryRadiance, primaryRadiance_)
-                          .image(shader::kBindPrimaryDirect, directIrradiance_)
+                      primaryHitBindings()
                           .image(shader::kBindPrimaryDistance, viewDistances_),
                       pixels(settings_));
   });
@@ -185,6 +180,15 @@ gpu::Bindings PathTracer::sceneBindings() const {
       .buffer(shader::kBindTraceTextures, textures_)
       .buffer(shader::kBindTraceTexels, texels_)
       .buffer(shader::kBindTraceLights, lights_);
+}
+
+gpu::Bindings PathTracer::primaryHitBindings() const {
+  return sceneBindings()
+      .image(shader::kBindPrimaryRayOrigin, rayOrigins_)
+      .image(shader::kBindPrimaryNormal, normals_)
+      .image(shader::kBindPrimaryAlbedo, albedos_)
+      .image(shader::kBindPrimaryRadiance, primaryRadiance_)
+      .image(shader::kBindPrimaryDirect, directIrradiance_);
 }
 
 void PathTracer::submit(const std::function<void(gpu::CommandList&)>& record) {
@@ -218,12 +222,7 @@ void PathTracer::trace(uint32_t samples, const std::function<void(uint32_t sampl
       {
         auto scope = commands.scope("reference: PathTrace");
         commands.dispatch(pathTracePipeline_,
-                          sceneBindings()
-                              .image(shader::kBindPrimaryRayOrigin, rayOrigins_)
-                              .image(shader::kBindPrimaryNormal, normals_)
-                              .image(shader::kBindPrimaryAlbedo, albedos_)
-                              .image(shader::kBindPrimaryRadiance, primaryRadiance_)
-                              .image(shader::kBindPrimaryDirect, directIrradiance_)
+                          primaryHitBindings()
                               .image(shader::kBindTraceIndirectSum, indirectSums_)
                               .image(shader::kBindTraceIndirect, indirectIrradiance_)
                               .image(shader::kBindTraceFinal, finalRadiance_),

@@ -64,6 +64,7 @@ class PathTracer {
  private:
   void submit(const std::function<void(gpu::CommandList&)>& record);
   gpu::Bindings sceneBindings() const;
+  gpu::Bindings primaryHitBindings() const;  // the scene and the primary hits' images, written by PrimaryHits
 
   gpu::Device& device_;
   PathTracerSettings settings_;

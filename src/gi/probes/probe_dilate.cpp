@@ -7,10 +7,7 @@ ProbeDilate::ProbeDilate(gpu::Device& device) : pipeline_(device, shaders::probe
 
 void ProbeDilate::record(gpu::CommandList& commands, const ProbeVolume& probes) {
   auto scope = commands.scope("ssvgi: ProbeDilate");
-  const gpu::Bindings bindings = gpu::Bindings()
-                                     .buffer(shader::kBindProbeUpdate, probes.update())
-                                     .buffer(shader::kBindProbes, probes.probes())
-                                     .buffer(shader::kBindProbeList, probes.list());
+  const gpu::Bindings bindings = probes.listedProbeBindings(gpu::Bindings());
   commands.dispatchIndirect(pipeline_, bindings, probes.list(), 0);  // one workgroup per listed probe
 }
 

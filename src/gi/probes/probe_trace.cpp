@@ -7,10 +7,7 @@ ProbeTrace::ProbeTrace(gpu::Device& device) : pipeline_(device, shaders::probe_t
 
 void ProbeTrace::record(gpu::CommandList& commands, const VoxelScene& scene, const ProbeVolume& probes) {
   auto scope = commands.scope("ssvgi: ProbeTrace");
-  const gpu::Bindings bindings = scene.bindings()
-                                     .buffer(shader::kBindProbeUpdate, probes.update())
-                                     .buffer(shader::kBindProbes, probes.probes())
-                                     .buffer(shader::kBindProbeList, probes.list());
+  const gpu::Bindings bindings = probes.listedProbeBindings(scene.bindings());
   commands.dispatchIndirect(pipeline_, bindings, probes.list(), 0);  // one workgroup per listed probe
 }
 

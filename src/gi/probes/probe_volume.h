@@ -25,6 +25,12 @@ class ProbeVolume {
   const gpu::Buffer& probes() const { return probes_; }  // Probe[kProbeLevels · probes per level], level-major
   const gpu::Buffer& list() const { return list_; }      // IndirectList of probe indices, then the indices
   const gpu::Buffer& update() const { return updates_[currentFrame_]; }  // this frame's ProbeUpdate
+  // `bindings` plus what a pass over the listed probes binds: this frame's update, the probes, the list.
+  gpu::Bindings listedProbeBindings(gpu::Bindings bindings) const {
+    return bindings.buffer(shader::kBindProbeUpdate, update())
+        .buffer(shader::kBindProbes, probes())
+        .buffer(shader::kBindProbeList, list());
+  }
   const gpu::Buffer& blocksInView() const { return blocks_[currentFrame_]; }
   const shader::ProbeUpdate& current() const { return current_; }
   uint32_t probesPerLevel() const;
