@@ -45,8 +45,11 @@ TEST(GatherJitter, anySixteenConsecutiveFramesSampleEveryPixelOfATile) {
 constexpr uint32_t kSize = 32;
 constexpr float kNear = 0.1f;
 constexpr float kNearWallZ = -2.0f, kFarWallZ = -8.0f;
-// Values exact in half floats and in R11G11B10F, so "unchanged" can be tested for equality.
+// Values exact in half floats. The filters' normalised blends of equal values may land a float ulp low, and the store to
+// the half-float output may truncate (Vulkan allows it): "unchanged" means within one half-float step (at most 2^-10
+// relative); a bias or blur of any consequence is far larger.
 constexpr float kConstant = 0.75f, kNearValue = 0.5f, kFarValue = 1.5f;
+constexpr float kHalfStep = 1.0f / 1024.0f;
 
 struct TestView {
   glm::mat4 viewProjection;
@@ -113,21 +116,18 @@ class GatherFilters : public testing::GpuTest {
     targets_.prepare(0, view.viewProjection, kSize, kSize, {});
   }
 
-  // Tile images as FinalGather writes them: each tile's sample pixel's geometry, and `irradiance` of that pixel.
+  // The tile irradiance as FinalGather writes it: `irradiance` of each tile's sample pixel (whose geometry Upsample
+  // reads from the depth and normal).
   template <typename Irradiance>
-  void writeTiles(const TestView& view, Irradiance irradiance) {
+  void writeTiles(Irradiance irradiance) {
     const uint32_t tiles = kSize / shader::kGatherTileSize;
-    std::vector<uint16_t> radiance, geometry;
+    std::vector<uint16_t> radiance;
     for (uint32_t y = 0; y < tiles; ++y)
       for (uint32_t x = 0; x < tiles; ++x) {
-        const size_t pixel = size_t(y * shader::kGatherTileSize) * kSize + x * shader::kGatherTileSize;
-        const float value = irradiance(pixel);
+        const float value = irradiance(size_t(y * shader::kGatherTileSize) * kSize + x * shader::kGatherTileSize);
         for (float channel : {value, value, value, 1.0f}) radiance.push_back(glm::packHalf1x16(channel));
-        const glm::vec4 normal = view.normal[pixel];
-        for (float channel : {normal.x, normal.y, normal.z, view.depth[pixel]}) geometry.push_back(glm::packHalf1x16(channel));
       }
     gpu::uploadImage(device(), targets_.tileIrradiance(), std::as_bytes(std::span(radiance)));
-    gpu::uploadImage(device(), targets_.tileGeometry(), std::as_bytes(std::span(geometry)));
   }
 
   void runUpsample() {
@@ -137,17 +137,8 @@ class GatherFilters : public testing::GpuTest {
     record([&](gpu::CommandList& commands) { temporalFilter_.record(commands, inputs(), targets_); });
   }
 
-  // The half-resolution results, one value per texel (the red channel; the filters treat channels alike).
-  std::vector<float> upsampled() {
-    const auto bytes = gpu::readImage(device(), targets_.upsampled());
-    std::vector<float> values;
-    for (size_t texel = 0; texel < bytes.size() / 4; ++texel) {
-      uint32_t packed = 0;
-      std::memcpy(&packed, bytes.data() + texel * 4, 4);
-      values.push_back(shader::unpackR11G11B10F(packed).x);
-    }
-    return values;
-  }
+  // The half-resolution result, one value per texel (the red channel; the filters treat channels alike): after
+  // Upsample, the upsampled frame; after TemporalFilter, the filtered output.
   std::vector<float> output() {
     const auto bytes = gpu::readImage(device(), targets_.output());
     std::vector<float> values;
@@ -190,23 +181,23 @@ bool halfTexelOnNearWall(const TestView& view, size_t texel) {
   return view.onNearWall[2 * y * kSize + 2 * x];
 }
 
-TEST_F(GatherFilters, upsampleAndTemporalFilterKeepAConstantFieldExactly) {
+TEST_F(GatherFilters, upsampleAndTemporalFilterKeepAConstantField) {
   const glm::vec3 position(0.0f);
   const TestView view = viewFrom(position);
   setFrame(view, position);
-  writeTiles(view, [](size_t) { return kConstant; });
+  writeTiles([](size_t) { return kConstant; });
   runUpsample();
-  for (float value : upsampled()) ASSERT_EQ(value, kConstant);
+  for (float value : output()) ASSERT_NEAR(value, kConstant, kConstant * kHalfStep);
   runTemporalFilter();  // no history yet: the output is the upsampled frame
-  for (float value : output()) ASSERT_EQ(value, kConstant);
+  for (float value : output()) ASSERT_NEAR(value, kConstant, kConstant * kHalfStep);
   // A second frame from a slightly moved camera: the history is reprojected, clamped and blended.
   const glm::vec3 moved(0.05f, 0.02f, 0.0f);
   const TestView next = viewFrom(moved);
   setFrame(next, moved);
-  writeTiles(next, [](size_t) { return kConstant; });
+  writeTiles([](size_t) { return kConstant; });
   runUpsample();
   runTemporalFilter();
-  for (float value : output()) ASSERT_EQ(value, kConstant);
+  for (float value : output()) ASSERT_NEAR(value, kConstant, kConstant * kHalfStep);
 }
 
 TEST_F(GatherFilters, upsampleAndTemporalFilterDoNotBlurAcrossADepthEdge) {
@@ -214,14 +205,15 @@ TEST_F(GatherFilters, upsampleAndTemporalFilterDoNotBlurAcrossADepthEdge) {
   const glm::vec3 position(0.0f);
   const TestView view = viewFrom(position);
   setFrame(view, position);
-  writeTiles(view, [&](size_t pixel) { return view.onNearWall[pixel] ? kNearValue : kFarValue; });
+  writeTiles([&](size_t pixel) { return view.onNearWall[pixel] ? kNearValue : kFarValue; });
   runUpsample();
-  const std::vector<float> values = upsampled();
+  const std::vector<float> values = output();
   uint32_t near = 0;
   for (size_t texel = 0; texel < values.size(); ++texel) {
     const bool onNear = halfTexelOnNearWall(view, texel);
     near += onNear ? 1u : 0u;
-    ASSERT_EQ(values[texel], onNear ? kNearValue : kFarValue) << "texel " << texel;
+    const float expected = onNear ? kNearValue : kFarValue;
+    ASSERT_NEAR(values[texel], expected, expected * kHalfStep) << "texel " << texel;
   }
   ASSERT_GT(near, 0u);
   ASSERT_LT(near, values.size());
@@ -231,16 +223,15 @@ TEST_F(GatherFilters, upsampleAndTemporalFilterDoNotBlurAcrossADepthEdge) {
   const glm::vec3 moved(0.03f, 0.0f, 0.0f);
   const TestView next = viewFrom(moved);
   setFrame(next, moved);
-  writeTiles(next, [&](size_t pixel) { return next.onNearWall[pixel] ? kNearValue : kFarValue; });
+  writeTiles([&](size_t pixel) { return next.onNearWall[pixel] ? kNearValue : kFarValue; });
   runUpsample();
   runTemporalFilter();
-  // Within one half-float step: the normalised blend of equal values may land a float ulp low, and the store to the
-  // half-float image may truncate. Blur across the edge would move a value by the walls' difference (1.0) times its
-  // weight: any weight above 1/700 shows.
+  // Blur across the edge would move a value by the walls' difference (1.0) times its weight: any weight above 1/700
+  // shows.
   const std::vector<float> filtered = output();
   for (size_t texel = 0; texel < filtered.size(); ++texel) {
     const float expected = halfTexelOnNearWall(next, texel) ? kNearValue : kFarValue;
-    ASSERT_NEAR(filtered[texel], expected, expected / 1024.0f) << "texel " << texel;
+    ASSERT_NEAR(filtered[texel], expected, expected * kHalfStep) << "texel " << texel;
   }
 }
 
@@ -313,6 +304,28 @@ TEST_F(GatherFilters, finalGatherOfProbesWithConstantRadianceGivesPiTimesTheRadi
   EXPECT_EQ(output.layout, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
   EXPECT_EQ(output.width, kSize / 2);
   EXPECT_EQ(output.height, kSize / 2);
+}
+
+class GatherMemory : public testing::GpuTest {};
+
+TEST_F(GatherMemory, theFinalGatherImagesAt1080pFitTheirTenMegabyteBudget) {
+  // SPEC §5: the final-gather targets ≤ 10 MB at 1920×1080 (the talk's MB, 2^20 bytes, as for the 30 MB of GI data).
+  Settings settings;
+  settings.volumeBricks = {16, 8, 16};  // the voxel scene and probes are not what is measured
+  settings.brickPoolCapacity = 256;
+  settings.probeGrid = {16, 8, 16};
+  ContextDesc desc = testing::gpuTestContextDesc(settings, 1920);
+  desc.maxHeight = 1080;
+  auto created = Context::create(desc);
+  ASSERT_TRUE(created.ok()) << created.error().message;
+  uint64_t gatherImageBytes = 0;
+  for (const ResourceMemory& resource : created.value()->stats().memory)
+    if (resource.name.rfind("ssvgi gather", 0) == 0 && resource.name != "ssvgi gather constants")
+      gatherImageBytes += resource.bytes;
+  // The tile irradiance (480×270 rgba16f) and the output and history (960×540 rgba16f each): 9.33 MB of pixels, plus
+  // whatever alignment the driver adds.
+  EXPECT_GE(gatherImageBytes, 480u * 270 * 8 + 2u * 960 * 540 * 8);
+  EXPECT_LE(gatherImageBytes, 10u * 1024 * 1024);
 }
 
 // ---------------------------------------------------------------------------------------------------------------------

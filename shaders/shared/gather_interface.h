@@ -3,7 +3,9 @@
 //
 // Resolutions: the gather takes one sample per kGatherTileSize² pixel tile ("1/4 resolution"), Upsample and
 // TemporalFilter work at half resolution. A half-resolution pixel p stands for full-resolution pixel 2p: it takes that
-// pixel's depth and normal, so every filter weight compares real G-buffer samples.
+// pixel's depth and normal, so every filter weight compares real G-buffer samples. A tile's geometry is likewise that
+// of the pixel it sampled, read from the host's depth and normal rather than stored (SPEC §5's 10 MB for the gather's
+// images: at 1920×1080 the tile irradiance and the two half-resolution images, output and history, take 9.3 MB).
 #ifndef SSVGI_SHARED_GATHER_INTERFACE_H
 #define SSVGI_SHARED_GATHER_INTERFACE_H
 
@@ -44,10 +46,8 @@ SSVGI_CONSTANT(uint, kBindGatherDepth, kBindFirstPassSlot + 1u);           // th
 SSVGI_CONSTANT(uint, kBindGatherNormal, kBindFirstPassSlot + 2u);          // the host's current world normal (sampled)
 SSVGI_CONSTANT(uint, kBindGatherProbes, kBindFirstPassSlot + 3u);          // Probe[] (probe_interface.h)
 SSVGI_CONSTANT(uint, kBindGatherTileIrradiance, kBindFirstPassSlot + 4u);  // rgba16f, 1/4: rgb E; a: 1 where sampled
-SSVGI_CONSTANT(uint, kBindGatherTileGeometry, kBindFirstPassSlot + 5u);    // rgba16f, 1/4: xyz normal; w: depth
-SSVGI_CONSTANT(uint, kBindGatherUpsampled, kBindFirstPassSlot + 6u);       // r32ui, 1/2: E as R11G11B10F
-SSVGI_CONSTANT(uint, kBindGatherHistory, kBindFirstPassSlot + 7u);         // rgba16f, 1/2: last output
-SSVGI_CONSTANT(uint, kBindGatherOutput, kBindFirstPassSlot + 8u);          // rgba16f, 1/2: rgb E; a: depth
+SSVGI_CONSTANT(uint, kBindGatherHistory, kBindFirstPassSlot + 5u);         // rgba16f, 1/2: last output
+SSVGI_CONSTANT(uint, kBindGatherOutput, kBindFirstPassSlot + 6u);          // rgba16f, 1/2: rgb E; a: depth
 
 // What the gather passes know of this frame beyond GiFrame (uniform buffer, one per frame in flight).
 struct GatherConstants {

@@ -1,7 +1,8 @@
 #version 450
 // FinalGather (SPEC §4.6; the talk's "DownSample: Probe Volume sampling with custom weights, 1 sample per 4x4 pixels,
 // temporal jitter; output indirect light + normal + depth"): one thread per 4×4 tile samples the probe volume at one
-// pixel of its tile, a different one each frame (gatherSampleOffset), with the talk's three leak remedies.
+// pixel of its tile, a different one each frame (gatherSampleOffset), with the talk's three leak remedies. The tile's
+// normal and depth are that pixel's in the host's G-buffer, where Upsample reads them.
 #include "gi/gi_frame.glsl"
 #include "shared/gather_interface.h"
 
@@ -12,7 +13,6 @@ layout(binding = kBindGatherDepth) uniform sampler2D depthBuffer;
 layout(binding = kBindGatherNormal) uniform sampler2D normalBuffer;
 layout(binding = kBindGatherProbes) readonly buffer Probes { Probe probes[]; };
 layout(binding = kBindGatherTileIrradiance, rgba16f) writeonly uniform image2D tileIrradiance;
-layout(binding = kBindGatherTileGeometry, rgba16f) writeonly uniform image2D tileGeometry;
 
 // How far a point lies inside the cells of a level, in spacings; negative when some of its 8 probes are outside it.
 float insideMargin(uint level, vec3 position) {
@@ -85,9 +85,8 @@ void main() {
   uint frameIndex = gather.frame.x;
   ivec2 pixel = ivec2(min(tile * kGatherTileSize + gatherSampleOffset(frameIndex), frame.sizes.xy - 1u));
   float depth = texelFetch(depthBuffer, pixel, 0).r;
-  if (depth <= 0.0) {  // nothing drawn: no irradiance, and depth 0 tells the upsample to skip the tile
+  if (depth <= 0.0) {  // nothing drawn (Upsample skips the tile)
     imageStore(tileIrradiance, ivec2(tile), vec4(0.0));
-    imageStore(tileGeometry, ivec2(tile), vec4(0.0));
     return;
   }
   vec3 normal = normalize(texelFetch(normalBuffer, pixel, 0).xyz);
@@ -98,5 +97,4 @@ void main() {
        level < kProbeLevels && irradiance.a == 0.0; ++level)
     irradiance = gatherLevel(level, position, normal);
   imageStore(tileIrradiance, ivec2(tile), irradiance);
-  imageStore(tileGeometry, ivec2(tile), vec4(normal, depth));
 }

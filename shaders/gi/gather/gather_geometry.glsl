@@ -1,8 +1,14 @@
 #ifndef SSVGI_GATHER_GEOMETRY_GLSL
 #define SSVGI_GATHER_GEOMETRY_GLSL
-// The geometry test of Upsample and TemporalFilter: how much a neighbouring sample belongs to a pixel's surface.
+// What Upsample and TemporalFilter share: the frame's inputs, the geometry test (how much a neighbouring sample belongs
+// to a pixel's surface) and the tile samples around a pixel.
 #include "gi/gi_frame.glsl"
 #include "shared/gather_interface.h"
+
+layout(binding = kBindGatherConstants) uniform GatherConstantsBlock { GatherConstants gather; };
+layout(binding = kBindGatherDepth) uniform sampler2D depthBuffer;
+layout(binding = kBindGatherNormal) uniform sampler2D normalBuffer;
+layout(binding = kBindGatherTileIrradiance, rgba16f) readonly uniform image2D tileIrradiance;
 
 // A G-buffer sample as the filters compare it.
 struct Surface {
@@ -16,6 +22,12 @@ Surface surfaceAt(mat4 inverseViewProjection, vec3 cameraPosition, ivec2 pixel, 
   return Surface(position, normal, distance(position, cameraPosition));
 }
 
+// The surface at a pixel of this frame (depth > 0: something was drawn there).
+Surface currentSurface(ivec2 pixel, float depth) {
+  return surfaceAt(frame.inverseViewProjection, frame.cameraPosition.xyz, pixel, vec2(frame.sizes.xy), depth,
+                   normalize(texelFetch(normalBuffer, pixel, 0).xyz));
+}
+
 // 1 on the pixel's tangent plane, falling to 0 at kGatherPlaneTolerance of its view distance off it: a neighbour
 // across a depth edge or a crease lies far off the plane, one on the same tilted floor does not.
 float planeWeight(Surface pixel, vec3 neighbourPosition) {
@@ -25,6 +37,51 @@ float planeWeight(Surface pixel, vec3 neighbourPosition) {
 
 float normalWeight(Surface pixel, vec3 neighbourNormal) {
   return pow(max(dot(pixel.normal, neighbourNormal), 0.0), kGatherNormalPower);
+}
+
+// Taps beyond the bilinear 2×2 keep this spatial weight: they count only where the 2×2 are all on other surfaces (a
+// thin object, a silhouette), so such a pixel borrows from its own surface a tile further away instead of going dark.
+const float kOuterTapWeight = 1e-3;
+// A tap whose geometry weight reaches this lies on the pixel's surface for TemporalFilter's neighbourhood clamp.
+const float kSameSurfaceWeight = 0.5;
+
+// This frame's tile samples around a surface pixel (FinalGather sampled pixel t·4 + offset of tile t).
+struct TileNeighbourhood {
+  vec3 blended;  // Upsample's result: bilinear in the sample grid × geometry weights (joint bilateral)
+  vec3 lowest;   // the range of the bilinear taps on the pixel's surface (none: lowest > highest)
+  vec3 highest;
+};
+
+TileNeighbourhood tileNeighbourhood(Surface surface, ivec2 pixel) {
+  ivec2 sampleOffset = ivec2(gatherSampleOffset(gather.frame.x));
+  vec2 tileCoordinate = vec2(pixel - sampleOffset) / float(kGatherTileSize);
+  ivec2 firstTile = ivec2(floor(tileCoordinate));
+  ivec2 lastTile = ivec2(gather.sizes.xy) - 1;
+  TileNeighbourhood result = TileNeighbourhood(vec3(0.0), vec3(1e30), vec3(0.0));
+  float totalWeight = 0.0;
+  for (int y = -1; y <= 2; ++y)
+    for (int x = -1; x <= 2; ++x) {
+      ivec2 tile = firstTile + ivec2(x, y);
+      if (any(lessThan(tile, ivec2(0))) || any(greaterThan(tile, lastTile))) continue;
+      // The tile's geometry is that of the pixel it sampled.
+      ivec2 samplePixel = min(tile * int(kGatherTileSize) + sampleOffset, ivec2(frame.sizes.xy) - 1);
+      float sampleDepth = texelFetch(depthBuffer, samplePixel, 0).r;
+      if (sampleDepth <= 0.0) continue;  // the tile's sample saw nothing
+      vec3 samplePosition = reconstructPosition(frame.inverseViewProjection, vec2(samplePixel), vec2(frame.sizes.xy),
+                                                sampleDepth);
+      float geometry = planeWeight(surface, samplePosition) *
+                       normalWeight(surface, normalize(texelFetch(normalBuffer, samplePixel, 0).xyz));
+      vec3 irradiance = imageLoad(tileIrradiance, tile).rgb;
+      vec2 tent = max(vec2(1.0) - abs(vec2(tile) - tileCoordinate), vec2(kOuterTapWeight));
+      result.blended += tent.x * tent.y * geometry * irradiance;
+      totalWeight += tent.x * tent.y * geometry;
+      if (x >= 0 && x <= 1 && y >= 0 && y <= 1 && geometry >= kSameSurfaceWeight) {
+        result.lowest = min(result.lowest, irradiance);
+        result.highest = max(result.highest, irradiance);
+      }
+    }
+  result.blended = totalWeight > 0.0 ? result.blended / totalWeight : vec3(0.0);
+  return result;
 }
 
 #endif

@@ -1,18 +1,15 @@
 #version 450
 // TemporalFilter (SPEC §4.6; the talk's "Temporal Filter on the upsampled result"): each half-resolution pixel finds
 // its surface in the last output through the last dispatch's camera, keeps that history where its geometry matches,
-// clamps it to the 3×3 neighbourhood of this frame's values (so moving light does not ghost) and blends the new frame
-// in with kTemporalBlend. The result is ssvgi's output: rgb E(n), alpha the depth the history test needs next frame.
+// clamps it to the range of this frame's tile samples on its surface (so moving light does not ghost) and blends the
+// upsampled frame in with kTemporalBlend. It filters the output image in place (each pixel reads only its own texel
+// of it); the result is ssvgi's output: rgb E(n), alpha the depth the history test needs next frame.
 #include "gather_geometry.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(binding = kBindGatherConstants) uniform GatherConstantsBlock { GatherConstants gather; };
-layout(binding = kBindGatherDepth) uniform sampler2D depthBuffer;
-layout(binding = kBindGatherNormal) uniform sampler2D normalBuffer;
-layout(binding = kBindGatherUpsampled, r32ui) readonly uniform uimage2D upsampled;
 layout(binding = kBindGatherHistory, rgba16f) readonly uniform image2D history;
-layout(binding = kBindGatherOutput, rgba16f) writeonly uniform image2D outputIrradiance;
+layout(binding = kBindGatherOutput, rgba16f) uniform image2D outputIrradiance;
 
 // The history at the surface point, bilinear over the taps whose stored surface lies on the pixel's tangent plane
 // (a depth test; a crease fails it as a normal test would). a = 0: no usable history.
@@ -42,31 +39,16 @@ vec4 reprojectHistory(Surface surface, vec2 size) {
 
 void main() {
   ivec2 halfPixel = ivec2(gl_GlobalInvocationID.xy);
-  if (any(greaterThanEqual(halfPixel, ivec2(gather.sizes.zw)))) return;
+  if (any(greaterThanEqual(halfPixel, ivec2(gather.sizes.zw))) || gather.frame.y == 0u) return;
   ivec2 pixel = 2 * halfPixel;
-  vec2 size = vec2(frame.sizes.xy);
   float depth = texelFetch(depthBuffer, pixel, 0).r;
-  if (depth <= 0.0) {
-    imageStore(outputIrradiance, halfPixel, vec4(0.0));
-    return;
-  }
-  vec3 current = unpackR11G11B10F(imageLoad(upsampled, halfPixel).r);
-  vec3 result = current;
-  if (gather.frame.y != 0u) {
-    Surface surface = surfaceAt(frame.inverseViewProjection, frame.cameraPosition.xyz, pixel, size, depth,
-                                normalize(texelFetch(normalBuffer, pixel, 0).xyz));
-    vec4 reprojected = reprojectHistory(surface, size);
-    if (reprojected.a > 0.0) {
-      vec3 lowest = current, highest = current;
-      for (int y = -1; y <= 1; ++y)
-        for (int x = -1; x <= 1; ++x) {
-          ivec2 neighbour = clamp(halfPixel + ivec2(x, y), ivec2(0), ivec2(gather.sizes.zw) - 1);
-          vec3 value = unpackR11G11B10F(imageLoad(upsampled, neighbour).r);
-          lowest = min(lowest, value);
-          highest = max(highest, value);
-        }
-      result = mix(clamp(reprojected.rgb, lowest, highest), current, kTemporalBlend);
-    }
-  }
-  imageStore(outputIrradiance, halfPixel, vec4(result, depth));
+  if (depth <= 0.0) return;
+  vec4 current = imageLoad(outputIrradiance, halfPixel);  // Upsample's result
+  Surface surface = currentSurface(pixel, depth);
+  vec4 reprojected = reprojectHistory(surface, vec2(frame.sizes.xy));
+  if (reprojected.a <= 0.0) return;
+  TileNeighbourhood neighbourhood = tileNeighbourhood(surface, pixel);
+  vec3 lowest = min(neighbourhood.lowest, current.rgb), highest = max(neighbourhood.highest, current.rgb);
+  vec3 filtered = mix(clamp(reprojected.rgb, lowest, highest), current.rgb, kTemporalBlend);
+  imageStore(outputIrradiance, halfPixel, vec4(filtered, current.a));
 }

@@ -8,14 +8,9 @@ FinalGather::FinalGather(gpu::Device& device) : pipeline_(device, shaders::final
 void FinalGather::record(gpu::CommandList& commands, const GatherInputs& inputs, const GatherTargets& targets,
                          const gpu::Buffer& probes) {
   auto scope = commands.scope("ssvgi: FinalGather");
-  const gpu::Bindings bindings = gpu::Bindings()
-                                     .buffer(shader::kBindGiFrame, inputs.frame)
-                                     .buffer(shader::kBindGatherConstants, targets.constants())
-                                     .externalSampled(shader::kBindGatherDepth, inputs.depth, inputs.pointSampler)
-                                     .externalSampled(shader::kBindGatherNormal, inputs.normal, inputs.pointSampler)
+  const gpu::Bindings bindings = inputs.bindings(targets)
                                      .buffer(shader::kBindGatherProbes, probes)
-                                     .image(shader::kBindGatherTileIrradiance, targets.tileIrradiance())
-                                     .image(shader::kBindGatherTileGeometry, targets.tileGeometry());
+                                     .image(shader::kBindGatherTileIrradiance, targets.tileIrradiance());
   commands.dispatch(pipeline_, bindings, glm::uvec3(targets.tiles(), 1));  // one thread per tile
 }
 

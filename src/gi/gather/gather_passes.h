@@ -13,9 +13,18 @@ struct GatherInputs {
   VkSampler pointSampler;
   VkImageView depth;
   VkImageView normal;
+
+  // The bindings every gather pass starts from: GiFrame, GatherConstants, the depth and the normal.
+  gpu::Bindings bindings(const GatherTargets& targets) const {
+    return gpu::Bindings()
+        .buffer(shader::kBindGiFrame, frame)
+        .buffer(shader::kBindGatherConstants, targets.constants())
+        .externalSampled(shader::kBindGatherDepth, depth, pointSampler)
+        .externalSampled(shader::kBindGatherNormal, normal, pointSampler);
+  }
 };
 
-// FinalGather: one probe-volume sample per 4×4 tile, with the leak weights → tile irradiance and geometry.
+// FinalGather: one probe-volume sample per 4×4 tile, with the leak weights → tile irradiance.
 class FinalGather {
  public:
   explicit FinalGather(gpu::Device& device);
@@ -27,7 +36,7 @@ class FinalGather {
   gpu::ComputePipeline pipeline_;
 };
 
-// Upsample: joint bilateral upsampling of the tile irradiance to half resolution.
+// Upsample: joint bilateral upsampling of the tile irradiance to half resolution, into the output image.
 class Upsample {
  public:
   explicit Upsample(gpu::Device& device);
@@ -37,8 +46,8 @@ class Upsample {
   gpu::ComputePipeline pipeline_;
 };
 
-// TemporalFilter: reprojected, geometry-tested, neighbourhood-clamped history blended with the upsampled frame → the
-// output image.
+// TemporalFilter: reprojected, geometry-tested, neighbourhood-clamped history blended into the upsampled frame, in
+// place in the output image.
 class TemporalFilter {
  public:
   explicit TemporalFilter(gpu::Device& device);

@@ -15,17 +15,12 @@ gpu::Image storageImage(gpu::Device& device, const char* name, VkFormat format, 
 
 }  // namespace
 
-// The tile images are sampled-capable so that the library's tests can upload them (uploadImage leaves an image ready
-// to be sampled).
+// The tile image is sampled-capable so that the library's tests can upload it (uploadImage leaves an image ready to be
+// sampled).
 GatherTargets::GatherTargets(gpu::Device& device, uint32_t maxWidth, uint32_t maxHeight, uint32_t framesInFlight)
     : tileIrradiance_(storageImage(device, "ssvgi gather tile irradiance", VK_FORMAT_R16G16B16A16_SFLOAT,
                                    divideRoundingUp(maxWidth, shader::kGatherTileSize),
                                    divideRoundingUp(maxHeight, shader::kGatherTileSize), VK_IMAGE_USAGE_SAMPLED_BIT)),
-      tileGeometry_(storageImage(device, "ssvgi gather tile geometry", VK_FORMAT_R16G16B16A16_SFLOAT,
-                                 divideRoundingUp(maxWidth, shader::kGatherTileSize),
-                                 divideRoundingUp(maxHeight, shader::kGatherTileSize), VK_IMAGE_USAGE_SAMPLED_BIT)),
-      upsampled_(storageImage(device, "ssvgi gather upsampled", VK_FORMAT_R32_UINT, divideRoundingUp(maxWidth, 2),
-                              divideRoundingUp(maxHeight, 2))),
       // The host samples the output (Context::output()); each alternates as the other's history.
       outputs_{storageImage(device, "ssvgi gather output", VK_FORMAT_R16G16B16A16_SFLOAT, divideRoundingUp(maxWidth, 2),
                             divideRoundingUp(maxHeight, 2), VK_IMAGE_USAGE_SAMPLED_BIT),

@@ -28,18 +28,15 @@ class GatherTargets {
 
   const gpu::Buffer& constants() const { return constants_[currentFrame_]; }
   const gpu::Image& tileIrradiance() const { return tileIrradiance_; }  // rgba16f, 1/4: rgb E; a: 1 where sampled
-  const gpu::Image& tileGeometry() const { return tileGeometry_; }      // rgba16f, 1/4: xyz normal; w: depth
-  const gpu::Image& upsampled() const { return upsampled_; }            // r32ui, 1/2: E as R11G11B10F
   const gpu::Image& history() const { return outputs_[1 - currentOutput_]; }
-  const gpu::Image& output() const { return outputs_[currentOutput_]; }  // rgba16f, 1/2: rgb E; a: depth
+  // rgba16f, 1/2: rgb E; a: depth. Upsample writes it, TemporalFilter filters it in place.
+  const gpu::Image& output() const { return outputs_[currentOutput_]; }
   glm::uvec2 tiles() const { return {current_.sizes.x, current_.sizes.y}; }
   glm::uvec2 halfSize() const { return {current_.sizes.z, current_.sizes.w}; }
 
  private:
   std::vector<gpu::Buffer> constants_;
   gpu::Image tileIrradiance_;
-  gpu::Image tileGeometry_;
-  gpu::Image upsampled_;
   std::array<gpu::Image, 2> outputs_;
   size_t currentFrame_ = 0;
   uint32_t currentOutput_ = 0;

@@ -7,12 +7,8 @@ TemporalFilter::TemporalFilter(gpu::Device& device) : pipeline_(device, shaders:
 
 void TemporalFilter::record(gpu::CommandList& commands, const GatherInputs& inputs, const GatherTargets& targets) {
   auto scope = commands.scope("ssvgi: TemporalFilter");
-  const gpu::Bindings bindings = gpu::Bindings()
-                                     .buffer(shader::kBindGiFrame, inputs.frame)
-                                     .buffer(shader::kBindGatherConstants, targets.constants())
-                                     .externalSampled(shader::kBindGatherDepth, inputs.depth, inputs.pointSampler)
-                                     .externalSampled(shader::kBindGatherNormal, inputs.normal, inputs.pointSampler)
-                                     .image(shader::kBindGatherUpsampled, targets.upsampled())
+  const gpu::Bindings bindings = inputs.bindings(targets)
+                                     .image(shader::kBindGatherTileIrradiance, targets.tileIrradiance())
                                      .image(shader::kBindGatherHistory, targets.history())
                                      .image(shader::kBindGatherOutput, targets.output());
   commands.dispatch(pipeline_, bindings, glm::uvec3(targets.halfSize(), 1));  // one thread per half-resolution pixel

@@ -7,14 +7,9 @@ Upsample::Upsample(gpu::Device& device) : pipeline_(device, shaders::upsample_co
 
 void Upsample::record(gpu::CommandList& commands, const GatherInputs& inputs, const GatherTargets& targets) {
   auto scope = commands.scope("ssvgi: Upsample");
-  const gpu::Bindings bindings = gpu::Bindings()
-                                     .buffer(shader::kBindGiFrame, inputs.frame)
-                                     .buffer(shader::kBindGatherConstants, targets.constants())
-                                     .externalSampled(shader::kBindGatherDepth, inputs.depth, inputs.pointSampler)
-                                     .externalSampled(shader::kBindGatherNormal, inputs.normal, inputs.pointSampler)
+  const gpu::Bindings bindings = inputs.bindings(targets)
                                      .image(shader::kBindGatherTileIrradiance, targets.tileIrradiance())
-                                     .image(shader::kBindGatherTileGeometry, targets.tileGeometry())
-                                     .image(shader::kBindGatherUpsampled, targets.upsampled());
+                                     .image(shader::kBindGatherOutput, targets.output());
   commands.dispatch(pipeline_, bindings, glm::uvec3(targets.halfSize(), 1));  // one thread per half-resolution pixel
 }
 
