@@ -11,10 +11,10 @@ namespace ssvgi::renderer {
 
 namespace {
 
-VkSamplerCreateInfo clampSampler(VkFilter filter) {
+VkSamplerCreateInfo pointSamplerInfo() {
   VkSamplerCreateInfo info{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
-  info.magFilter = filter;
-  info.minFilter = filter;
+  info.magFilter = VK_FILTER_NEAREST;
+  info.minFilter = VK_FILTER_NEAREST;
   info.addressModeU = info.addressModeV = info.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
   return info;
 }
@@ -60,8 +60,7 @@ Renderer::Renderer(gpu::Device& device, const Scene& scene, const RendererSettin
       settings_(settings),
       bounds_(worldBounds(scene)),
       gpuScene_(device, scene),
-      pointSampler_(device, clampSampler(VK_FILTER_NEAREST), "point sampler"),
-      linearSampler_(device, clampSampler(VK_FILTER_LINEAR), "linear sampler"),
+      pointSampler_(device, pointSamplerInfo(), "point sampler"),
       descriptors_(device),
       profiler_(device),
       shadows_(device, settings.shadows),
@@ -174,7 +173,7 @@ void Renderer::render(const AnimatedState& state) {
     else
       commands.use(indirectIrradiance_, gpu::Usage::ComputeSampled);
     composite_.record(commands, frameConstants_, gbuffer, pointSampler_.handle(), directIrradiance_, indirect,
-                      linearSampler_.handle(), finalRadiance, indirectUsed_);
+                      finalRadiance, indirectUsed_);
     tonemap_.record(commands, frameConstants_, finalRadiance, tonemapped_);
   });
   timings_ = profiler_.resolve();

@@ -78,7 +78,6 @@ class Renderer {
   Bounds bounds_;
   GpuScene gpuScene_;
   gpu::Sampler pointSampler_;
-  gpu::Sampler linearSampler_;
   gpu::DescriptorArena descriptors_;
   gpu::Profiler profiler_;
   ShadowPass shadows_;

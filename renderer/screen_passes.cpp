@@ -32,7 +32,7 @@ Composite::Composite(gpu::Device& device) : pipeline_(device, shaders::composite
 
 void Composite::record(gpu::CommandList& commands, const gpu::Buffer& frameConstants, const GBuffer& gbuffer,
                        VkSampler pointSampler, const gpu::Image& directIrradiance, VkImageView indirectIrradiance,
-                       VkSampler linearSampler, const gpu::Image& finalRadiance, const gpu::Image& indirectUsed) {
+                       const gpu::Image& finalRadiance, const gpu::Image& indirectUsed) {
   auto scope = commands.scope("renderer: Composite");
   commands.dispatch(pipeline_,
                     gpu::Bindings()
@@ -40,8 +40,9 @@ void Composite::record(gpu::CommandList& commands, const gpu::Buffer& frameConst
                         .sampled(shader::kBindCompositeDepth, gbuffer.depth, pointSampler)
                         .sampled(shader::kBindCompositeAlbedo, gbuffer.albedo, pointSampler)
                         .sampled(shader::kBindCompositeEmission, gbuffer.emission, pointSampler)
+                        .sampled(shader::kBindCompositeNormal, gbuffer.normal, pointSampler)
                         .image(shader::kBindCompositeDirect, directIrradiance)
-                        .externalSampled(shader::kBindCompositeIndirect, indirectIrradiance, linearSampler)
+                        .externalSampled(shader::kBindCompositeIndirect, indirectIrradiance, pointSampler)
                         .image(shader::kBindCompositeFinal, finalRadiance)
                         .image(shader::kBindCompositeIndirectUsed, indirectUsed),
                     pixels(finalRadiance));

@@ -24,7 +24,7 @@ class Composite {
   explicit Composite(gpu::Device& device);
   void record(gpu::CommandList& commands, const gpu::Buffer& frameConstants, const GBuffer& gbuffer,
               VkSampler pointSampler, const gpu::Image& directIrradiance, VkImageView indirectIrradiance,
-              VkSampler linearSampler, const gpu::Image& finalRadiance, const gpu::Image& indirectUsed);
+              const gpu::Image& finalRadiance, const gpu::Image& indirectUsed);
 
  private:
   gpu::ComputePipeline pipeline_;

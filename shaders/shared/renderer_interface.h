@@ -93,6 +93,7 @@ SSVGI_CONSTANT(uint, kBindCompositeDirect, 4u);      // E_direct
 SSVGI_CONSTANT(uint, kBindCompositeIndirect, 5u);    // E_indirect (from the GI; black until it exists or when off)
 SSVGI_CONSTANT(uint, kBindCompositeFinal, 6u);       // out: linear HDR radiance, rgba32f
 SSVGI_CONSTANT(uint, kBindCompositeIndirectUsed, 7u); // out: the E_indirect each pixel was shaded with, rgba32f
+SSVGI_CONSTANT(uint, kBindCompositeNormal, 8u);       // G-buffer world normal (edge-aware sampling of E_indirect)
 // Tonemap (tonemap.comp):
 SSVGI_CONSTANT(uint, kBindTonemapFrame, 0u);
 SSVGI_CONSTANT(uint, kBindTonemapInput, 1u);
