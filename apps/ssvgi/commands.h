@@ -13,5 +13,6 @@ CommandRunner addReferenceCommand(CLI::App& app);
 CommandRunner addCompareCommand(CLI::App& app);
 CommandRunner addInfoCommand(CLI::App& app);
 CommandRunner addBenchCommand(CLI::App& app);
+CommandRunner addScenarioCommand(CLI::App& app);  // scenario_command.h: its subcommands
 
 }  // namespace ssvgi::cli

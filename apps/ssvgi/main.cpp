@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   add(ssvgi::cli::addReferenceCommand);
   add(ssvgi::cli::addCompareCommand);
   add(ssvgi::cli::addBenchCommand);
+  add(ssvgi::cli::addScenarioCommand);
   add(ssvgi::cli::addInfoCommand);
   try {
     app.parse(argc, argv);

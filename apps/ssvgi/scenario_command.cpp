@@ -1,0 +1,87 @@
+#include "scenario_command.h"
+
+#include <array>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <stdexcept>
+
+namespace ssvgi::cli {
+
+namespace {
+
+// Every scenario, in the order `ssvgi scenario --help` lists them.
+constexpr std::array kScenarios = {
+    addLeakScenario,
+    addFlickerScenario,
+    addLagScenario,
+    addCameraCutScenario,
+};
+
+}  // namespace
+
+void addScenarioOptions(CLI::App& command, ScenarioOptions& options, const std::string& defaultScene,
+                        std::initializer_list<const char*> without) {
+  options.scene.scene = defaultScene;
+  options.scene.size = "640x360";
+  addSceneOptions(command, options.scene);
+  for (const char* name : {"--moving-object", "--sun-cycle", "--camera-path"}) command.remove_option(command.get_option(name));
+  for (const char* name : without) command.remove_option(command.get_option(name));
+  command.add_option("--tier", options.tier, "GI quality tier (SPEC §4.7)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"low", "medium", "high"}));
+  command.add_option("--out", options.out, "Write the JSON report to this file instead of standard output");
+}
+
+int runScenario(const std::string& name, const ScenarioOptions& options, const ScenarioMeasurement& measure) {
+  const ResolvedScene resolved = resolveScene(options.scene);
+  gpu::Device device(gpu::DeviceDesc{options.scene.device, options.scene.validation});
+  const bench::ScenarioRendering rendering{resolved.width, resolved.height, giSettingsForTier(options.tier)};
+
+  const auto start = std::chrono::steady_clock::now();
+  const nlohmann::json figures = measure(device, resolved, rendering);
+  const std::chrono::duration<double> seconds = std::chrono::steady_clock::now() - start;
+
+  nlohmann::json report = {{"scenario", name},
+                           {"device", device.description()},
+                           {"scene", options.scene.scene},
+                           {"width", resolved.width},
+                           {"height", resolved.height},
+                           {"tier", options.tier},
+                           {"seconds", seconds.count()}};
+  report.update(figures);
+  const std::string json = report.dump(2);
+  if (options.out.empty()) {
+    std::printf("%s\n", json.c_str());
+  } else {
+    std::ofstream file(options.out);
+    if (!(file << json << "\n")) throw std::runtime_error("--out " + options.out + ": cannot write the file");
+    std::printf("wrote %s on %s\n", options.out.c_str(), device.description().c_str());
+  }
+  if (options.scene.validation && device.validationErrorCount() > 0) {
+    std::fprintf(stderr, "ssvgi: %u Vulkan validation errors\n", device.validationErrorCount());
+    return 1;
+  }
+  return 0;
+}
+
+CommandRunner addScenarioCommand(CLI::App& app) {
+  CLI::App* command = app.add_subcommand(
+      "scenario", "Measure one of SPEC §7's scenarios (leak ratio, flicker, lag, recovery after a camera cut) with "
+                  "ssvgi on, and report its figures as JSON");
+  command->require_subcommand(1);
+  auto runners = std::make_shared<std::map<CLI::App*, CommandRunner>>();
+  for (const auto addScenario : kScenarios) {
+    const CommandRunner runner = addScenario(*command);
+    (*runners)[command->get_subcommands({}).back()] = runner;
+  }
+  return [runners] {
+    for (auto& [scenario, runner] : *runners)
+      if (scenario->parsed()) return runner();
+    return 1;
+  };
+}
+
+}  // namespace ssvgi::cli

@@ -1,0 +1,87 @@
+#include "scenario_rendering.h"
+
+#include "camera.h"
+
+#include <cmath>
+
+namespace ssvgi::bench {
+
+namespace {
+
+renderer::RendererSettings rendererSettings(const ScenarioRendering& rendering) {
+  renderer::RendererSettings settings;
+  settings.width = rendering.width;
+  settings.height = rendering.height;
+  settings.gi = rendering.gi;
+  return settings;
+}
+
+}  // namespace
+
+ScenarioRenderer::ScenarioRenderer(gpu::Device& device, const renderer::Scene& scene,
+                                   const ScenarioRendering& rendering)
+    : scene_(scene), renderer_(device, scene, rendererSettings(rendering)) {}
+
+void ScenarioRenderer::render(const renderer::Camera& camera, uint32_t frames,
+                              const std::function<void()>& afterEachFrame) {
+  // The scene stands still at time 0 (no camera path, moving object or sun cycle): the scenarios measure the GI of a
+  // still view, or of one change they make themselves.
+  renderer::AnimatedState state = renderer::evaluateAnimation(scene_, camera, 0.0f);
+  state.camera = camera;
+  for (uint32_t frame = 0; frame < frames; ++frame) {
+    renderer_.render(state);
+    if (afterEachFrame) afterEachFrame();
+  }
+}
+
+SurfacePoints surfacePoints(const renderer::Camera& camera, const renderer::FloatImage& viewDistance) {
+  const uint32_t width = viewDistance.width, height = viewDistance.height;
+  const glm::mat4 inverseViewProjection = glm::inverse(
+      renderer::reversedZInfiniteProjection(camera.verticalFov, float(width) / float(height), camera.nearPlane) *
+      renderer::viewMatrix(camera));
+  SurfacePoints points;
+  points.positions.resize(size_t(width) * height);
+  points.isSurface.resize(size_t(width) * height);
+  for (uint32_t y = 0; y < height; ++y)
+    for (uint32_t x = 0; x < width; ++x) {
+      const size_t pixel = size_t(y) * width + x;
+      const float distance = viewDistance.pixels[pixel];
+      if (!(distance > 0.0f)) continue;
+      // Through the pixel centre; NDC +y is up and row 0 is the top row (the renderer flips the viewport).
+      const glm::vec2 ndc((float(x) + 0.5f) / float(width) * 2.0f - 1.0f,
+                          1.0f - (float(y) + 0.5f) / float(height) * 2.0f);
+      const glm::vec4 onPlane = inverseViewProjection * glm::vec4(ndc, 0.5f, 1.0f);
+      const glm::vec3 direction = glm::normalize(glm::vec3(onPlane) / onPlane.w - camera.position);
+      points.positions[pixel] = camera.position + direction * distance;
+      points.isSurface[pixel] = true;
+    }
+  return points;
+}
+
+std::vector<double> luminance(const renderer::FloatImage& rgb) {
+  std::vector<double> values(size_t(rgb.width) * rgb.height);
+  for (size_t pixel = 0; pixel < values.size(); ++pixel) {
+    const float* p = &rgb.pixels[pixel * rgb.channels];
+    values[pixel] = 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+  }
+  return values;
+}
+
+double meanWhere(const std::vector<double>& values, const std::vector<bool>& selected) {
+  double sum = 0.0;
+  uint64_t count = 0;
+  for (size_t i = 0; i < values.size(); ++i)
+    if (selected[i]) {
+      sum += values[i];
+      ++count;
+    }
+  return count > 0 ? sum / double(count) : 0.0;
+}
+
+bool allFinite(const renderer::FloatImage& image) {
+  for (const float value : image.pixels)
+    if (!std::isfinite(value)) return false;
+  return true;
+}
+
+}  // namespace ssvgi::bench

@@ -1,0 +1,120 @@
+#pragma once
+// The scenario measurements of SPEC §7 that need no reference image: the leak ratio (two-rooms), flicker (dark-room),
+// lag after a light switch (cornell) and the recovery after a camera cut. Each renders a scene through the host
+// renderer with ssvgi, frame after frame on a still view, and returns its figures; `ssvgi scenario <name>` prints them
+// as JSON (toJson) and tests/scenario_tests.cpp holds them to SPEC's thresholds. Every function takes the device, so
+// that the tests share theirs.
+#include "gpu/device.h"
+#include "scene.h"
+#include "ssvgi/ssvgi.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+namespace ssvgi::bench {
+
+// How every scenario renders: image size and GI settings. The figures are of the image the renderer composites, with
+// ssvgi's indirect irradiance sampled at full resolution (Renderer::indirectIrradiance).
+struct ScenarioRendering {
+  uint32_t width = 640;
+  uint32_t height = 360;
+  Settings gi = settingsForTier(QualityTier::High);
+};
+
+// A scene and the still view a scenario watches it from.
+struct ScenarioView {
+  renderer::Scene scene;
+  renderer::Camera camera;
+};
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Leak ratio (SPEC §7): mean indirect irradiance in the dark room of `two-rooms` / mean in its lit room.
+
+struct LeakOptions {
+  uint32_t framesPerRoom = 64;  // frames rendered in the lit room, then as many in the dark room
+};
+
+struct LeakResult {
+  double litRoomIrradiance = 0.0;   // mean luminance of E_indirect over the lit room's pixels, W/m²
+  double darkRoomIrradiance = 0.0;  // the same over the dark room's pixels, after the camera moved there
+  double leakRatio = 0.0;           // darkRoomIrradiance / litRoomIrradiance
+  uint64_t litRoomPixels = 0;
+  uint64_t darkRoomPixels = 0;
+};
+
+// Renders the built-in `two-rooms` scene (its cameras "lit room", then "dark room").
+LeakResult measureLeak(gpu::Device& device, const ScenarioRendering& rendering, const LeakOptions& options = {});
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Flicker (SPEC §7): mean over pixels of the frame-to-frame relative change of the final image, converged and still.
+
+struct FlickerOptions {
+  uint32_t convergenceFrames = 64;  // frames rendered before measuring
+  uint32_t measuredFrames = 16;     // frame-to-frame changes averaged: 16 covers the gather's whole jitter cycle
+};
+
+struct FlickerResult {
+  double finalImageFlicker = 0.0;  // SPEC's figure: mean relative change of the final image's luminance
+  double indirectFlicker = 0.0;    // the same of E_indirect alone (the final image dilutes it with direct light)
+  uint64_t pixels = 0;             // surface pixels averaged over
+};
+
+FlickerResult measureFlicker(gpu::Device& device, const ScenarioRendering& rendering, const ScenarioView& view,
+                             const FlickerOptions& options = {});
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Lag (SPEC §7, target §6.2): frames after a local light is switched on until the indirect irradiance has made 90 % of
+// its way from the old steady state to the new one.
+
+struct LagOptions {
+  uint32_t light = 0;                 // index of the scene's local light that is switched on
+  uint32_t convergenceFrames = 64;    // frames with the light off before the switch
+  uint32_t framesAfterSwitch = 96;    // frames rendered with the light on
+  uint32_t steadyFrames = 16;         // the last frames of those, averaged as the new steady state
+};
+
+struct LagResult {
+  double irradianceBefore = 0.0;  // mean luminance of E_indirect over the surface pixels, light off (W/m²): the other
+                                  // lights, emissive surfaces and the sky still light the scene
+  double irradianceAfter = 0.0;   // the same, light on: the mean of the last steadyFrames frames
+  std::vector<double> progress;   // per frame after the switch: (E − before) / (after − before)
+  std::optional<uint32_t> framesToNinetyPercent;  // the first frame (1 = the switch frame) whose progress ≥ 0.9
+  // SPEC §6.2's target, 90 % within 8 updates of each probe, in frames: one probe level is updated per frame
+  // (round robin over the three levels), so each probe at most every third frame.
+  uint32_t targetFrames = 0;
+};
+
+LagResult measureLag(gpu::Device& device, const ScenarioRendering& rendering, const ScenarioView& view,
+                     const LagOptions& options = {});
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Camera cut: the camera jumps (a teleport, a 180° turn) in one frame. The images after the cut must stay finite and
+// return to what a run that sat at the new view all along shows.
+
+struct CameraCutOptions {
+  renderer::Camera to;             // the view after the cut; the scenario's camera is the one before it
+  uint32_t framesBefore = 32;      // frames at the first view
+  uint32_t framesAfter = 32;       // frames at the new view after the cut
+  double recoveryTolerance = 0.1;  // recovered: differenceFromSettled below this from some frame to the last
+};
+
+struct CameraCutResult {
+  bool allFinite = true;  // no NaN or infinity in E_indirect or the final image, any frame after the cut
+  // Per frame after the cut (1 = the cut frame): relative mean absolute difference Σ|E − E_settled| / Σ E_settled of
+  // E_indirect (RGB, surface pixels) against the same frame of a run that rendered the new view from its first frame.
+  std::vector<double> differenceFromSettled;
+  std::optional<uint32_t> framesToRecover;  // the first frame from which every difference is below the tolerance
+};
+
+CameraCutResult measureCameraCut(gpu::Device& device, const ScenarioRendering& rendering, const ScenarioView& view,
+                                 const CameraCutOptions& options);
+
+nlohmann::json toJson(const LeakResult& result);
+nlohmann::json toJson(const FlickerResult& result);
+nlohmann::json toJson(const LagResult& result);
+nlohmann::json toJson(const CameraCutResult& result);
+
+}  // namespace ssvgi::bench
