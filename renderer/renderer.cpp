@@ -206,6 +206,12 @@ Renderer::DebugImage Renderer::giDebugView(ssvgi::DebugView view) {
   return {readFloatImage(device_, debugRadiance_, 3), tonemapped()};
 }
 
+ssvgi::Settings scaledToScene(ssvgi::Settings settings, const Scene& scene) {
+  settings.voxelSize *= scene.giDetailScale;
+  settings.probeSpacing *= scene.giDetailScale;
+  return settings;
+}
+
 FloatImage readFloatImage(gpu::Device& device, const gpu::Image& image, uint32_t channels) {
   const auto bytes = gpu::readImage(device, image);
   const gpu::ImageDesc& desc = image.desc();

@@ -25,6 +25,9 @@ shader::GpuLight toGpuLight(const LocalLight& light);
 // Reads back an rgba32f, r32f, D32 or rgba16f image's first `channels` channels.
 FloatImage readFloatImage(gpu::Device& device, const gpu::Image& image, uint32_t channels);
 
+// GI settings with the scene's detail scale (Scene::giDetailScale) applied to the voxel size and the probe spacing.
+ssvgi::Settings scaledToScene(ssvgi::Settings settings, const Scene& scene);
+
 struct RendererSettings {
   uint32_t width = 1280;
   uint32_t height = 720;

@@ -121,6 +121,9 @@ struct Scene {
   std::vector<CameraKey> cameraPath;             // empty: the camera stays still
   std::optional<MovingObject> movingObject;
   std::optional<SunCycle> sunCycle;              // empty: the sun stays where `sun` says
+  // The GI's voxel size and probe spacing for this scene relative to its quality tier's (ssvgi::Settings). The tiers'
+  // sizes (0.25 m voxels, 1 m probes) suit rooms and streets; a 2 m Cornell box needs finer ones to resolve its boxes.
+  float giDetailScale = 1.0f;
 };
 
 struct Bounds {

@@ -84,6 +84,20 @@ TEST(Cli, renderWritesEveryImageAndStatsForTheLastFrame) {
   EXPECT_GT(stats["memoryBytes"]["total"].get<uint64_t>(), 0u);
 }
 
+TEST(Cli, renderAppliesTheTierTheScenesDetailScaleAndGiOverridesInThatOrder) {
+  const fs::path out = freshDirectory("render-gi-set");
+  const CliRun run = runCli("render --scene cornell --size 32x32 --frames 1 --tier low --gi-set probeBudget=300 "
+                            "--gi-set volumeBricks=24,16,24 --out " + out.string());
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  std::ifstream statsFile(out / "stats.json");
+  const auto settings = nlohmann::json::parse(statsFile)["giSettings"];
+  EXPECT_EQ(settings["raysPerProbe"], 16);       // the low tier's
+  EXPECT_EQ(settings["voxelSize"], 0.125);      // 0.25 m × the Cornell box's detail scale of 0.5
+  EXPECT_EQ(settings["probeSpacing"], 0.5);
+  EXPECT_EQ(settings["probeBudget"], 300);       // overridden
+  EXPECT_EQ(settings["volumeBricks"], nlohmann::json({24, 16, 24}));
+}
+
 TEST(Cli, rendersTheSharedCornellBoxGltfFromItsOwnCamera) {
   const fs::path out = freshDirectory("gltf");
   const CliRun run = runCli("render --scene " SSVGI_SHARED_DIR "/scenes/cornell-box/CornellBox-Original.gltf --gi off "
@@ -334,6 +348,13 @@ INSTANTIATE_TEST_SUITE_P(
                       BadInvocation{"unknownSky", "render --scene cornell --sky purple", "--sky purple"},
                       BadInvocation{"shortSun", "render --scene cornell --sun 10,20", "--sun"},
                       BadInvocation{"missingDevice", "render --scene cornell --device 42", "--device 42"},
+                      BadInvocation{"unknownGiSetting", "render --scene cornell --gi-set voxelSise=0.5",
+                                    "--gi-set voxelSise=0.5"},
+                      BadInvocation{"giSettingTwoAxes", "render --scene cornell --gi-set probeGrid=16,16",
+                                    "--gi-set probeGrid 16,16: expected X,Y,Z"},
+                      BadInvocation{"giSettingRefusedByTheLibrary",
+                                    "render --scene cornell --size 8x8 --frames 1 --gi-set probeGrid=16,10,16",
+                                    "Settings::probeGrid must be multiples of 4"},
                       BadInvocation{"referenceMissingGltf", "reference --scene /nonexistent/missing.gltf --spp 1",
                                     "missing.gltf"},
                       BadInvocation{"referenceUnknownScene", "reference --scene no-such-scene --spp 1",

@@ -8,6 +8,7 @@
 #include "gi/gather/gather_passes.h"
 #include "gpu/resources.h"
 #include "gpu_test_device.h"
+#include "path_tracer.h"
 #include "renderer.h"
 #include "shared/gather_interface.h"
 #include "shared/gi_frame.h"
@@ -16,6 +17,8 @@
 #include <glm/gtc/packing.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include <algorithm>
+#include <cstdio>
 #include <cstring>
 #include <set>
 #include <vector>
@@ -340,7 +343,7 @@ CornellRender renderCornell(bool gi) {
   const auto scene = renderer::makeBuiltinScene("cornell");
   renderer::RendererSettings settings;
   settings.width = settings.height = kCornellSize;
-  if (gi) settings.gi = settingsForTier(QualityTier::Low);
+  if (gi) settings.gi = renderer::scaledToScene(settingsForTier(QualityTier::Low), *scene);
   renderer::Renderer renderer(testing::gpuTestDevice(), *scene, settings);
   for (uint32_t frame = 0; frame < kFrames; ++frame)
     renderer.render(renderer::evaluateAnimation(*scene, scene->cameras[0], 0.0f));
@@ -368,6 +371,42 @@ TEST_F(GatherCornell, theFloorInTheBoxesShadowGetsIndirectLightWithGiOnAndNoneWi
       }
     }
   EXPECT_GE(shadowed, 8u);
+}
+
+// Colour bleeding on the floor: its part beside the red wall (the left fifth of the image) gets redder indirect light
+// than its part beside the green wall (the right fifth). Returns the ratio of their red/green ratios (1: grey).
+double floorColourBleed(const renderer::FloatImage& indirect, const CornellRender& geometry) {
+  glm::dvec3 left(0.0), right(0.0);
+  const uint32_t size = geometry.direct.width;
+  for (uint32_t y = 0; y < size; ++y)
+    for (uint32_t x = 0; x < size; ++x) {
+      const size_t pixel = size_t(y) * size + x;
+      if (geometry.depth.pixels[pixel] <= 0.0f || geometry.normal.pixels[pixel * 3 + 1] < 0.9f) continue;
+      const glm::dvec3 value(indirect.pixels[pixel * 3], indirect.pixels[pixel * 3 + 1], indirect.pixels[pixel * 3 + 2]);
+      if (x < size / 5) left += value;
+      if (x >= size - size / 5) right += value;
+    }
+  return (left.r / left.g) / (right.r / right.g);
+}
+
+TEST_F(GatherCornell, theFloorBesideTheRedWallGetsRedderIndirectLightLikeInTheReference) {
+  const CornellRender on = renderCornell(true);
+  const auto scene = renderer::makeBuiltinScene("cornell");
+  reference::PathTracerSettings settings;
+  settings.width = settings.height = on.indirect.width;
+  reference::PathTracer tracer(testing::gpuTestDevice(), *scene,
+                               renderer::evaluateAnimation(*scene, scene->cameras[0], 0.0f), settings);
+  tracer.trace(64);  // a few hundred floor pixels per side × 64 paths: the sums' noise is about 1 %
+  const double bleed = floorColourBleed(on.indirect, on);
+  const double referenceBleed = floorColourBleed(tracer.indirectIrradiance(), on);
+  std::printf("floor colour bleed (red/green beside the red wall ÷ beside the green wall): ssvgi %.3f, reference %.3f\n",
+              bleed, referenceBleed);
+  RecordProperty("bleed", std::to_string(bleed));
+  RecordProperty("referenceBleed", std::to_string(referenceBleed));
+  ASSERT_GT(referenceBleed, 1.5);  // the scene bleeds
+  // Probes half a metre apart blur the walls' light over the floor, so ssvgi keeps only part of the reference's bleed
+  // (measured 2026-11-22: ssvgi 1.73, reference 2.16); at least half of its excess over grey.
+  EXPECT_GT(bleed - 1.0, 0.5 * (referenceBleed - 1.0));
 }
 
 }  // namespace

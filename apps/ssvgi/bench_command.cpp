@@ -19,7 +19,7 @@ namespace {
 struct BenchOptions {
   SceneOptions scene;
   uint32_t frames = 16;
-  std::string tier = "high";
+  GiOptions giOptions;
   uint32_t rays = 1'000'000;
   uint32_t repetitions = 5;
   std::string out;  // JSON file; stdout when empty
@@ -38,7 +38,7 @@ int runBench(const BenchOptions& options) {
   renderer::RendererSettings settings;
   settings.width = resolved.width;
   settings.height = resolved.height;
-  settings.gi = giSettingsForTier(options.tier);
+  settings.gi = giSettings(options.giOptions, resolved.scene);
   renderer::Renderer renderer(device, resolved.scene, settings);
   const std::string label = "bench " + resolved.scene.name;
   for (uint32_t frame = 0; frame < options.frames; ++frame) {
@@ -48,7 +48,8 @@ int runBench(const BenchOptions& options) {
 
   nlohmann::json report = sceneStats(device, options.scene, resolved);
   report["frames"] = options.frames;
-  report["tier"] = options.tier;
+  report["tier"] = options.giOptions.tier;
+  report["giSettings"] = giSettingsJson(*settings.gi);
   nlohmann::json passes = nlohmann::json::object();
   double ssvgiMilliseconds = 0.0;
   for (const auto& timing : renderer.passTimings()) {
@@ -95,9 +96,7 @@ CommandRunner addBenchCommand(CLI::App& app) {
   command->add_option("--frames", options->frames, "Frames to render before measuring (the last one is reported)")
       ->capture_default_str()
       ->check(CLI::Range(1u, 100000u));
-  command->add_option("--tier", options->tier, "GI quality tier (SPEC §4.7)")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"low", "medium", "high"}));
+  addGiOptions(*command, options->giOptions);
   command->add_option("--rays", options->rays, "Rays for the voxel trace comparison")
       ->capture_default_str()
       ->check(CLI::Range(1u, 64'000'000u));

@@ -22,7 +22,7 @@ struct RenderOptions {
   SceneOptions scene;
   uint32_t frames = 32;  // enough for the GI of a still view to settle (SPEC §4.5: probes converge over updates)
   std::string gi = "on";
-  std::string tier = "high";
+  GiOptions giOptions;
   float exposure = 1.0f;
   std::vector<std::string> debugViews;  // "voxels", "bricks"
   std::string out = "out";
@@ -45,11 +45,12 @@ nlohmann::json giStatsJson(const ssvgi::Stats& gi) {
 }
 
 nlohmann::json statsJson(const gpu::Device& device, const RenderOptions& options, const ResolvedScene& resolved,
-                         renderer::Renderer& renderer) {
+                         const renderer::RendererSettings& settings, renderer::Renderer& renderer) {
   nlohmann::json stats = sceneStats(device, options.scene, resolved);
   stats["frames"] = options.frames;
   stats["gi"] = options.gi;
-  stats["tier"] = options.tier;
+  stats["tier"] = options.giOptions.tier;
+  if (settings.gi) stats["giSettings"] = giSettingsJson(*settings.gi);
   stats["unshadowedLocalLights"] = renderer.unshadowedLightCount();
   double frameMilliseconds = 0.0;
   nlohmann::json passes = nlohmann::json::object();
@@ -71,7 +72,7 @@ int runRender(const RenderOptions& options) {
   settings.height = resolved.height;
   settings.exposure = options.exposure;
   // ssvgi runs for its indirect light, or only for the debug views of its voxels (--gi off: no indirect light).
-  if (options.gi == "on" || !options.debugViews.empty()) settings.gi = giSettingsForTier(options.tier);
+  if (options.gi == "on" || !options.debugViews.empty()) settings.gi = giSettings(options.giOptions, resolved.scene);
   settings.giLighting = options.gi == "on";
   renderer::Renderer renderer(device, resolved.scene, settings);
 
@@ -85,7 +86,7 @@ int runRender(const RenderOptions& options) {
                       RenderedImages{renderer.finalRadiance(), renderer.directIrradiance(),
                                      renderer.indirectIrradiance(), renderer.albedo(), renderer.normal(),
                                      renderer.viewDistance(), renderer.tonemapped()},
-                      statsJson(device, options, resolved, renderer));
+                      statsJson(device, options, resolved, settings, renderer));
   for (const std::string& name : options.debugViews) {
     const auto debug = renderer.giDebugView(name == "bricks" ? ssvgi::DebugView::Bricks : ssvgi::DebugView::Voxels);
     writeDebugImage(options.out, "debug_" + name, debug.radiance, debug.tonemapped);
@@ -111,9 +112,7 @@ CommandRunner addRenderCommand(CLI::App& app) {
   command->add_option("--gi", options->gi, "Indirect light from ssvgi: on or off (off: no ambient light at all)")
       ->capture_default_str()
       ->check(CLI::IsMember({"on", "off"}));
-  command->add_option("--tier", options->tier, "GI quality tier (SPEC §4.7)")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"low", "medium", "high"}));
+  addGiOptions(*command, options->giOptions);
   command->add_option("--exposure", options->exposure, "Multiplier on radiance before tonemapping")->capture_default_str();
   command->add_option("--debug", options->debugViews,
                       "Also write ssvgi's view of the last frame, ray-traced through its voxels from the camera: "

@@ -2,12 +2,16 @@
 
 #include "builtin_scenes.h"
 #include "gltf_loader.h"
+#include "renderer.h"
 
 #include <glm/gtc/constants.hpp>
 
+#include <algorithm>
 #include <filesystem>
+#include <functional>
 #include <sstream>
 #include <stdexcept>
+#include <type_traits>
 #include <vector>
 
 namespace ssvgi::cli {
@@ -129,6 +133,98 @@ ssvgi::Settings giSettingsForTier(const std::string& tier) {
   return ssvgi::settingsForTier(tier == "low"      ? ssvgi::QualityTier::Low
                                 : tier == "medium" ? ssvgi::QualityTier::Medium
                                                    : ssvgi::QualityTier::High);
+}
+
+namespace {
+
+// A field of ssvgi::Settings as --gi-set parses it and the stats show it.
+struct SettingField {
+  const char* name;
+  std::function<void(ssvgi::Settings&, const std::string& value)> parse;
+  std::function<nlohmann::json(const ssvgi::Settings&)> show;
+};
+
+uint32_t parseCount(const std::string& text, const std::string& option) {
+  try {
+    size_t used = 0;
+    const unsigned long value = std::stoul(text, &used);
+    if (used == text.size() && text[0] != '-' && value <= 0xffffffffu) return uint32_t(value);
+  } catch (const std::exception&) {
+  }
+  throw std::runtime_error(option + ": '" + text + "' is not a whole number");
+}
+
+template <typename Value>
+SettingField settingField(const char* name, Value ssvgi::Settings::*member) {
+  const auto parse = [name, member](ssvgi::Settings& settings, const std::string& text) {
+    const std::string option = std::string("--gi-set ") + name;
+    if constexpr (std::is_same_v<Value, float>) {
+      settings.*member = parseNumbers(text, 1, option)[0];
+    } else if constexpr (std::is_same_v<Value, uint32_t>) {
+      settings.*member = parseCount(text, option);
+    } else if constexpr (std::is_same_v<Value, bool>) {
+      if (text != "true" && text != "false") throw std::runtime_error(option + ": expected true or false");
+      settings.*member = text == "true";
+    } else {  // three axes, X,Y,Z
+      std::vector<std::string> items;
+      std::stringstream stream(text);
+      for (std::string item; std::getline(stream, item, ',');) items.push_back(item);
+      if (items.size() != 3) throw std::runtime_error(option + " " + text + ": expected X,Y,Z");
+      for (size_t axis = 0; axis < 3; ++axis) (settings.*member)[axis] = parseCount(items[axis], option);
+    }
+  };
+  return {name, parse, [member](const ssvgi::Settings& settings) { return nlohmann::json(settings.*member); }};
+}
+
+const std::vector<SettingField>& settingFields() {
+  using ssvgi::Settings;
+  static const std::vector<SettingField> fields = {
+      settingField("voxelSize", &Settings::voxelSize),
+      settingField("volumeBricks", &Settings::volumeBricks),
+      settingField("brickPoolCapacity", &Settings::brickPoolCapacity),
+      settingField("invalidFramesToClear", &Settings::invalidFramesToClear),
+      settingField("emptyFramesToRelease", &Settings::emptyFramesToRelease),
+      settingField("allocationPixelStride", &Settings::allocationPixelStride),
+      settingField("probeGrid", &Settings::probeGrid),
+      settingField("probeSpacing", &Settings::probeSpacing),
+      settingField("probeBudget", &Settings::probeBudget),
+      settingField("raysPerProbe", &Settings::raysPerProbe),
+      settingField("probeHistoryCap", &Settings::probeHistoryCap),
+  };
+  return fields;
+}
+
+}  // namespace
+
+void addGiOptions(CLI::App& command, GiOptions& options) {
+  command.add_option("--tier", options.tier, "GI quality tier (SPEC §4.7)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"low", "medium", "high"}));
+  std::string names;
+  for (const SettingField& field : settingFields()) names += std::string(names.empty() ? "" : ", ") + field.name;
+  command.add_option("--gi-set", options.overrides,
+                     "Override one GI setting after the tier and the scene's detail scale, as NAME=VALUE (X,Y,Z for "
+                     "volumeBricks and probeGrid); may be repeated. Names: " + names);
+}
+
+ssvgi::Settings giSettings(const GiOptions& options, const renderer::Scene& scene) {
+  ssvgi::Settings settings = renderer::scaledToScene(giSettingsForTier(options.tier), scene);
+  for (const std::string& assignment : options.overrides) {
+    const size_t equals = assignment.find('=');
+    const std::string name = assignment.substr(0, equals);
+    const auto field = std::find_if(settingFields().begin(), settingFields().end(),
+                                    [&](const SettingField& candidate) { return name == candidate.name; });
+    if (equals == std::string::npos || field == settingFields().end())
+      throw std::runtime_error("--gi-set " + assignment + ": expected NAME=VALUE with NAME a field of ssvgi::Settings");
+    field->parse(settings, assignment.substr(equals + 1));
+  }
+  return settings;
+}
+
+nlohmann::json giSettingsJson(const ssvgi::Settings& settings) {
+  nlohmann::json json = nlohmann::json::object();
+  for (const SettingField& field : settingFields()) json[field.name] = field.show(settings);
+  return json;
 }
 
 }  // namespace ssvgi::cli

@@ -5,9 +5,11 @@
 #include "ssvgi/ssvgi.h"
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace ssvgi::cli {
 
@@ -38,5 +40,20 @@ ResolvedScene resolveScene(const SceneOptions& options);
 
 // The GI settings of a --tier value (low, medium, high; the option's check has already refused anything else).
 ssvgi::Settings giSettingsForTier(const std::string& tier);
+
+// The GI options of the commands that run ssvgi: a quality tier (SPEC §4.7) and overrides of single settings.
+struct GiOptions {
+  std::string tier = "high";
+  std::vector<std::string> overrides;  // NAME=VALUE, a field of ssvgi::Settings; X,Y,Z for the three-axis ones
+};
+
+void addGiOptions(CLI::App& command, GiOptions& options);
+
+// The tier's settings with the scene's detail scale (renderer::Scene::giDetailScale) applied to the voxel size and
+// the probe spacing, then the overrides. Throws std::runtime_error with one line naming a bad override.
+ssvgi::Settings giSettings(const GiOptions& options, const renderer::Scene& scene);
+
+// The settings as JSON, for the stats a command writes.
+nlohmann::json giSettingsJson(const ssvgi::Settings& settings);
 
 }  // namespace ssvgi::cli
