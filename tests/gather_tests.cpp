@@ -276,16 +276,16 @@ TEST_F(GatherFilters, finalGatherOfProbesWithConstantRadianceGivesPiTimesTheRadi
   const glm::ivec3 dimensions(settings.probeGrid[0], settings.probeGrid[1], settings.probeGrid[2]);
   std::vector<shader::Probe> probes;
   for (uint32_t level = 0; level < shader::kProbeLevels; ++level) {
-    // Radiance L everywhere: L00 = 4π·Y00·L; a distance of two spacings in every direction: D00 = 4π·Y00·D.
+    // Radiance L everywhere: L00 = 4π·Y00·L; a distance of two spacings (the distance SH's range) in every
+    // direction: D00 = 4π·Y00·D; no back faces: normal-dot 1.
     const float band0 = 4.0f * kPi * shader::kSh2Band0Basis;
-    const glm::uvec2 radiance = shader::packSh2Half(glm::vec4(band0 * kRadiance, 0.0f, 0.0f, 0.0f));
-    const glm::uvec2 distance = shader::packSh2Half(glm::vec4(band0 * 2.0f * volume.levelSpacing(level), 0, 0, 0));
-    const glm::uvec2 normalDot = shader::packSh2Half(glm::vec4(band0, 0.0f, 0.0f, 0.0f));
+    const glm::vec4 radiance(band0 * kRadiance, 0.0f, 0.0f, 0.0f);
+    const uint32_t unitSh = shader::packProbeUnitSh(glm::vec4(band0, 0.0f, 0.0f, 0.0f), 0.5f);
     for (uint32_t slot = 0; slot < volume.probesPerLevel(); ++slot) {
       const glm::ivec3 coordinate = shader::probeWorldCoordinate(slot, volume.levelOrigin(level, position), dimensions);
-      probes.push_back({glm::uvec4(radiance, radiance), glm::uvec4(radiance, distance),
-                        glm::uvec4(normalDot, shader::packProbeState(1, 0, shader::kProbeStateActive),
-                                   shader::probeCoordinateTag(coordinate))});
+      probes.push_back(shader::makeProbe({radiance, radiance, radiance}, unitSh, unitSh,
+                                         shader::packProbeState(1, 0, shader::kProbeStateActive),
+                                         shader::probeCoordinateTag(coordinate)));
     }
   }
   gpu::uploadBuffer(device(), volume.probes(), std::as_bytes(std::span(probes)));

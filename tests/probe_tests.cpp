@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <vector>
 
@@ -226,7 +227,7 @@ class ProbeCache : public testing::GpuTest {
   shader::Probe probeAt(const std::vector<shader::Probe>& probes, uint32_t level, glm::vec3 position) const {
     const glm::ivec3 coordinate(glm::round(position / spacing(level)));
     const shader::Probe& probe = probes[level * probesPerLevel() + shader::probeSlotIndex(coordinate, probeGrid())];
-    EXPECT_EQ(probe.normalDotAndState.w, shader::probeCoordinateTag(coordinate)) << "level " << level;
+    EXPECT_EQ(probe.tag, shader::probeCoordinateTag(coordinate)) << "level " << level;
     return probe;
   }
 
@@ -237,22 +238,15 @@ class ProbeCache : public testing::GpuTest {
   uint32_t frameIndex_ = 0;
 };
 
-shader::Sh2Rgb radianceSh(const shader::Probe& probe) {
-  return {shader::unpackSh2Half(glm::uvec2(probe.radianceRedGreen)),
-          shader::unpackSh2Half(glm::uvec2(probe.radianceRedGreen.z, probe.radianceRedGreen.w)),
-          shader::unpackSh2Half(glm::uvec2(probe.radianceBlueAndDistance))};
-}
-glm::vec4 distanceSh(const shader::Probe& probe) {
-  return shader::unpackSh2Half(glm::uvec2(probe.radianceBlueAndDistance.z, probe.radianceBlueAndDistance.w));
-}
-glm::vec4 normalDotSh(const shader::Probe& probe) { return shader::unpackSh2Half(glm::uvec2(probe.normalDotAndState)); }
-uint32_t historyCount(const shader::Probe& probe) { return shader::probeHistoryCount(probe.normalDotAndState.z); }
+shader::Sh2Rgb radianceSh(const shader::Probe& probe) { return shader::probeRadianceSh(probe); }
+glm::vec4 normalDotSh(const shader::Probe& probe) { return shader::probeNormalDotSh(probe); }
+uint32_t historyCount(const shader::Probe& probe) { return shader::probeHistoryCount(probe.state); }
 bool isActive(const shader::Probe& probe) {
-  return shader::probePlacement(probe.normalDotAndState.z) == shader::kProbeStateActive;
+  return shader::probePlacement(probe.state) == shader::kProbeStateActive;
 }
 // Traced at least once: active, or found inside geometry (invalid).
 bool wasTraced(const shader::Probe& probe) {
-  return shader::probePlacement(probe.normalDotAndState.z) != shader::kProbeStateNeverTraced;
+  return shader::probePlacement(probe.state) != shader::kProbeStateNeverTraced;
 }
 // The Y coordinate of a probe from its tag's 10 bits (the scenes lie within ±512 probes of the world origin).
 int tagY(uint32_t tag) {
@@ -283,11 +277,26 @@ std::vector<TestBrick> closedBox(glm::vec3 wallRadiance) {
   return bricks;
 }
 
-TEST_F(ProbeCache, aProbeUnderAUniformSkyBesideAVoxelOfTheSameRadianceConvergesToPiTimesTheRadiance) {
+// The tests that run with and without level 0's reservoirs (Settings::probeReservoirs): the parameter.
+class ProbeCacheReservoirs : public ProbeCache, public ::testing::WithParamInterface<bool> {
+ protected:
+  Settings settingsWithReservoirsAsParameter() const {
+    Settings settings = probeTestSettings();
+    settings.probeReservoirs = GetParam();
+    return settings;
+  }
+};
+
+INSTANTIATE_TEST_SUITE_P(ProbeReservoirs, ProbeCacheReservoirs, ::testing::Bool(),
+                         [](const ::testing::TestParamInfo<bool>& parameter) { return parameter.param ? "on" : "off"; });
+
+TEST_P(ProbeCacheReservoirs, aProbeUnderAUniformSkyBesideAVoxelOfTheSameRadianceConvergesToPiTimesTheRadiance) {
   // Placement keeps only probes with a voxel within one spacing, so the sky test needs a voxel; it glows with the
   // sky's radiance and faces up, and the probes checked lie above it, so every ray — hit or miss — sees kSkyRadiance
-  // (a furnace). After 32 updates each has traced all 1024 directions: E(n) = π·L to the CPU test's 1 %.
-  create(probeTestSettings());
+  // (a furnace). After 32 updates each has traced all 1024 directions: E(n) = π·L to the CPU test's 1 %. With
+  // reservoirs (level 0) the estimate must stay unbiased: under constant radiance the reservoirs' part equals the
+  // stratum's exact integral and the candidates' 3 × 8 stratified directions per update walk each stratum's set.
+  create(settingsWithReservoirsAsParameter());
   const float brickTop = -2.0f;
   writeScene({{{0, -3, 4}, kFullBrick, glm::vec3(kSkyRadiance), {0.0f, 1.0f, 0.0f}}});
   runUpdates(32);
@@ -297,7 +306,7 @@ TEST_F(ProbeCache, aProbeUnderAUniformSkyBesideAVoxelOfTheSameRadianceConvergesT
     for (uint32_t slot = 0; slot < probesPerLevel(); ++slot) {
       const shader::Probe& probe = probes[level * probesPerLevel() + slot];
       if (!isActive(probe)) continue;
-      const int y = tagY(probe.normalDotAndState.w);
+      const int y = tagY(probe.tag);
       if (float(y) * spacing(level) < brickTop) continue;  // below the top: it sees the brick's back faces
       ++checked;
       EXPECT_EQ(historyCount(probe), 32u);
@@ -327,8 +336,8 @@ TEST_F(ProbeCache, aProbeInsideAClosedBoxOfBlackVoxelsSeesNoSky) {
     for (const glm::vec4& channel : {radiance.r, radiance.g, radiance.b})
       for (int i = 0; i < 4; ++i) EXPECT_EQ(channel[i], 0.0f);
     // The walls are 0.75 to 0.75·√3 m away, all seen from the front (their normals face the probe).
-    EXPECT_GE(sphereMean(distanceSh(probe)), 0.75f);
-    EXPECT_LE(sphereMean(distanceSh(probe)), 0.75f * std::sqrt(3.0f));
+    EXPECT_GE(sphereMean(shader::probeDistanceSh(probe, spacing(level))), 0.75f);
+    EXPECT_LE(sphereMean(shader::probeDistanceSh(probe, spacing(level))), 0.75f * std::sqrt(3.0f));
     EXPECT_GT(sphereMean(normalDotSh(probe)), 0.5f);
   }
 }
@@ -357,8 +366,8 @@ TEST_F(ProbeCache, aProbeBesideALargeWallSeesHalfTheSky) {
   }
 }
 
-TEST_F(ProbeCache, theHistoryCountGrowsByOnePerUpdateToItsCapAndAlphaIsOneOverCountPlusOne) {
-  Settings settings = probeTestSettings();
+TEST_P(ProbeCacheReservoirs, theHistoryCountGrowsByOnePerUpdateToItsCapAndAlphaIsOneOverCountPlusOne) {
+  Settings settings = settingsWithReservoirsAsParameter();
   settings.probeHistoryCap = 4;
   create(settings);
   // Inside the closed box every ray sees the walls' radiance A, so every update's L00 is exactly 4π·Y00·A: the
@@ -370,7 +379,12 @@ TEST_F(ProbeCache, theHistoryCountGrowsByOnePerUpdateToItsCapAndAlphaIsOneOverCo
     const shader::Probe probe = probeAt(readProbes(), 0, glm::vec3(kProbe));
     SCOPED_TRACE("update " + std::to_string(update));
     EXPECT_EQ(historyCount(probe), std::min(update, settings.probeHistoryCap));
-    EXPECT_EQ(shader::probeNextDirection(probe.normalDotAndState.z), update * 32 % 1024);
+    // Without reservoirs the next 32 of the 1024 directions; with them each stratum's next 3 (of its 128; the counter
+    // runs modulo 3·128).
+    const uint32_t candidates = settings.raysPerProbe / shader::kProbeStrata - 1;
+    EXPECT_EQ(shader::probeNextDirection(probe.state),
+              settings.probeReservoirs ? update * candidates % (candidates * shader::kProbeStratumDirectionCount)
+                                       : update * settings.raysPerProbe % shader::kProbeRayDirectionCount);
     EXPECT_NEAR(sphereMean(radianceSh(probe).r), wallA, 2e-3f * wallA);
   }
   // The walls change to B once m is at its cap: one update moves the probe by α = 1/(cap+1) of the step.
@@ -423,10 +437,10 @@ TEST_F(ProbeCache, placementTracesOnlyProbesNearVoxelsAndNoMoreThanTheBudget) {
 // ---------------------------------------------------------------------------------------------------------------------
 // Second slice: new probes start from the coarser level; virtual offset, invalid probes and dilation.
 
-uint32_t placement(const shader::Probe& probe) { return shader::probePlacement(probe.normalDotAndState.z); }
+uint32_t placement(const shader::Probe& probe) { return shader::probePlacement(probe.state); }
 // The virtual offset of a probe of a level with `spacing`, metres.
 glm::vec3 offsetOf(const shader::Probe& probe, float spacing) {
-  return glm::vec3(shader::unpackProbeOffset(shader::probeOffsetCode(probe.normalDotAndState.z))) * spacing /
+  return glm::vec3(shader::unpackProbeOffset(shader::probeOffsetCode(probe.state))) * spacing /
          shader::kProbeOffsetStepsPerSpacing;
 }
 // The least of the normal-dot SH along the 26 neighbour directions: negative when the probe sees back faces.
@@ -585,6 +599,32 @@ TEST_F(ProbeCache, anInvalidProbeTakesTheMeanRadianceOfItsUsableNeighbours) {
   }
 }
 
+TEST(ProbeCacheSettings, reservoirSettingsOutOfRangeAreRejectedWithTheFieldNamed) {
+  const auto rejection = [](const Settings& settings) {
+    auto result = Context::create(testing::gpuTestContextDesc(settings, 64));
+    EXPECT_FALSE(result.ok());
+    if (result.ok()) return std::string();
+    EXPECT_EQ(result.error().status, Status::InvalidDescription);
+    return result.error().message;
+  };
+  Settings settings = probeTestSettings();
+  settings.raysPerProbe = 8;  // one ray per stratum: no room for a candidate beside the reservoir's ray
+  EXPECT_NE(rejection(settings).find("raysPerProbe"), std::string::npos);
+  settings = probeTestSettings();
+  settings.probeReservoirHistoryCap = 253;
+  EXPECT_NE(rejection(settings).find("probeReservoirHistoryCap"), std::string::npos);
+  settings.probeReservoirHistoryCap = 0;
+  EXPECT_NE(rejection(settings).find("probeReservoirHistoryCap"), std::string::npos);
+  settings = probeTestSettings();
+  settings.probeSampleClamp = 0.5f;
+  EXPECT_NE(rejection(settings).find("probeSampleClamp"), std::string::npos);
+  // Without reservoirs 8 rays are fine.
+  settings = probeTestSettings();
+  settings.probeReservoirs = false;
+  settings.raysPerProbe = 8;
+  EXPECT_TRUE(Context::create(testing::gpuTestContextDesc(settings, 64)).ok());
+}
+
 TEST(ProbeCacheMemory, theHighTierProbeVolumeFitsItsShareOfTheMemoryBudget) {
   gpu::Device& device = testing::gpuTestDevice();
   // Small frames: the Hi-Z pyramid grows with the resolution and counts with the screen-size targets (the final
@@ -598,13 +638,22 @@ TEST(ProbeCacheMemory, theHighTierProbeVolumeFitsItsShareOfTheMemoryBudget) {
   auto context = Context::create(desc);
   ASSERT_TRUE(context.ok()) << context.error().message;
   const Stats stats = context.value()->stats();
-  uint64_t probeBytes = 0;
-  for (const auto& resource : stats.memory)
+  uint64_t probeBytes = 0, reservoirBytes = 0;
+  for (const auto& resource : stats.memory) {
     if (resource.name.rfind("ssvgi probe", 0) == 0) probeBytes += resource.bytes;
-  // 3 levels × 48·24·48 probes × 48 bytes = 7.96 MB, plus the list and the per-frame uploads.
-  EXPECT_GT(probeBytes, 7'900'000u);
-  EXPECT_LE(probeBytes, 8'500'000u);
-  // SPEC §5: all GI data ≤ 30 MB (the talk's table counts MB of 2^20 bytes): voxel scene 21.6 + probes 7.6.
+    if (resource.name == "ssvgi probe reservoirs") reservoirBytes = resource.bytes;
+  }
+  std::printf("GI memory at high tier: %.2f MiB in all, probes %.2f MiB (reservoirs %.2f MiB)\n",
+              double(stats.totalBytes) / 1048576.0, double(probeBytes) / 1048576.0,
+              double(reservoirBytes) / 1048576.0);
+  RecordProperty("totalBytes", std::to_string(stats.totalBytes));
+  RecordProperty("probeBytes", std::to_string(probeBytes));
+  // 3 levels × 48·24·48 probes × 40 bytes = 6.64 MB, level 0's 8 reservoirs of 4 bytes per probe = 1.77 MB, plus the
+  // list and the per-frame uploads.
+  EXPECT_EQ(reservoirBytes, 48u * 24 * 48 * shader::kProbeStrata * 4);
+  EXPECT_GT(probeBytes, 8'400'000u);
+  EXPECT_LE(probeBytes, 8'900'000u);
+  // SPEC §5: all GI data ≤ 30 MB (the talk's table counts MB of 2^20 bytes): voxel scene 21.6 + probes 8.0.
   EXPECT_LE(stats.totalBytes, 30u * 1024 * 1024);
 }
 

@@ -65,6 +65,17 @@ struct Settings {
                                                   // all 1024 directions of its fixed set after 1024 / raysPerProbe
   uint32_t probeHistoryCap = 32;                  // cap of the history count m, 1..255: α = 1/(m+1) averages the
                                                   // first cap+1 updates, then keeps a window of about that many
+  // Stability (SPEC §4.5; the talk's ReSTIR part): level 0's probes keep one reservoir per stratum of the sphere (8)
+  // and trace their rays through them; the estimate stays unbiased. Level 0 only, for memory: 8 × 4 bytes per probe
+  // (1.77 MB at high tier), paid for by 8-bit distance and normal-dot SH (docs/ARCHITECTURE.md, "Probe memory").
+  // Off: every probe traces the next raysPerProbe of the 1024 fixed directions, as levels 1 and 2 always do.
+  bool probeReservoirs = true;                    // needs raysPerProbe ≥ 16 (per stratum ≥ 1 new candidate + its
+                                                  // reservoir's ray)
+  uint32_t probeReservoirHistoryCap = 48;         // cap of a reservoir's M (candidates it stands for), 1..252: with 3
+                                                  // new candidates per update it remembers about 16 updates
+  float probeSampleClamp = 4.0f;                  // with reservoirs: a new sample's luminance is clamped to this ×
+                                                  // the brightest direction the probe's reservoirs hold (the talk's
+                                                  // "history maximum"); 0: no clamp, else ≥ 1
 };
 
 Settings settingsForTier(QualityTier tier);

@@ -29,7 +29,7 @@ SSVGI_CONSTANT(uint, kBindProbes, kBindFirstPassSlot + 1u);         // Probe[kPr
 SSVGI_CONSTANT(uint, kBindProbeList, kBindFirstPassSlot + 2u);      // IndirectList of probe indices to trace
 SSVGI_CONSTANT(uint, kBindProbeBlocks, kBindFirstPassSlot + 3u);    // the blocks in view, packed by packProbeBlock
 
-// Probe::normalDotAndState.z, the probe's state word: bits 0–7 the history count m (SPEC §4.5, capped by
+// Probe::state, the probe's state word: bits 0–7 the history count m (SPEC §4.5, capped by
 // Settings::probeHistoryCap ≤ 255); bits 8–17 the first of the 1024 ray directions its next update traces; bits 18–29
 // its virtual offset (probeOffsetCode); bits 30–31 the placement state.
 SSVGI_CONSTANT(uint, kProbeStateNeverTraced, 0u);
@@ -44,14 +44,21 @@ SSVGI_CONSTANT(uint, kProbeStateInvalid, 2u);
 SSVGI_CONSTANT(float, kProbeOffsetStepsPerSpacing, 16.0f);
 SSVGI_CONSTANT(int, kProbeMaxOffsetSteps, 7);
 
-// One probe, 48 bytes: four SH2 (4 coefficients each, in sh.h's order) as half floats packed two per uint.
+// One probe, 40 bytes (uvec2 members only: a uvec4 would align the std430 array stride up to 48). Radiance SH2 (4
+// coefficients each, in sh.h's order) as half floats, two per uint. Distance and normal-dot SH2 are used only coarsely
+// (the gather's distance weight, ProbeRelocate's sign test), so they are 8-bit fixed point (packProbeUnitSh): 8 bytes
+// less per probe pay for the reservoirs of level 0 within SPEC §5's 30 MB (docs/ARCHITECTURE.md, "Probe memory").
+// Read them through the accessors below, never through the fields.
 struct Probe {
-  uvec4 radianceRedGreen;         // xy: red radiance SH2; zw: green
-  uvec4 radianceBlueAndDistance;  // xy: blue radiance SH2; zw: hit distance SH2 (m, clamped, see above)
-  uvec4 normalDotAndState;        // xy: normal-dot SH2 (dot(-ray, hit normal), +1 for a miss); z: state word;
-                                  // w: tag of its world probe coordinate (probeCoordinateTag)
+  uvec2 radianceRed;    // red radiance SH2, half floats
+  uvec2 radianceGreen;
+  uvec2 radianceBlue;
+  uint distanceSh;      // hit distance SH2 (m, clamped, see above) over the level's distance range, packProbeUnitSh
+  uint normalDotSh;     // normal-dot SH2 (dot(-ray, hit normal), +1 for a miss), packProbeUnitSh
+  uint state;           // the state word (below)
+  uint tag;             // tag of its world probe coordinate (probeCoordinateTag)
 };
-SSVGI_CHECK_SIZE(Probe, 48);
+SSVGI_CHECK_SIZE(Probe, 40);
 
 // What ProbePlacement and ProbeTrace need to know of this frame's update (uniform buffer, one per frame in flight).
 struct ProbeUpdate {
@@ -61,9 +68,12 @@ struct ProbeUpdate {
                          // w: the SH projection weight 4π / rays per probe (SPEC §2)
   uvec4 settings;        // x: rays per probe; y: history cap; z: probe budget per frame; w: occupancy level (2–4) whose
                          // cells ProbePlacement searches for voxels
+  uvec4 reservoirs;      // x: 1 when this level keeps reservoirs (Settings::probeReservoirs, level 0 only); y: their
+                         // M cap (Settings::probeReservoirHistoryCap); z: the frame index (seeds their random choices)
+  vec4 sampleClamp;      // x: Settings::probeSampleClamp (0: off)
   Sh2Rgb skyRadiance;    // the host's sky (FrameDesc::skyRadianceSh): what a ray that leaves the voxel volume sees
 };
-SSVGI_CHECK_SIZE(ProbeUpdate, 4 * 16 + 48);
+SSVGI_CHECK_SIZE(ProbeUpdate, 6 * 16 + 48);
 
 SSVGI_INLINE uint packProbeState(uint historyCount, uint nextDirection, uint placement, uint offsetCode) {
   return historyCount | (nextDirection << 8u) | (offsetCode << 18u) | (placement << 30u);
@@ -116,9 +126,8 @@ SSVGI_INLINE ivec3 probeWorldCoordinate(uint slotIndex, ivec3 origin, ivec3 dime
 // slot holds this world probe (its tag), the probe is active (not inside geometry) and it has been traced since it
 // last started afresh (m > 0; a probe just moved by its virtual offset still holds what it saw from inside).
 SSVGI_INLINE bool probeIsUsable(Probe probe, ivec3 worldProbe) {
-  uint state = probe.normalDotAndState.z;
-  return probe.normalDotAndState.w == probeCoordinateTag(worldProbe) && probePlacement(state) == kProbeStateActive &&
-         probeHistoryCount(state) > 0u;
+  return probe.tag == probeCoordinateTag(worldProbe) && probePlacement(probe.state) == kProbeStateActive &&
+         probeHistoryCount(probe.state) > 0u;
 }
 
 // The 26 neighbours of a probe in its level's grid (index 0..25; the probe itself, index 13 of the 3×3×3 block, is
@@ -150,6 +159,95 @@ SSVGI_INLINE vec4 unpackSh2Half(uvec2 packed) {
   vec2 high = unpackHalf2x16(packed.y);
   return vec4(low.x, low.y, high.x, high.y);
 }
+
+// No SH2 coefficient of a function within [−1, 1] exceeds 2√π = 4π·Y00 (band 1: √(3π) ≈ 3.07): the scale of the
+// 8-bit coefficients of the normal-dot SH and of the distance SH over its range.
+SSVGI_CONSTANT(float, kUnitSh2Bound, 3.5449077f);
+
+// An SH2 of a function within [−1, 1] as four signed bytes (steps of 2√π/127, 0.8 % of the range). `dither` in [0, 1)
+// rounds stochastically: ProbeTrace blends with α down to 1/(m+1), far below one step, and plain rounding would
+// freeze the history; dithered rounding keeps its expectation exact.
+SSVGI_INLINE uint packProbeUnitSh(vec4 coefficients, float dither) {
+  ivec4 steps = ivec4(floor(clamp(coefficients / kUnitSh2Bound, vec4(-1.0f), vec4(1.0f)) * 127.0f + vec4(dither)));
+  steps = clamp(steps, ivec4(-127), ivec4(127));
+  return uint(steps.x & 0xff) | (uint(steps.y & 0xff) << 8u) | (uint(steps.z & 0xff) << 16u) |
+         (uint(steps.w & 0xff) << 24u);
+}
+SSVGI_INLINE vec4 unpackProbeUnitSh(uint packed) {
+  ivec4 bytes = ivec4(int(packed & 0xffu), int((packed >> 8u) & 0xffu), int((packed >> 16u) & 0xffu), int(packed >> 24u));
+  bytes = bytes - 256 * ivec4(greaterThanEqual(bytes, ivec4(128)));
+  return vec4(bytes) * (kUnitSh2Bound / 127.0f);
+}
+
+// How far a level's distance SH reaches: it records hit distances clamped to this (m).
+SSVGI_INLINE float probeDistanceRange(float spacing) { return kProbeDistanceRangeSpacings * spacing; }
+
+// The accessors of a probe's SH: radiance (W/(sr·m²)), hit distance (m) on a level of `spacing`, normal-dot.
+SSVGI_INLINE Sh2Rgb probeRadianceSh(Probe probe) {
+  return Sh2Rgb(unpackSh2Half(probe.radianceRed), unpackSh2Half(probe.radianceGreen), unpackSh2Half(probe.radianceBlue));
+}
+SSVGI_INLINE vec4 probeDistanceSh(Probe probe, float spacing) {
+  return unpackProbeUnitSh(probe.distanceSh) * probeDistanceRange(spacing);
+}
+SSVGI_INLINE vec4 probeNormalDotSh(Probe probe) { return unpackProbeUnitSh(probe.normalDotSh); }
+SSVGI_INLINE Probe makeProbe(Sh2Rgb radiance, uint distanceSh, uint normalDotSh, uint state, uint tag) {
+  return Probe(packSh2Half(radiance.r), packSh2Half(radiance.g), packSh2Half(radiance.b), distanceSh, normalDotSh, state,
+               tag);
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Reservoirs (SPEC §4.5 "Stability"; the talk's ReSTIR part): "one reservoir cannot describe a distribution over the
+// sphere — stratify: split the sphere evenly into cells, one reservoir per cell". 8 strata: the two hemispheres of z
+// times four quadrants of azimuth, i.e. 2×4 equal cells of the unit square that uniformSphereDirection maps
+// area-preservingly onto the sphere. Each stratum has its own fixed low-discrepancy set of 128 directions (the Halton
+// (2,3) points scaled into its cell), 1024 in all, as SPEC §2's set.
+SSVGI_CONSTANT(uint, kProbeStrataZ, 2u);
+SSVGI_CONSTANT(uint, kProbeStrataAzimuth, 4u);
+SSVGI_CONSTANT(uint, kProbeStrata, 8u);
+SSVGI_CONSTANT(uint, kProbeStratumDirectionCount, 128u);
+SSVGI_CONSTANT(float, kProbeStratumSolidAngle, 4.0f * kPi / 8.0f);
+SSVGI_CONSTANT(uint, kBindProbeReservoirs, kBindFirstPassSlot + 4u);  // uint[probes of level 0 · kProbeStrata]
+
+SSVGI_INLINE uvec2 probeStratumCell(uint stratum) { return uvec2(stratum % kProbeStrataZ, stratum / kProbeStrataZ); }
+
+// Direction `index` (0..127) of a stratum's set: uniform over the stratum as the index runs through the set.
+SSVGI_INLINE vec3 probeStratumDirection(uint stratum, uint index) {
+  vec2 cell = vec2(probeStratumCell(stratum));
+  return uniformSphereDirection((cell + halton23(index)) / vec2(float(kProbeStrataZ), float(kProbeStrataAzimuth)));
+}
+
+// The mean of the SH2 basis over a stratum, (1/Ω_s)∫_s Y dω, analytically: the basis is linear in the direction, so it
+// is the basis of the stratum's mean direction vector. z is uniform over [z0, z1]; the radius √(1−z²) averages
+// (F(z1) − F(z0)) / (z1 − z0) with F(z) = (z√(1−z²) + asin z) / 2; cos φ and sin φ average over the azimuth cell.
+SSVGI_INLINE vec4 probeStratumMeanBasis(uint stratum) {
+  uvec2 cell = probeStratumCell(stratum);
+  float z1 = 1.0f - 2.0f * float(cell.x) / float(kProbeStrataZ);
+  float z0 = z1 - 2.0f / float(kProbeStrataZ);
+  float f1 = 0.5f * (z1 * sqrt(max(0.0f, 1.0f - z1 * z1)) + asin(z1));
+  float f0 = 0.5f * (z0 * sqrt(max(0.0f, 1.0f - z0 * z0)) + asin(z0));
+  float meanRadius = (f1 - f0) / (z1 - z0);
+  float azimuthWidth = 2.0f * kPi / float(kProbeStrataAzimuth);
+  float phi0 = azimuthWidth * float(cell.y), phi1 = phi0 + azimuthWidth;
+  float meanCos = (sin(phi1) - sin(phi0)) / azimuthWidth, meanSin = (cos(phi0) - cos(phi1)) / azimuthWidth;
+  return sh2Basis(vec3(meanRadius * meanCos, meanRadius * meanSin, 0.5f * (z0 + z1)));
+}
+
+// A reservoir in one uint: bits 0–15 its unbiased contribution weight W (half float, sr), bits 16–22 the index of its
+// sample in the stratum's direction set, bits 24–31 M (candidates seen, at most 255). All zero: empty.
+SSVGI_INLINE uint packProbeReservoir(float weight, uint sampleIndex, uint count) {
+  return SSVGI_HALF_BITS(weight) | (sampleIndex << 16u) | (count << 24u);
+}
+SSVGI_INLINE float probeReservoirWeight(uint reservoir) { return SSVGI_HALF_FLOAT(reservoir & 0xffffu); }
+SSVGI_INLINE uint probeReservoirSample(uint reservoir) { return (reservoir >> 16u) & 0x7fu; }
+SSVGI_INLINE uint probeReservoirCount(uint reservoir) { return reservoir >> 24u; }
+
+// The reservoirs' target p̂: luminance (Rec. 709), the talk's "p(x) = sample luminance", plus a floor of this fraction
+// of the probe's mean luminance so far. The floor keeps p̂ > 0 on the whole stratum, so that a reservoir can hold any
+// direction — the support condition of unbiased resampling with reuse (Lin et al. 2022, "Generalized Resampled
+// Importance Sampling"): without it a direction dark when the reservoir formed and lit now would be missed by the
+// reused part until it decays.
+SSVGI_CONSTANT(float, kProbeReservoirTargetFloor, 0.0625f);
+SSVGI_INLINE float probeSampleLuminance(vec3 radiance) { return dot(radiance, vec3(0.2126f, 0.7152f, 0.0722f)); }
 
 SSVGI_SHARED_END
 

@@ -14,6 +14,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <optional>
 
@@ -83,6 +84,15 @@ Error validateSettings(const ContextDesc& desc) {
     return invalid("Settings::raysPerProbe must be a power of two in 1..32");
   if (settings.probeHistoryCap == 0 || settings.probeHistoryCap > 255)
     return invalid("Settings::probeHistoryCap must be in 1..255");
+  if (settings.probeReservoirs && settings.raysPerProbe < 2 * shader::kProbeStrata)
+    return invalid("Settings::raysPerProbe must be at least 16 with Settings::probeReservoirs (" +
+                   std::to_string(shader::kProbeStrata) + " strata, each a new candidate and its reservoir's ray)");
+  // M is stored in 8 bits and grows by up to 3 candidates past the cap in an update.
+  if (settings.probeReservoirHistoryCap == 0 || settings.probeReservoirHistoryCap > 252)
+    return invalid("Settings::probeReservoirHistoryCap must be in 1..252");
+  if (!(settings.probeSampleClamp == 0.0f || settings.probeSampleClamp >= 1.0f) ||
+      !std::isfinite(settings.probeSampleClamp))
+    return invalid("Settings::probeSampleClamp must be 0 (off) or at least 1");
   if (desc.framesInFlight == 0 || desc.framesInFlight > 8) return invalid("ContextDesc::framesInFlight must be in 1..8");
   if (desc.maxWidth == 0 || desc.maxHeight == 0) return invalid("ContextDesc::maxWidth/maxHeight must be positive");
   return {};
@@ -285,6 +295,7 @@ class ContextImplementation final : public Context {
         commands.fillBuffer(scene_.poolState(), 0);
         commands.fillBuffer(scene_.occupancyGrid(), 0);
         commands.fillBuffer(probes_.probes(), 0);  // every probe kProbeStateNeverTraced
+        commands.fillBuffer(probes_.reservoirs(), 0);  // every reservoir empty
         initialised_ = true;
       }
       // This frame's counters and the two lists start empty (dispatch arguments {0, 1, 1}).
@@ -308,7 +319,7 @@ class ContextImplementation final : public Context {
                                 {desc.litColor.view, desc.litDepth.view, desc.litNormal.view});  // 5. SceneVoxelization
     buildOctree_.record(commands, scene_);                                              // 6. BuildOctree
     probePlacement_.record(commands, scene_, probes_, slot.frameConstants, probeBlocksInView);  // 7. ProbePlacement
-    probeTrace_.record(commands, scene_, probes_);                                      // 8. ProbeTrace
+    probeTrace_.record(commands, scene_, probes_);                      // 8. UpdateReservoirs + ProbeTrace
     probeRelocate_.record(commands, scene_, probes_);                                   // 9. ProbeRelocate
     probeDilate_.record(commands, probes_);                                             //    ProbeDilate
     const gi::GatherInputs gatherInputs{slot.frameConstants, pointSampler_.handle(), desc.depth.view, desc.normal.view};

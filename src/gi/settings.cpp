@@ -5,7 +5,8 @@ namespace ssvgi {
 // SPEC §4.7: the tiers differ in the voxel range, the probe budget and the rays per probe; the pool shrinks with the
 // range. Medium and low keep 32×16×32 probes per level (level 0 then covers 32×16×32 m, level 2 128×64×128 m, past
 // their voxel ranges, as high's does). Low traces 16 rays per update, so its history cap doubles to keep a window of
-// all 1024 directions.
+// all 1024 directions. Every tier keeps level 0's reservoirs (SPEC §4.5 "Stability"): the flicker they remove
+// is worst where few rays are traced.
 Settings settingsForTier(QualityTier tier) {
   Settings settings;
   switch (tier) {
@@ -24,6 +25,7 @@ Settings settingsForTier(QualityTier tier) {
       settings.probeBudget = 1024;
       settings.raysPerProbe = 16;
       settings.probeHistoryCap = 64;
+      settings.probeReservoirHistoryCap = 16;  // 1 new candidate per stratum and update: the same 16 updates
       break;
   }
   return settings;

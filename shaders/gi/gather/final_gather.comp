@@ -57,7 +57,7 @@ vec4 gatherLevel(uint level, vec3 position, vec3 normal) {
     if (!probeIsUsable(stored, probe)) continue;
     vec3 trilinear = mix(vec3(1.0) - fraction, fraction, vec3(offset));
     float weight = trilinear.x * trilinear.y * trilinear.z;
-    vec3 probePosition = probeWorldPosition(probe, spacing, stored.normalDotAndState.z);  // with its virtual offset
+    vec3 probePosition = probeWorldPosition(probe, spacing, stored.state);  // with its virtual offset
     // "Normal Weight": probes behind the surface count less (from the true point, as DDGI does).
     vec3 toProbe = probePosition - position;
     float facing = 0.5 * (dot(toProbe, normal) / max(length(toProbe), 1e-4) + 1.0);
@@ -66,12 +66,11 @@ vec4 gatherLevel(uint level, vec3 position, vec3 normal) {
     vec3 fromProbe = biased - probePosition;
     float pointDistance = length(fromProbe);
     if (pointDistance > 1e-4) {
-      float traced = dot(unpackSh2Half(stored.radianceBlueAndDistance.zw), sh2Basis(fromProbe / pointDistance));
+      float traced = dot(probeDistanceSh(stored, spacing), sh2Basis(fromProbe / pointDistance));
       float visible = clamp(traced / pointDistance, 0.0, 1.0);
       weight *= max(visible * visible * visible, kGatherOccludedProbeWeight);
     }
-    Sh2Rgb radiance = Sh2Rgb(unpackSh2Half(stored.radianceRedGreen.xy), unpackSh2Half(stored.radianceRedGreen.zw),
-                             unpackSh2Half(stored.radianceBlueAndDistance.xy));
+    Sh2Rgb radiance = probeRadianceSh(stored);
     // SH2 rings below zero opposite bright light; negative irradiance is not light.
     irradiance += weight * max(sh2Irradiance(radiance, normal), vec3(0.0));
     totalWeight += weight;

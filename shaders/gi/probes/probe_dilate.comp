@@ -21,7 +21,7 @@ shared float neighbourUsable[kProbeTraceGroupSize];
 void main() {
   uint probeIndex = listedProbes[gl_WorkGroupID.x];
   // The same for the whole workgroup: it leaves together, before the barrier.
-  if (probePlacement(probes[probeIndex].normalDotAndState.z) != kProbeStateInvalid) return;
+  if (probePlacement(probes[probeIndex].state) != kProbeStateInvalid) return;
 
   uint thread = gl_LocalInvocationID.x;
   uint levelStart = uint(update.originProbe.w) * uint(update.dimensions.w);
@@ -33,9 +33,7 @@ void main() {
     Probe neighbour = probes[levelStart + probeSlotIndex(coordinate, update.dimensions.xyz)];
     // Invalid neighbours are not usable, so no workgroup reads a probe that another one writes.
     if (probeIsUsable(neighbour, coordinate)) {
-      neighbourRadiance[thread] = Sh2Rgb(unpackSh2Half(neighbour.radianceRedGreen.xy),
-                                         unpackSh2Half(neighbour.radianceRedGreen.zw),
-                                         unpackSh2Half(neighbour.radianceBlueAndDistance.xy));
+      neighbourRadiance[thread] = probeRadianceSh(neighbour);
       neighbourUsable[thread] = 1.0;
     }
   }
@@ -51,6 +49,7 @@ void main() {
     count += neighbourUsable[i];
   }
   if (count == 0.0) return;  // nothing around to fill from: it keeps what it has until a neighbour is traced
-  probes[probeIndex].radianceRedGreen = uvec4(packSh2Half(sum.r / count), packSh2Half(sum.g / count));
-  probes[probeIndex].radianceBlueAndDistance.xy = packSh2Half(sum.b / count);
+  probes[probeIndex].radianceRed = packSh2Half(sum.r / count);
+  probes[probeIndex].radianceGreen = packSh2Half(sum.g / count);
+  probes[probeIndex].radianceBlue = packSh2Half(sum.b / count);
 }

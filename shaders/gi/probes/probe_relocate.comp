@@ -49,19 +49,18 @@ void main() {
   Probe probe = probes[probeIndex];
   if (thread < kProbeNeighbourCount) {
     vec4 basis = sh2Basis(normalize(vec3(probeNeighbourOffset(thread))));
-    normalDotAlong[thread] = dot(unpackSh2Half(probe.normalDotAndState.xy), basis);
-    distanceAlong[thread] = dot(unpackSh2Half(probe.radianceBlueAndDistance.zw), basis);
+    normalDotAlong[thread] = dot(probeNormalDotSh(probe), basis);
+    distanceAlong[thread] = dot(probeDistanceSh(probe, update.distances.x), basis);
   }
   barrier();
   if (thread != 0u) return;
 
-  uint state = probe.normalDotAndState.z;
+  uint state = probe.state;
   uint nextDirection = probeNextDirection(state);
   int nearest = nearestBackFace();
   if (nearest < 0) {
     if (probePlacement(state) == kProbeStateInvalid)
-      probes[probeIndex].normalDotAndState.z =
-          packProbeState(probeHistoryCount(state), nextDirection, kProbeStateActive);
+      probes[probeIndex].state = packProbeState(probeHistoryCount(state), nextDirection, kProbeStateActive);
     return;
   }
 
@@ -90,5 +89,5 @@ void main() {
     offsetCode = packProbeOffset(clamp(steps, ivec3(-kProbeMaxOffsetSteps), ivec3(kProbeMaxOffsetSteps)));
     moved = kProbeStateActive;
   }
-  probes[probeIndex].normalDotAndState.z = packProbeState(0u, nextDirection, moved, offsetCode);
+  probes[probeIndex].state = packProbeState(0u, nextDirection, moved, offsetCode);
 }

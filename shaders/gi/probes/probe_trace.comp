@@ -1,11 +1,38 @@
 #version 450
-// ProbeTrace (SPEC §4.5; the talk's "Probe Light", GatherRadianceFromVoxelScene): for each listed probe, one thread per
-// ray of this update's slice of the fixed 1024-direction set, traced through the voxels from the probe. A hit gives
+// ProbeTrace with UpdateReservoirs (SPEC §4 step 8, §4.5; the talk's "Probe Light", GatherRadianceFromVoxelScene and
+// UpdateReservoirPool): for each listed probe, one thread per ray, traced through the voxels from the probe. A hit gives
 // the voxel's radiance (black from behind), a miss the sky's: the sky is thereby occluded by geometry ("sky visibility
 // matters", the talk). The samples are projected onto SH2 (SPEC §2) — radiance, hit distance and normal-dot — summed
 // across the workgroup and blended into the probe's history with α = 1/(m+1). Rays leave from the probe's position plus
 // its virtual offset (ProbeRelocate). A new probe starts from the coarser level (SPEC §4.5; the talk's fix for the
 // flicker of new probes while moving: "initialise from the higher-level probe volume").
+//
+// Without reservoirs (Settings::probeReservoirs off, and levels 1 and 2 always) the rays are the next raysPerProbe of
+// the fixed 1024 directions. With them (level 0) the sphere is split into kProbeStrata strata, each with a reservoir
+// (probe_interface.h); per stratum, raysPerProbe/8 − 1 rays are the next directions of its own Halton set (uniform
+// candidates) and the last one re-traces the direction its reservoir holds (ray guiding: a bright direction found
+// before keeps being sampled). The reservoir update is merged into this pass rather than being a pass of its own: it
+// needs every ray's radiance, which only this workgroup has — a separate UpdateReservoirs would store 32 rays' radiance
+// for 4096 probes (≈ 1.5 MB) that SPEC §5's 30 MB cannot spare, or trace them again.
+//
+// The reservoir update (weighted reservoir sampling with temporal reuse, Bitterli et al. 2020): the stored reservoir
+// (y, W, M) re-weighted with its sample's current target, w = p̂(y)·W·min(M, cap), then each candidate x with
+// w = p̂(x)/p(x), p = 1/Ω_s; the kept sample is drawn in proportion to w; W = Σw / (M·p̂(y')). The estimate of the
+// stratum's SH integral I_s = ∫_s L·Y dω (per colour channel) is then
+//     Î_s = L(y')·W·Ȳ_s + (Ω_s/c)·Σ_i L(x_i)·(Y(x_i) − Ȳ_s),   Ȳ_s = (1/Ω_s)∫_s Y dω,
+// why it is unbiased: I_s = Ȳ_s·∫_s L + ∫_s L·(Y − Ȳ_s) exactly; E[L(y')·W] = ∫_s L, the defining property of the
+// unbiased contribution weight (p̂ > 0 wherever L ≠ 0, kept by the floor of kProbeReservoirTargetFloor, and the
+// reused reservoir's p̂ and L evaluated this frame through its re-traced ray); and the c uniform candidates estimate
+// the second integral by plain stratified Monte Carlo. The reused part carries the stratum's total radiance, the
+// part that flickers when few rays find a small bright source; its luminance is Σw/M, a mean over up to cap
+// candidates of several updates, not over this update's few rays. Under constant radiance L·W = L·Ω_s exactly and
+// the estimate equals plain stratified sampling, so a uniform sky converges to the analytic SH either way.
+//
+// The luminance clamp (Settings::probeSampleClamp; the talk: "limit the current frame's brightness by the history's
+// maximum"): a candidate's radiance is scaled down to at most clamp × the brightest direction the probe's reservoirs
+// hold (their re-traced rays, this frame). In a static scene the reservoirs hold the brightest directions, so the
+// clamp never acts and the estimate stays unbiased; it only cuts a sudden outlier, which then enters a reservoir and
+// raises the maximum by the next update.
 #include "gi/voxels/voxel_trace.glsl"
 #include "shared/probe_interface.h"
 
@@ -17,10 +44,15 @@ layout(binding = kBindProbeList) readonly buffer ProbeList {
   IndirectList list;
   uint listedProbes[];
 };
+// One reservoir per stratum of every probe of level 0 (probe_interface.h); read and written only when the updated
+// level keeps reservoirs.
+layout(binding = kBindProbeReservoirs) buffer Reservoirs { uint reservoirs[]; };
 
 // Per thread: its sample times the basis, for the five SH2 of a probe (radiance R, G, B, distance, normal-dot).
 const uint kSh2PerProbe = 5u;
 shared vec4 partialSums[kSh2PerProbe][kProbeTraceGroupSize];
+// With reservoirs: each ray's radiance (candidates clamped), for the reservoir update of its stratum.
+shared vec3 rayRadiance[kProbeTraceGroupSize];
 
 vec3 skyRadiance(vec3 direction) {
   vec4 basis = sh2Basis(direction);
@@ -48,9 +80,10 @@ bool coarserLevelRadiance(ivec3 probe, out Sh2Rgb radiance) {
     ivec3 coarser = base + side;
     Probe candidate = probes[coarserLevel * uint(update.dimensions.w) + probeSlotIndex(coarser, update.dimensions.xyz)];
     if (weight == 0.0 || !probeIsUsable(candidate, coarser)) continue;
-    radiance.r += weight * unpackSh2Half(candidate.radianceRedGreen.xy);
-    radiance.g += weight * unpackSh2Half(candidate.radianceRedGreen.zw);
-    radiance.b += weight * unpackSh2Half(candidate.radianceBlueAndDistance.xy);
+    Sh2Rgb coarserRadiance = probeRadianceSh(candidate);
+    radiance.r += weight * coarserRadiance.r;
+    radiance.g += weight * coarserRadiance.g;
+    radiance.b += weight * coarserRadiance.b;
     weightSum += weight;
   }
   if (weightSum == 0.0) return false;
@@ -60,26 +93,107 @@ bool coarserLevelRadiance(ivec3 probe, out Sh2Rgb radiance) {
   return true;
 }
 
+// The rays of a probe with reservoirs: ray r belongs to stratum r / raysPerStratum; the last ray of each stratum
+// re-traces its reservoir's sample, the others are uniform candidates.
+struct StratifiedRays {
+  uint raysPerStratum;
+  uint candidates;  // per stratum: raysPerStratum − 1
+};
+
+// The sample index in its stratum's direction set of candidate `candidate` of an update starting at `firstDirection`.
+uint candidateSample(uint firstDirection, uint candidate) {
+  return (firstDirection + candidate) % kProbeStratumDirectionCount;
+}
+
+// The reservoir update of one stratum and its estimate Î_s of the radiance SH (see the top of this file), as the
+// three channels' SH2. `reservoir` is the stored one (empty for a probe that starts afresh); `targetFloor` the floor
+// of p̂. Writes the updated reservoir.
+Sh2Rgb updateStratum(uint stratum, StratifiedRays rays, uint firstDirection, uint reservoir, float targetFloor,
+                     uint reservoirSlot, uint seed) {
+  uint firstRay = stratum * rays.raysPerStratum;
+  uint reusedRay = firstRay + rays.candidates;
+  vec3 random = hashToUnitCube(uvec3(seed, update.reservoirs.z, stratum));
+  float solidAngle = kProbeStratumSolidAngle;
+
+  // Temporal reuse: the stored reservoir's sample, weighed with its target this frame (its ray was just re-traced).
+  // Capping M bounds how long history outweighs new candidates (ReSTIR's M-cap).
+  uint reusedCount = min(probeReservoirCount(reservoir), update.reservoirs.y);
+  float weightSum = 0.0;
+  uint kept = probeReservoirSample(reservoir);
+  vec3 keptRadiance = rayRadiance[reusedRay];
+  float keptTarget = probeSampleLuminance(keptRadiance) + targetFloor;
+  if (reusedCount > 0u) weightSum = keptTarget * probeReservoirWeight(reservoir) * float(reusedCount);
+
+  vec4 meanBasis = probeStratumMeanBasis(stratum);
+  Sh2Rgb deviation = Sh2Rgb(vec4(0.0), vec4(0.0), vec4(0.0));
+  for (uint candidate = 0u; candidate < rays.candidates; ++candidate) {
+    uint sampleIndex = candidateSample(firstDirection, candidate);
+    vec3 radiance = rayRadiance[firstRay + candidate];
+    float target = probeSampleLuminance(radiance) + targetFloor;
+    float weight = target * solidAngle;  // p̂(x) / p(x), p = 1/Ω_s
+    weightSum += weight;
+    if (weightSum > 0.0 && random[candidate] * weightSum < weight) {
+      kept = sampleIndex;
+      keptRadiance = radiance;
+      keptTarget = target;
+    }
+    // The second integral, ∫_s L·(Y − Ȳ_s), by the candidates: weight Ω_s / c each.
+    vec4 basis = (sh2Basis(probeStratumDirection(stratum, sampleIndex)) - meanBasis) * (solidAngle / float(rays.candidates));
+    deviation.r += radiance.r * basis;
+    deviation.g += radiance.g * basis;
+    deviation.b += radiance.b * basis;
+  }
+  uint count = reusedCount + rays.candidates;
+  float contributionWeight = weightSum > 0.0 ? weightSum / (float(count) * keptTarget) : 0.0;
+  reservoirs[reservoirSlot] = packProbeReservoir(min(contributionWeight, 65504.0), kept, count);
+  // The first integral, Ȳ_s·∫_s L, by the reservoir: L(y')·W.
+  vec3 total = keptRadiance * contributionWeight;
+  return Sh2Rgb(total.r * meanBasis + deviation.r, total.g * meanBasis + deviation.g, total.b * meanBasis + deviation.b);
+}
+
 void main() {
   uint probeIndex = listedProbes[gl_WorkGroupID.x];
   uint ray = gl_LocalInvocationID.x;
   ivec3 dimensions = update.dimensions.xyz;
   ivec3 probe = probeWorldCoordinate(probeIndex % uint(update.dimensions.w), update.originProbe.xyz, dimensions);
-  uint state = probes[probeIndex].normalDotAndState.z;
+  Probe stored = probes[probeIndex];
+  uint state = stored.state;
   // History, offset and placement count only if this slot has held this probe (a slot that scrolled to another probe
   // is stale). An invalid probe keeps its history count but has no offset: it is traced from its grid position.
-  bool ownsSlot = probePlacement(state) != kProbeStateNeverTraced &&
-                  probes[probeIndex].normalDotAndState.w == probeCoordinateTag(probe);
+  bool ownsSlot = probePlacement(state) != kProbeStateNeverTraced && stored.tag == probeCoordinateTag(probe);
   uint historyCount = ownsSlot ? probeHistoryCount(state) : 0u;
   uint firstDirection = ownsSlot ? probeNextDirection(state) : 0u;
   uint offsetCode = ownsSlot ? probeOffsetCode(state) : 0u;
   uint placement = ownsSlot ? probePlacement(state) : kProbeStateActive;
   vec3 origin = probeWorldPosition(probe, update.distances.x, ownsSlot ? state : 0u);
 
-  for (uint sh = 0u; sh < kSh2PerProbe; ++sh) partialSums[sh][ray] = vec4(0.0);
   uint raysPerProbe = update.settings.x;
+  bool keepsReservoirs = update.reservoirs.x != 0u;
+  uint raysPerStratum = max(raysPerProbe / kProbeStrata, 1u);  // ≥ 2 with reservoirs (validateSettings)
+  StratifiedRays rays = StratifiedRays(raysPerStratum, raysPerStratum - 1u);
+  uint stratum = ray / rays.raysPerStratum;
+  bool reusesReservoir = ray % rays.raysPerStratum == rays.candidates;
+  // A probe that starts afresh (m = 0: new, stale, or just moved by ProbeRelocate) starts with empty reservoirs: what
+  // they hold was seen from elsewhere.
+  uint reservoirSlot = probeIndex * kProbeStrata + stratum;
+  uint reservoir = keepsReservoirs && ray < raysPerProbe && historyCount > 0u ? reservoirs[reservoirSlot] : 0u;
+
+  for (uint sh = 0u; sh < kSh2PerProbe; ++sh) partialSums[sh][ray] = vec4(0.0);
+  rayRadiance[ray] = vec3(0.0);
   if (ray < raysPerProbe) {
-    vec3 direction = probeRayDirection(firstDirection, ray);
+    vec3 direction;
+    // The projection weight of this ray's distance and normal-dot: 4π/N over the sphere, Ω_s/c per candidate of a
+    // stratum; a re-traced reservoir ray is not uniform and leaves them out.
+    float uniformWeight;
+    if (keepsReservoirs) {
+      uint sampleIndex = reusesReservoir ? probeReservoirSample(reservoir)
+                                         : candidateSample(firstDirection, ray % rays.raysPerStratum);
+      direction = probeStratumDirection(stratum, sampleIndex);
+      uniformWeight = reusesReservoir ? 0.0 : kProbeStratumSolidAngle / float(rays.candidates);
+    } else {
+      direction = probeRayDirection(firstDirection, ray);
+      uniformWeight = update.distances.w;
+    }
     VoxelHit hit = traceVoxelsHierarchical(origin, direction, update.distances.y);
     vec3 radiance = hit.hit ? hit.radiance : skyRadiance(direction);
     // A miss meets no surface, front or back: +1 (a front face head-on) keeps it from suggesting the probe is inside
@@ -87,14 +201,49 @@ void main() {
     float normalDot = hit.hit ? dot(-direction, hit.normal) : 1.0;
     float distance = min(hit.distance, update.distances.z);
     // L_lm = (4π/N) Σ L(ω_i) Y_lm(ω_i) (SPEC §2): each thread contributes its term.
-    vec4 weightedBasis = sh2Basis(direction) * update.distances.w;
+    vec4 weightedBasis = sh2Basis(direction) * uniformWeight;
     partialSums[0][ray] = radiance.r * weightedBasis;
     partialSums[1][ray] = radiance.g * weightedBasis;
     partialSums[2][ray] = radiance.b * weightedBasis;
     partialSums[3][ray] = distance * weightedBasis;
     partialSums[4][ray] = normalDot * weightedBasis;
+    // An empty reservoir's ray stands for nothing: black, so that it neither raises the clamp's maximum nor is kept.
+    bool emptyReservoir = keepsReservoirs && reusesReservoir && probeReservoirCount(reservoir) == 0u;
+    rayRadiance[ray] = emptyReservoir ? vec3(0.0) : radiance;
   }
   barrier();
+
+  if (keepsReservoirs) {
+    // The clamp: the brightest direction the reservoirs hold, re-traced this frame (none for empty reservoirs).
+    float clampFactor = update.sampleClamp.x;
+    if (clampFactor > 0.0 && ray < raysPerProbe && !reusesReservoir) {
+      float historyMaximum = 0.0;
+      for (uint s = 0u; s < kProbeStrata; ++s)
+        historyMaximum = max(historyMaximum, probeSampleLuminance(rayRadiance[s * rays.raysPerStratum + rays.candidates]));
+      float luminance = probeSampleLuminance(rayRadiance[ray]);
+      float limit = clampFactor * historyMaximum;
+      if (historyMaximum > 0.0 && luminance > limit) rayRadiance[ray] *= limit / luminance;
+    }
+    barrier();
+    // The strata's radiance estimates replace the rays' uniform ones (distance and normal-dot stay the candidates').
+    if (ray < raysPerProbe && ray % rays.raysPerStratum == 0u) {
+      float historyMeanLuminance =
+          historyCount > 0u ? probeSampleLuminance(vec3(unpackSh2Half(stored.radianceRed).x,
+                                                        unpackSh2Half(stored.radianceGreen).x,
+                                                        unpackSh2Half(stored.radianceBlue).x)) /
+                                  (4.0 * kPi * kSh2Band0Basis)
+                            : 0.0;
+      Sh2Rgb estimate = updateStratum(stratum, rays, firstDirection, reservoir,
+                                      kProbeReservoirTargetFloor * max(historyMeanLuminance, 0.0), reservoirSlot,
+                                      probeIndex);
+      partialSums[0][ray] = estimate.r;
+      partialSums[1][ray] = estimate.g;
+      partialSums[2][ray] = estimate.b;
+    } else {
+      for (uint sh = 0u; sh < 3u; ++sh) partialSums[sh][ray] = vec4(0.0);
+    }
+    barrier();
+  }
   for (uint stride = kProbeTraceGroupSize / 2u; stride > 0u; stride /= 2u) {
     if (ray < stride)
       for (uint sh = 0u; sh < kSh2PerProbe; ++sh) partialSums[sh][ray] += partialSums[sh][ray + stride];
@@ -106,26 +255,29 @@ void main() {
   // then an exponential window of about cap updates. A new probe (m = 0) takes its radiance half from the coarser
   // level, half from this first trace — the coarser value counts as one earlier update, so its weight then decays as
   // 1/(m+1) like any update's; without a coarser value, and always for distance and normal-dot (which belong to this
-  // probe's own position and spacing), it takes the first trace whole.
-  Probe stored = probes[probeIndex];
-  uvec2 packedHistory[kSh2PerProbe] = uvec2[](stored.radianceRedGreen.xy, stored.radianceRedGreen.zw,
-                                              stored.radianceBlueAndDistance.xy, stored.radianceBlueAndDistance.zw,
-                                              stored.normalDotAndState.xy);
+  // probe's own position and spacing), it takes the first trace whole. A stale slot may hold anything: no history.
+  float alpha = 1.0 / float(historyCount + 1u);
+  Sh2Rgb history = historyCount > 0u ? probeRadianceSh(stored) : Sh2Rgb(vec4(0.0), vec4(0.0), vec4(0.0));
+  float radianceAlpha = alpha;
   Sh2Rgb startRadiance;
-  bool startsFromCoarser = historyCount == 0u && coarserLevelRadiance(probe, startRadiance);
-  vec4 start[3] = vec4[](startRadiance.r, startRadiance.g, startRadiance.b);
-  uvec2 blended[kSh2PerProbe];
-  for (uint sh = 0u; sh < kSh2PerProbe; ++sh) {
-    vec4 history = historyCount > 0u ? unpackSh2Half(packedHistory[sh]) : vec4(0.0);  // a stale slot may hold anything
-    float alpha = 1.0 / float(historyCount + 1u);
-    if (sh < 3u && startsFromCoarser) {
-      history = start[sh];
-      alpha = 0.5;
-    }
-    blended[sh] = packSh2Half(mix(history, partialSums[sh][0], alpha));
+  if (historyCount == 0u && coarserLevelRadiance(probe, startRadiance)) {
+    history = startRadiance;
+    radianceAlpha = 0.5;
   }
-  uint nextState = packProbeState(min(historyCount + 1u, update.settings.y),
-                                  (firstDirection + raysPerProbe) % kProbeRayDirectionCount, placement, offsetCode);
-  probes[probeIndex] = Probe(uvec4(blended[0], blended[1]), uvec4(blended[2], blended[3]),
-                             uvec4(blended[4], nextState, probeCoordinateTag(probe)));
+  Sh2Rgb radiance = Sh2Rgb(mix(history.r, partialSums[0][0], radianceAlpha),
+                           mix(history.g, partialSums[1][0], radianceAlpha),
+                           mix(history.b, partialSums[2][0], radianceAlpha));
+  float range = update.distances.z;
+  vec4 distanceHistory = historyCount > 0u ? probeDistanceSh(stored, update.distances.x) : vec4(0.0);
+  vec4 normalDotHistory = historyCount > 0u ? probeNormalDotSh(stored) : vec4(0.0);
+  float dither = hashToUnitCube(uvec3(probeIndex, update.reservoirs.z, kProbeStrata)).x;
+  uint distanceSh = packProbeUnitSh(mix(distanceHistory, partialSums[3][0], alpha) / range, dither);
+  uint normalDotSh = packProbeUnitSh(mix(normalDotHistory, partialSums[4][0], alpha), dither);
+  // With reservoirs each stratum's candidates walk its 128-direction set, c per update: the counter runs modulo
+  // c·128 so that it stays continuous modulo 128.
+  uint nextDirection = keepsReservoirs
+                           ? (firstDirection + rays.candidates) % (rays.candidates * kProbeStratumDirectionCount)
+                           : (firstDirection + raysPerProbe) % kProbeRayDirectionCount;
+  uint nextState = packProbeState(min(historyCount + 1u, update.settings.y), nextDirection, placement, offsetCode);
+  probes[probeIndex] = makeProbe(radiance, distanceSh, normalDotSh, nextState, probeCoordinateTag(probe));
 }

@@ -18,7 +18,9 @@ class ProbePlacement {
   gpu::ComputePipeline pipeline_;
 };
 
-// ProbeTrace: rays from each listed probe through the voxels, projected onto SH2 and blended into its history.
+// ProbeTrace: rays from each listed probe through the voxels, projected onto SH2 and blended into its history; on level
+// 0 with Settings::probeReservoirs it also does UpdateReservoirs (SPEC §4 step 8): the rays go through the probe's
+// reservoirs, which it updates.
 class ProbeTrace {
  public:
   explicit ProbeTrace(gpu::Device& device);

@@ -24,6 +24,8 @@ class ProbeVolume {
 
   const gpu::Buffer& probes() const { return probes_; }  // Probe[kProbeLevels · probes per level], level-major
   const gpu::Buffer& list() const { return list_; }      // IndirectList of probe indices, then the indices
+  // kProbeStrata reservoirs per probe of level 0 (Settings::probeReservoirs; one word when off: nothing reads it).
+  const gpu::Buffer& reservoirs() const { return reservoirs_; }
   const gpu::Buffer& update() const { return updates_[currentFrame_]; }  // this frame's ProbeUpdate
   // `bindings` plus what a pass over the listed probes binds: this frame's update, the probes, the list.
   gpu::Bindings listedProbeBindings(gpu::Bindings bindings) const {
@@ -42,6 +44,7 @@ class ProbeVolume {
   Settings settings_;
   gpu::Buffer probes_;
   gpu::Buffer list_;
+  gpu::Buffer reservoirs_;
   std::vector<gpu::Buffer> updates_;
   std::vector<gpu::Buffer> blocks_;
   size_t currentFrame_ = 0;
