@@ -7,6 +7,7 @@
 #include "image_io.h"
 #include "scene.h"
 #include "screen_passes.h"
+#include "traced_scene.h"
 
 #include <cstdint>
 #include <functional>
@@ -47,9 +48,9 @@ class PathTracer {
   void trace(uint32_t samples, const std::function<void(uint32_t samplesPerPixel)>& progress = {});
 
   uint32_t samplesPerPixel() const { return samplesPerPixel_; }
-  uint32_t triangleCount() const { return triangleCount_; }
-  uint32_t bvhNodeCount() const { return bvhNodeCount_; }
-  uint32_t bvhDepth() const { return bvhDepth_; }
+  uint32_t triangleCount() const { return scene_.triangleCount(); }
+  uint32_t bvhNodeCount() const { return scene_.bvhNodeCount(); }
+  uint32_t bvhDepth() const { return scene_.bvhDepth(); }
   // GPU time per pass, summed over every dispatch so far.
   const std::vector<gpu::PassTiming>& passTimings() const { return timings_; }
 
@@ -63,7 +64,6 @@ class PathTracer {
 
  private:
   void submit(const std::function<void(gpu::CommandList&)>& record);
-  gpu::Bindings sceneBindings() const;
   gpu::Bindings primaryHitBindings() const;  // the scene and the primary hits' images, written by PrimaryHits
 
   gpu::Device& device_;
@@ -73,14 +73,8 @@ class PathTracer {
   gpu::ComputePipeline primaryHitsPipeline_;
   gpu::ComputePipeline pathTracePipeline_;
   renderer::Tonemap tonemap_;
-  gpu::Buffer frameConstants_;
-  gpu::Buffer nodes_;
-  gpu::Buffer triangles_;
-  gpu::Buffer shading_;
-  gpu::Buffer materials_;
-  gpu::Buffer textures_;
-  gpu::Buffer texels_;
-  gpu::Buffer lights_;
+  TracedScene scene_;
+  DispatchPacer pacer_;
   gpu::Image rayOrigins_;
   gpu::Image normals_;
   gpu::Image albedos_;
@@ -91,11 +85,7 @@ class PathTracer {
   gpu::Image indirectIrradiance_;
   gpu::Image finalRadiance_;
   gpu::Image tonemapped_;
-  uint32_t triangleCount_ = 0;
-  uint32_t bvhNodeCount_ = 0;
-  uint32_t bvhDepth_ = 0;
   uint32_t samplesPerPixel_ = 0;
-  uint32_t samplesPerDispatch_ = 1;
   std::vector<gpu::PassTiming> timings_;
 };
 

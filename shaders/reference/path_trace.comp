@@ -3,10 +3,8 @@
 // primary hit is everything but the delta lights' direct light: the sky (sky light reaching the surface directly
 // counts as indirect, because in ssvgi it comes through the GI), emissive surfaces and all light reflected on the way.
 // One sample is π × the radiance arriving along a cosine-distributed direction (pdf cos θ/π, so the estimate of
-// E = ∫ L cos θ dω is π·L), that radiance being found by a path: Lambertian cosine sampling at every vertex, next-event
-// estimation to the delta lights, emission picked up where the path hits it. Emissive surfaces are found only by the
-// paths themselves (there is no area-light sampling), so no multiple importance sampling is needed.
-#include "reference/scene_tracing.glsl"
+// E = ∫ L cos θ dω is π·L), that radiance being found by a path (reference/path_radiance.glsl).
+#include "reference/path_radiance.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -21,61 +19,10 @@ layout(binding = kBindTraceIndirectSum, rgba32f) uniform image2D indirectSums;
 layout(binding = kBindTraceIndirect, rgba32f) writeonly uniform image2D indirectIrradiances;
 layout(binding = kBindTraceFinal, rgba32f) writeonly uniform image2D finalRadiance;
 
-// Russian roulette from this path vertex on: a path continues with probability equal to its throughput (at most
-// kMaxSurvival), and its throughput is divided by that probability, which keeps the estimate unbiased.
-const uint kRouletteFirstVertex = 4u;
-const float kMaxSurvival = 0.95;
-
-vec2 nextRandom2(inout uint state) {
-  float first = nextRandom(state);
-  return vec2(first, nextRandom(state));
-}
-
-// One path in flight: it starts at the primary hit along a cosine-distributed direction, and its vertex k is the
-// k-th surface after the primary hit. Light emitted at vertex k, or arriving from the sky past it, has been reflected
-// k - 1 times on its way; delta light reflected there, k times.
-struct Path {
-  uint random;
-  uint vertex;
-  vec3 origin;
-  vec3 direction;
-  vec3 throughput;
-  vec3 radiance;  // arriving at the primary hit along the first direction, so far
-};
-
-Path startPath(vec3 origin, vec3 normal, uint random) {
-  Path path;
-  path.random = random;
-  path.vertex = 1u;
-  path.origin = origin;
-  path.direction = cosineSampleHemisphere(nextRandom2(path.random), normal);
-  path.throughput = vec3(1.0);
-  path.radiance = vec3(0.0);
-  return path;
-}
-
-// Traces the path's next segment and adds what it finds; false when the path has ended.
-bool extendPath(inout Path path) {
-  RayHit hit;
-  if (!traceNearest(path.origin, path.direction, hit)) {
-    path.radiance += path.throughput * evaluateSky(frame.sky, path.direction);
-    return false;
-  }
-  Surface surface = surfaceAt(path.direction, hit);
-  path.radiance += path.throughput * surface.emission;
-  if (path.vertex > push.maxBounces) return false;
-  // Lambert with cosine sampling: BRDF × cos / pdf = albedo/π × cos / (cos/π) = albedo.
-  path.throughput *= surface.albedo;
-  path.origin = offsetRayOrigin(surface.position, surface.geometricNormal);
-  path.radiance += path.throughput * (1.0 / kPi) * directIrradiance(surface.position, surface.normal, path.origin);
-  if (path.vertex >= kRouletteFirstVertex) {
-    float survival = min(max(max(path.throughput.r, path.throughput.g), path.throughput.b), kMaxSurvival);
-    if (nextRandom(path.random) >= survival) return false;
-    path.throughput /= survival;
-  }
-  path.direction = cosineSampleHemisphere(nextRandom2(path.random), surface.normal);
-  ++path.vertex;
-  return true;
+// A path from the primary hit along a cosine-distributed direction around its normal.
+Path startCosinePath(vec3 origin, vec3 normal, uint random) {
+  vec2 square = nextRandom2(random);
+  return startPath(origin, cosineSampleHemisphere(square, normal), random);
 }
 
 void main() {
@@ -94,12 +41,12 @@ void main() {
     vec3 sum = imageLoad(indirectSums, pixel).rgb;
     uint sampleIndex = push.firstSample;
     uint sampleEnd = push.firstSample + push.sampleCount;
-    Path path = startPath(origin.xyz, normal, sampleRandomState(pixelIndex, sampleIndex, push.seed));
+    Path path = startCosinePath(origin.xyz, normal, sampleRandomState(pixelIndex, sampleIndex, push.seed));
     while (true) {
-      if (extendPath(path)) continue;
+      if (extendPath(path, push.maxBounces)) continue;
       sum += kPi * path.radiance;  // E = π × the radiance along a direction of density cos θ/π
       if (++sampleIndex == sampleEnd) break;
-      path = startPath(origin.xyz, normal, sampleRandomState(pixelIndex, sampleIndex, push.seed));
+      path = startCosinePath(origin.xyz, normal, sampleRandomState(pixelIndex, sampleIndex, push.seed));
     }
     imageStore(indirectSums, pixel, vec4(sum, 0.0));
     indirect = sum / float(push.firstSample + push.sampleCount);

@@ -58,7 +58,22 @@ struct PathTracePush {
 };
 SSVGI_CHECK_SIZE(PathTracePush, 16);
 
-// Binding slots (descriptor set 0). The scene, read by both passes:
+// PointRadiance: incoming radiance over the whole sphere at free points (not on a surface), projected onto SH2. Each
+// point has a workgroup of kPointRadianceLanes lanes; in every round each lane traces one antithetic pair of uniform
+// directions, ω and -ω. The pair keeps the estimate unbiased and makes it exact for band 0 wherever the radiance is
+// the same in opposite directions, and for band 1 wherever it is constant (a uniform sky, a furnace).
+SSVGI_CONSTANT(uint, kPointRadianceLanes, 64u);
+SSVGI_CONSTANT(uint, kPointRadianceDirectionsPerRound, 2u * kPointRadianceLanes);
+
+struct PointRadiancePush {
+  uint firstRound;  // rounds [firstRound, firstRound + roundCount) of every point; the sums hold the earlier ones
+  uint roundCount;
+  uint seed;
+  uint maxBounces;  // reflections of light after it leaves its source and before it reaches the point
+};
+SSVGI_CHECK_SIZE(PointRadiancePush, 16);
+
+// Binding slots (descriptor set 0). The scene, read by every pass:
 SSVGI_CONSTANT(uint, kBindTraceFrame, 0u);         // FrameConstants (uniform): camera, sun, sky, light count
 SSVGI_CONSTANT(uint, kBindTraceNodes, 1u);         // BvhNode[]
 SSVGI_CONSTANT(uint, kBindTraceTriangles, 2u);     // TraceTriangle[]
@@ -78,6 +93,9 @@ SSVGI_CONSTANT(uint, kBindPrimaryDistance, 13u);   // r32f: metres from the came
 SSVGI_CONSTANT(uint, kBindTraceIndirectSum, 14u);  // rgb: sum of the E_indirect samples so far
 SSVGI_CONSTANT(uint, kBindTraceIndirect, 15u);     // out: rgb: their mean, E_indirect
 SSVGI_CONSTANT(uint, kBindTraceFinal, 16u);        // out: rgb: final radiance
+// PointRadiance's points and its accumulation:
+SSVGI_CONSTANT(uint, kBindPointPositions, 17u);    // vec4[]: xyz: world position of each point
+SSVGI_CONSTANT(uint, kBindPointRadianceSums, 18u); // Sh2Rgb[]: per point, Σ L(ω)·Y(ω) over its directions so far
 
 // Where a ray meets a triangle: (t, u, v) with the hit at origin + t·direction = vertex0 + u·edge1 + v·edge2, or
 // t = -1 when it misses (Möller & Trumbore 1997). t may be negative or beyond the ray's end: the caller checks it.

@@ -1,0 +1,273 @@
+#include "reference_scenarios.h"
+
+#include "gi/context_internals.h"
+#include "path_tracer.h"
+#include "point_radiance.h"
+#include "scenario_rendering.h"
+#include "shared/probe_interface.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace ssvgi::bench {
+
+namespace {
+
+using renderer::FloatImage;
+using reference::PixelMask;
+
+// Σ of every colour channel over the valid pixels.
+double sumOverMask(const FloatImage& image, const PixelMask& mask) {
+  double sum = 0.0;
+  for (uint32_t y = 0; y < image.height; ++y)
+    for (uint32_t x = 0; x < image.width; ++x)
+      if (mask.isValid(x, y))
+        for (uint32_t c = 0; c < 3; ++c) sum += image.pixels[(size_t(y) * image.width + x) * image.channels + c];
+  return sum;
+}
+
+double relativeChange(double now, double before) {
+  if (before > 0.0) return std::abs(now - before) / before;
+  return now == before ? 0.0 : 1.0;
+}
+
+// Renders windows of frames of the still view until the mean indirect irradiance over the surface pixels settles.
+Convergence renderUntilConverged(ScenarioRenderer& renderer, const renderer::Camera& camera,
+                                 const ConvergenceOptions& options) {
+  Convergence convergence;
+  double previousMean = -1.0;
+  while (convergence.frames < options.maxFrames) {
+    renderer.render(camera, options.windowFrames);
+    convergence.frames += options.windowFrames;
+    const double mean = sumOverMask(renderer.renderer().indirectIrradiance(),
+                                    reference::maskFromDepth(renderer.renderer().viewDistance()));
+    if (previousMean >= 0.0) {
+      convergence.lastChange = relativeChange(mean, previousMean);
+      if (convergence.lastChange < options.tolerance) {
+        convergence.converged = true;
+        break;
+      }
+    }
+    previousMean = mean;
+  }
+  return convergence;
+}
+
+// The scene as the scenario renderer shows it: still, at animation time 0, from the view's camera.
+renderer::AnimatedState stillState(const ScenarioView& view) {
+  renderer::AnimatedState state = renderer::evaluateAnimation(view.scene, view.camera, 0.0f);
+  state.camera = view.camera;
+  return state;
+}
+
+// Both halves of a reference must hold at least one sample, one round, ….
+uint32_t half(uint32_t count, const char* what) {
+  if (count < 2) throw std::runtime_error(std::string("the reference needs at least 2 ") + what);
+  return count / 2;
+}
+
+FloatImage averageOf(const FloatImage& a, const FloatImage& b) {
+  FloatImage mean = a;
+  for (size_t i = 0; i < mean.pixels.size(); ++i) mean.pixels[i] = 0.5f * (a.pixels[i] + b.pixels[i]);
+  return mean;
+}
+
+shader::Sh2Rgb averageOf(const shader::Sh2Rgb& a, const shader::Sh2Rgb& b) {
+  return {0.5f * (a.r + b.r), 0.5f * (a.g + b.g), 0.5f * (a.b + b.b)};
+}
+
+glm::vec3 axisNormal(uint32_t index) {
+  glm::vec3 normal(0.0f);
+  normal[int(index / 2)] = index % 2 == 0 ? 1.0f : -1.0f;
+  return normal;
+}
+
+using AxisIrradiance = std::array<glm::vec3, kAxisNormals>;
+
+// E(n) for the six axis normals; negative irradiance (SH2 rings opposite bright light) is not light, and the gather
+// clamps it to 0 (shaders/gi/gather/final_gather.comp), so both sides are compared clamped.
+AxisIrradiance axisIrradiance(const shader::Sh2Rgb& radiance) {
+  AxisIrradiance irradiance;
+  for (uint32_t i = 0; i < kAxisNormals; ++i)
+    irradiance[i] = glm::max(shader::sh2Irradiance(radiance, axisNormal(i)), glm::vec3(0.0f));
+  return irradiance;
+}
+
+double total(const std::vector<AxisIrradiance>& probes) {
+  double sum = 0.0;
+  for (const AxisIrradiance& probe : probes)
+    for (const glm::vec3& irradiance : probe) sum += double(irradiance.r) + irradiance.g + irradiance.b;
+  return sum;
+}
+
+// Σ|test − reference| / Σ reference over the probes, the normals and the colour channels.
+double relativeMeanAbsoluteError(const std::vector<AxisIrradiance>& test, const std::vector<AxisIrradiance>& reference) {
+  double absoluteError = 0.0;
+  for (size_t i = 0; i < test.size(); ++i)
+    for (uint32_t n = 0; n < kAxisNormals; ++n)
+      for (int c = 0; c < 3; ++c) absoluteError += std::abs(double(test[i][n][c]) - double(reference[i][n][c]));
+  const double referenceTotal = total(reference);
+  if (referenceTotal <= 0.0) throw std::runtime_error("the reference irradiance at the probes is black");
+  return absoluteError / referenceTotal;
+}
+
+// Whether the camera sees into the space around `position`: inside the frustum and nearer than the surface drawn at
+// the pixel it projects to (any distance where nothing was drawn).
+bool inSpaceSeenByCamera(glm::vec3 position, const shader::FrameConstants& frame, glm::vec3 cameraPosition,
+                         const FloatImage& viewDistance) {
+  const glm::vec4 clip = frame.viewProjection * glm::vec4(position, 1.0f);
+  if (clip.w <= 0.0f) return false;
+  const glm::vec3 ndc = glm::vec3(clip) / clip.w;
+  if (std::abs(ndc.x) >= 1.0f || std::abs(ndc.y) >= 1.0f) return false;
+  const glm::vec2 uv = shader::ndcToUv(glm::vec2(ndc));
+  const uint32_t x = std::min(uint32_t(uv.x * float(viewDistance.width)), viewDistance.width - 1);
+  const uint32_t y = std::min(uint32_t(uv.y * float(viewDistance.height)), viewDistance.height - 1);
+  const float surfaceDistance = viewDistance.pixels[size_t(y) * viewDistance.width + x];
+  // A probe on the surface itself (a wall's plane) is not in front of it: the reference's rays would start on it.
+  constexpr float kMinimumClearance = 0.01f;  // m
+  return surfaceDistance <= 0.0f || glm::distance(position, cameraPosition) < surfaceDistance - kMinimumClearance;
+}
+
+bool insideBounds(glm::vec3 position, const renderer::Bounds& bounds) {
+  return glm::all(glm::greaterThan(position, bounds.min)) && glm::all(glm::lessThan(position, bounds.max));
+}
+
+}  // namespace
+
+IndirectErrorResult measureIndirectError(gpu::Device& device, const ScenarioRendering& rendering,
+                                         const ScenarioView& view, const IndirectErrorOptions& options) {
+  IndirectErrorResult result;
+  FloatImage gi, viewDistance;
+  {
+    ScenarioRenderer renderer(device, view.scene, rendering);
+    result.convergence = renderUntilConverged(renderer, view.camera, options.convergence);
+    gi = renderer.renderer().indirectIrradiance();
+    viewDistance = renderer.renderer().viewDistance();
+  }
+
+  const renderer::AnimatedState state = stillState(view);
+  const uint32_t halfSamples = half(options.referenceSamples, "samples per pixel");
+  std::array<FloatImage, 2> halves;
+  for (uint32_t i = 0; i < 2; ++i) {
+    reference::PathTracerSettings tracerSettings;
+    tracerSettings.width = rendering.width;
+    tracerSettings.height = rendering.height;
+    tracerSettings.seed = options.seed + i;
+    reference::PathTracer tracer(device, view.scene, state, tracerSettings);
+    tracer.trace(halfSamples);
+    halves[i] = tracer.indirectIrradiance();
+  }
+  const FloatImage referenceIndirect = averageOf(halves[0], halves[1]);
+  result.referenceSamples = 2 * halfSamples;
+
+  const PixelMask mask = reference::maskFromDepth(viewDistance);
+  result.comparison = reference::compareImages(gi, referenceIndirect, &mask, options.downsample);
+  result.meanRatio = sumOverMask(gi, mask) / sumOverMask(referenceIndirect, mask);
+  result.referenceNoiseFloor =
+      reference::compareImages(halves[0], halves[1], &mask, options.downsample).relativeMeanAbsoluteError / 2.0;
+  return result;
+}
+
+ProbeIrradianceResult measureProbeIrradiance(gpu::Device& device, const ScenarioRendering& rendering,
+                                             const ScenarioView& view, const ProbeIrradianceOptions& options) {
+  ScenarioRenderer renderer(device, view.scene, rendering);
+  ProbeIrradianceResult result;
+  result.convergence = renderUntilConverged(renderer, view.camera, options.convergence);
+
+  const renderer::AnimatedState state = stillState(view);
+  const gi::ProbeVolume& volume = gi::probeVolumeOf(*renderer.renderer().giContext());
+  const std::vector<shader::Probe> probes = gpu::readBufferAs<shader::Probe>(device, volume.probes());
+  const glm::ivec3 dimensions(rendering.gi.probeGrid[0], rendering.gi.probeGrid[1], rendering.gi.probeGrid[2]);
+  const glm::ivec3 origin = volume.levelOrigin(0, view.camera.position);
+  const float spacing = volume.levelSpacing(0);
+  const shader::FrameConstants frame =
+      renderer::makeFrameConstants(view.scene, state, rendering.width, rendering.height, 1.0f);
+  const FloatImage viewDistance = renderer.renderer().viewDistance();
+  const renderer::Bounds bounds = renderer::worldBounds(view.scene);
+
+  std::vector<glm::vec3> positions;
+  std::vector<AxisIrradiance> giIrradiance;
+  for (uint32_t slot = 0; slot < volume.probesPerLevel(); ++slot) {  // level 0 comes first
+    const glm::ivec3 coordinate = shader::probeWorldCoordinate(slot, origin, dimensions);
+    const shader::Probe& probe = probes[slot];
+    if (!shader::probeIsUsable(probe, coordinate)) continue;
+    ++result.usableProbes;
+    const glm::vec3 position = shader::probeWorldPosition(coordinate, spacing, probe.state);
+    if (!insideBounds(position, bounds) || !inSpaceSeenByCamera(position, frame, view.camera.position, viewDistance))
+      continue;
+    result.probes.push_back({.probe = coordinate, .position = position});
+    positions.push_back(position);
+    giIrradiance.push_back(axisIrradiance(shader::probeRadianceSh(probe)));
+  }
+  if (positions.empty()) throw std::runtime_error("no usable probe lies in the space the camera sees");
+
+  const uint32_t halfDirections = half(options.referenceDirections, "directions per point");
+  std::array<std::vector<shader::Sh2Rgb>, 2> halves;
+  for (uint32_t i = 0; i < 2; ++i) {
+    reference::PointRadianceTracer tracer(device, view.scene, state, positions, {.seed = options.seed + i});
+    tracer.trace(halfDirections);
+    halves[i] = tracer.radiance();
+    result.referenceDirections += tracer.directionsPerPoint();
+  }
+  std::vector<AxisIrradiance> referenceIrradiance, firstHalf, secondHalf;
+  for (size_t i = 0; i < positions.size(); ++i) {
+    referenceIrradiance.push_back(axisIrradiance(averageOf(halves[0][i], halves[1][i])));
+    firstHalf.push_back(axisIrradiance(halves[0][i]));
+    secondHalf.push_back(axisIrradiance(halves[1][i]));
+    result.probes[i].gi = giIrradiance[i];
+    result.probes[i].reference = referenceIrradiance[i];
+  }
+  result.relativeMeanAbsoluteError = relativeMeanAbsoluteError(giIrradiance, referenceIrradiance);
+  result.meanRatio = total(giIrradiance) / total(referenceIrradiance);
+  result.referenceNoiseFloor = relativeMeanAbsoluteError(firstHalf, secondHalf) / 2.0;
+  return result;
+}
+
+namespace {
+
+nlohmann::json toJson(const Convergence& convergence) {
+  return {{"frames", convergence.frames}, {"lastChange", convergence.lastChange}, {"converged", convergence.converged}};
+}
+
+nlohmann::json toJson(glm::vec3 value) { return nlohmann::json::array({value.x, value.y, value.z}); }
+
+}  // namespace
+
+nlohmann::json toJson(const IndirectErrorResult& result) {
+  return {{"relativeMeanAbsoluteError", result.comparison.relativeMeanAbsoluteError},
+          {"rmse", result.comparison.rmse},
+          {"ssim", result.comparison.ssim},
+          {"validPixels", result.comparison.validPixels},
+          {"downsample", result.comparison.downsample},
+          {"meanRatio", result.meanRatio},
+          {"referenceNoiseFloor", result.referenceNoiseFloor},
+          {"referenceSamplesPerPixel", result.referenceSamples},
+          {"convergence", toJson(result.convergence)}};
+}
+
+nlohmann::json toJson(const ProbeIrradianceResult& result) {
+  nlohmann::json probes = nlohmann::json::array();
+  for (const ProbeIrradiance& probe : result.probes) {
+    nlohmann::json gi = nlohmann::json::array(), reference = nlohmann::json::array();
+    for (uint32_t n = 0; n < kAxisNormals; ++n) {
+      gi.push_back(toJson(probe.gi[n]));
+      reference.push_back(toJson(probe.reference[n]));
+    }
+    probes.push_back({{"probe", {probe.probe.x, probe.probe.y, probe.probe.z}},
+                      {"position", toJson(probe.position)},
+                      {"irradiance", gi},
+                      {"referenceIrradiance", reference}});
+  }
+  return {{"relativeMeanAbsoluteError", result.relativeMeanAbsoluteError},
+          {"meanRatio", result.meanRatio},
+          {"referenceNoiseFloor", result.referenceNoiseFloor},
+          {"referenceDirections", result.referenceDirections},
+          {"usableProbes", result.usableProbes},
+          {"comparedProbes", result.probes.size()},
+          // irradiance and referenceIrradiance: E(n) in RGB (W/m²) for each of these normals, in this order
+          {"normals", {"+x", "-x", "+y", "-y", "+z", "-z"}},
+          {"probes", probes},
+          {"convergence", toJson(result.convergence)}};
+}
+
+}  // namespace ssvgi::bench

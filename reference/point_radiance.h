@@ -1,0 +1,52 @@
+#pragma once
+// Ground truth for the GI's probes (SPEC §4.5, §7): the radiance arriving at free points of the scene from every
+// direction, path-traced over the same scene as the reference images (shaders/reference/point_radiance.comp) and
+// projected onto SH2 with SPEC §2's convention, so that it compares coefficient for coefficient with a probe's.
+#include "path_tracer.h"
+#include "shared/sh.h"
+#include "traced_scene.h"
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace ssvgi::reference {
+
+struct PointRadianceSettings {
+  uint32_t maxBounces = kDefaultMaxBounces;  // reflections of light from its source to the point
+  uint32_t seed = 0;  // the result is a function of (scene, points, settings, seed, directions) only
+  double secondsPerDispatch = 0.25;  // as PathTracerSettings::secondsPerDispatch
+};
+
+class PointRadianceTracer {
+ public:
+  // The scene as it is at `state`, and the points (world, m) whose incoming radiance is wanted. A point should lie in
+  // free space: on a surface, half its directions would start inside the surface's thickness or on its plane.
+  PointRadianceTracer(gpu::Device& device, const renderer::Scene& scene, const renderer::AnimatedState& state,
+                      std::span<const glm::vec3> points, const PointRadianceSettings& settings = {});
+
+  // Adds at least `directions` uniformly distributed directions to every point (rounded up to a whole number of
+  // rounds, shader::kPointRadianceDirectionsPerRound), in dispatches of adaptive size, waiting for each.
+  void trace(uint32_t directions);
+  uint32_t directionsPerPoint() const { return rounds_ * shader::kPointRadianceDirectionsPerRound; }
+
+  // Per point, its incoming radiance as SH2 of each colour channel: L_lm = (4π/N) Σ L(ω_i) Y_lm(ω_i) over the N
+  // directions traced so far (SPEC §2). Irradiance on a surface facing n there is shader::sh2Irradiance(·, n).
+  std::vector<shader::Sh2Rgb> radiance();
+
+ private:
+  gpu::Device& device_;
+  PointRadianceSettings settings_;
+  gpu::DescriptorArena descriptors_;
+  gpu::ComputePipeline pipeline_;
+  TracedScene scene_;
+  DispatchPacer pacer_;
+  gpu::Buffer points_;
+  gpu::Buffer sums_;
+  uint32_t pointCount_ = 0;
+  uint32_t rounds_ = 0;
+};
+
+}  // namespace ssvgi::reference

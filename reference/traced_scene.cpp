@@ -1,0 +1,156 @@
+#include "traced_scene.h"
+
+#include "bvh.h"
+#include "gpu_scene.h"
+#include "renderer.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <span>
+#include <vector>
+
+namespace ssvgi::reference {
+
+namespace {
+
+// The scene's triangles in world space, every instance flattened, in the order of the BVH's leaves.
+struct SceneTriangles {
+  std::vector<shader::TraceTriangle> triangles;
+  std::vector<shader::TriangleShading> shading;
+};
+
+SceneTriangles flattenScene(const renderer::Scene& scene, const renderer::AnimatedState& state) {
+  SceneTriangles flat;
+  for (uint32_t instanceIndex = 0; instanceIndex < scene.instances.size(); ++instanceIndex) {
+    const renderer::Instance& instance = scene.instances[instanceIndex];
+    const bool moving = state.movingObjectTransform && scene.movingObject && scene.movingObject->instance == instanceIndex;
+    const glm::mat4 model = moving ? *state.movingObjectTransform : instance.transform;
+    // As the G-buffer's vertex shader transforms normals (GpuScene::updateInstances' normal matrix).
+    const glm::mat3 normalMatrix(glm::transpose(glm::inverse(model)));
+    const renderer::Mesh& mesh = scene.meshes.at(instance.mesh);
+    if (mesh.material >= scene.materials.size())
+      throw gpu::GpuError("scene '" + scene.name + "': mesh '" + mesh.name + "' has no material " +
+                          std::to_string(mesh.material));
+    const float materialBits = std::bit_cast<float>(mesh.material);
+    for (size_t first = 0; first + 2 < mesh.indices.size(); first += 3) {
+      const renderer::Vertex& a = mesh.vertices.at(mesh.indices[first]);
+      const renderer::Vertex& b = mesh.vertices.at(mesh.indices[first + 1]);
+      const renderer::Vertex& c = mesh.vertices.at(mesh.indices[first + 2]);
+      const glm::vec3 worldA(model * glm::vec4(a.position, 1.0f));
+      const glm::vec3 worldB(model * glm::vec4(b.position, 1.0f));
+      const glm::vec3 worldC(model * glm::vec4(c.position, 1.0f));
+      flat.triangles.push_back({glm::vec4(worldA, 0.0f), glm::vec4(worldB - worldA, 0.0f), glm::vec4(worldC - worldA, 0.0f)});
+      flat.shading.push_back({glm::vec4(normalMatrix * a.normal, a.uv.x), glm::vec4(normalMatrix * b.normal, b.uv.x),
+                              glm::vec4(normalMatrix * c.normal, c.uv.x),
+                              glm::vec4(a.uv.y, b.uv.y, c.uv.y, materialBits)});
+    }
+  }
+  if (flat.triangles.empty()) throw gpu::GpuError("scene '" + scene.name + "' has no triangles");
+  return flat;
+}
+
+template <typename T>
+std::vector<T> inOrder(const std::vector<T>& values, const std::vector<uint32_t>& order) {
+  std::vector<T> ordered;
+  ordered.reserve(order.size());
+  for (uint32_t index : order) ordered.push_back(values[index]);
+  return ordered;
+}
+
+// A device-local storage buffer holding `values` (at least one element: Vulkan has no empty buffers).
+template <typename T>
+gpu::Buffer storageBuffer(gpu::Device& device, const std::string& name, std::vector<T> values) {
+  if (values.empty()) values.resize(1);
+  gpu::Buffer buffer(device, name, values.size() * sizeof(T), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  gpu::uploadBuffer(device, buffer, std::as_bytes(std::span(values)));
+  return buffer;
+}
+
+std::vector<shader::GpuMaterial> materialsOf(const renderer::Scene& scene) {
+  if (scene.materials.empty()) throw gpu::GpuError("scene '" + scene.name + "' has no materials");
+  std::vector<shader::GpuMaterial> materials;
+  for (const renderer::Material& material : scene.materials)
+    materials.push_back(renderer::toGpuMaterial(material, scene.textures.size()));
+  return materials;
+}
+
+// Every texture's RGBA8 texels, back to back, one uint each.
+struct PackedTextures {
+  std::vector<shader::PackedTexture> textures;
+  std::vector<uint32_t> texels;
+};
+
+PackedTextures packTextures(const renderer::Scene& scene) {
+  PackedTextures packed;
+  for (const renderer::Texture& texture : scene.textures) {
+    const size_t texelCount = size_t(texture.width) * texture.height;
+    if (texelCount == 0 || texture.rgba.size() != texelCount * 4)
+      throw gpu::GpuError("texture '" + texture.name + "' has no texels or the wrong number of bytes");
+    packed.textures.push_back({static_cast<uint32_t>(packed.texels.size()), texture.width, texture.height, 0});
+    const size_t first = packed.texels.size();
+    packed.texels.resize(first + texelCount);
+    std::memcpy(packed.texels.data() + first, texture.rgba.data(), texture.rgba.size());
+  }
+  return packed;
+}
+
+std::vector<shader::GpuLight> lightsOf(const renderer::Scene& scene) {
+  std::vector<shader::GpuLight> lights;
+  for (const renderer::LocalLight& light : scene.lights) {
+    shader::GpuLight gpuLight = renderer::toGpuLight(light);
+    // The path tracer has no shadow layers: w only says whether the light casts shadows at all.
+    gpuLight.intensityAndShadow.w = std::bit_cast<float>(light.castsShadow ? 0u : shader::kNoShadow);
+    lights.push_back(gpuLight);
+  }
+  return lights;
+}
+
+}  // namespace
+
+TracedScene::TracedScene(gpu::Device& device, const renderer::Scene& scene, const renderer::AnimatedState& state,
+                         uint32_t width, uint32_t height, float exposure)
+    : frameConstants_(device, "reference frame constants", sizeof(shader::FrameConstants),
+                      VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryUsage::HostUpload) {
+  const SceneTriangles flat = flattenScene(scene, state);
+  const Bvh bvh = buildBvh(flat.triangles);
+  triangleCount_ = static_cast<uint32_t>(flat.triangles.size());
+  bvhNodeCount_ = static_cast<uint32_t>(bvh.nodes.size());
+  bvhDepth_ = bvh.depth;
+  nodes_ = storageBuffer(device, "reference bvh nodes", bvh.nodes);
+  triangles_ = storageBuffer(device, "reference triangles", inOrder(flat.triangles, bvh.triangleOrder));
+  shading_ = storageBuffer(device, "reference triangle shading", inOrder(flat.shading, bvh.triangleOrder));
+  materials_ = storageBuffer(device, "reference materials", materialsOf(scene));
+  PackedTextures packed = packTextures(scene);
+  textures_ = storageBuffer(device, "reference textures", std::move(packed.textures));
+  texels_ = storageBuffer(device, "reference texels", std::move(packed.texels));
+  lights_ = storageBuffer(device, "reference lights", lightsOf(scene));
+
+  const shader::FrameConstants frame = renderer::makeFrameConstants(scene, state, width, height, exposure);
+  std::memcpy(frameConstants_.mapped(), &frame, sizeof(frame));
+}
+
+uint32_t DispatchPacer::nextUnits(uint32_t remaining) const { return std::min(unitsPerDispatch_, remaining); }
+
+void DispatchPacer::measured(uint32_t units, double seconds) {
+  // Aim the next dispatch at the target time, growing at most twofold so that one fast (e.g. cold) measurement
+  // cannot make a dispatch that runs far too long.
+  const double secondsPerUnit = std::max(seconds, 1e-6) / double(units);
+  const double fitting = std::floor(secondsPerDispatch_ / secondsPerUnit);
+  unitsPerDispatch_ = static_cast<uint32_t>(std::clamp(fitting, 1.0, 2.0 * double(units)));
+}
+
+gpu::Bindings TracedScene::bindings() const {
+  return gpu::Bindings()
+      .buffer(shader::kBindTraceFrame, frameConstants_)
+      .buffer(shader::kBindTraceNodes, nodes_)
+      .buffer(shader::kBindTraceTriangles, triangles_)
+      .buffer(shader::kBindTraceShading, shading_)
+      .buffer(shader::kBindTraceMaterials, materials_)
+      .buffer(shader::kBindTraceTextures, textures_)
+      .buffer(shader::kBindTraceTexels, texels_)
+      .buffer(shader::kBindTraceLights, lights_);
+}
+
+}  // namespace ssvgi::reference

@@ -1,0 +1,62 @@
+#version 450
+// PointRadiance: the radiance arriving at free points (a probe's position) from every direction, projected onto SH2
+// (SPEC §2: L_lm = (4π/N) Σ L(ω_i) Y_lm(ω_i) over N uniform directions) — the ground truth of what a probe of the GI
+// should hold there. Each direction's radiance is a whole path (reference/path_radiance.glsl): emission, the sky, and
+// light reflected any number of times, as PathTrace finds it for a pixel; the delta lights themselves are never seen
+// (a ray cannot hit a point), only their light reflected by surfaces.
+//
+// One workgroup per point; a round gives every lane one antithetic pair of uniform directions (ω, -ω). The group sums
+// its lanes' L·Y and adds the total to the point's sums, in lane order, so the sums are a function of (scene, points,
+// seed, rounds) only, whatever the batches were. The host scales by 4π/N.
+#include "reference/path_radiance.glsl"
+#include "shared/sampling.h"
+#include "shared/sh.h"
+
+layout(local_size_x = kPointRadianceLanes) in;
+
+layout(push_constant) uniform Push { PointRadiancePush push; };
+
+layout(binding = kBindPointPositions) readonly buffer Points { vec4 points[]; };
+layout(binding = kBindPointRadianceSums) buffer Sums { Sh2Rgb sums[]; };
+
+shared Sh2Rgb laneSums[kPointRadianceLanes];
+
+// The radiance arriving at `origin` from `direction` (the path runs the other way, from the point outwards).
+vec3 arrivingRadiance(vec3 origin, vec3 direction, uint random) {
+  Path path = startPath(origin, direction, random);
+  while (extendPath(path, push.maxBounces)) {
+  }
+  return path.radiance;
+}
+
+void addSample(inout Sh2Rgb sum, vec3 radiance, vec3 direction) {
+  vec4 basis = sh2Basis(direction);
+  sum.r += radiance.r * basis;
+  sum.g += radiance.g * basis;
+  sum.b += radiance.b * basis;
+}
+
+void main() {
+  uint point = gl_WorkGroupID.x;
+  uint lane = gl_LocalInvocationID.x;
+  vec3 origin = points[point].xyz;
+  Sh2Rgb sum = Sh2Rgb(vec4(0.0), vec4(0.0), vec4(0.0));
+  for (uint roundIndex = push.firstRound; roundIndex < push.firstRound + push.roundCount; ++roundIndex) {
+    // Each path of the pair has random numbers of its own: sample indices 2·pair and 2·pair + 1.
+    uint pair = roundIndex * kPointRadianceLanes + lane;
+    uint random = sampleRandomState(point, 2u * pair, push.seed);
+    vec3 direction = uniformSphereDirection(nextRandom2(random));
+    addSample(sum, arrivingRadiance(origin, direction, random), direction);
+    addSample(sum, arrivingRadiance(origin, -direction, sampleRandomState(point, 2u * pair + 1u, push.seed)), -direction);
+  }
+  laneSums[lane] = sum;
+  barrier();
+  if (lane != 0u) return;
+  Sh2Rgb total = sums[point];
+  for (uint i = 0u; i < kPointRadianceLanes; ++i) {
+    total.r += laneSums[i].r;
+    total.g += laneSums[i].g;
+    total.b += laneSums[i].b;
+  }
+  sums[point] = total;
+}
