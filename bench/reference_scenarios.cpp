@@ -6,7 +6,9 @@
 #include "scenario_rendering.h"
 #include "shared/probe_interface.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace ssvgi::bench {
@@ -123,9 +125,44 @@ bool inSpaceSeenByCamera(glm::vec3 position, const shader::FrameConstants& frame
   const uint32_t x = std::min(uint32_t(uv.x * float(viewDistance.width)), viewDistance.width - 1);
   const uint32_t y = std::min(uint32_t(uv.y * float(viewDistance.height)), viewDistance.height - 1);
   const float surfaceDistance = viewDistance.pixels[size_t(y) * viewDistance.width + x];
-  // A probe on the surface itself (a wall's plane) is not in front of it: the reference's rays would start on it.
-  constexpr float kMinimumClearance = 0.01f;  // m
-  return surfaceDistance <= 0.0f || glm::distance(position, cameraPosition) < surfaceDistance - kMinimumClearance;
+  return surfaceDistance <= 0.0f || glm::distance(position, cameraPosition) < surfaceDistance;
+}
+
+// The point of triangle abc nearest to p (Ericson, Real-Time Collision Detection, 5.1.5).
+glm::vec3 closestPointOnTriangle(glm::vec3 p, glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+  const glm::vec3 ab = b - a, ac = c - a, ap = p - a;
+  const float d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
+  if (d1 <= 0.0f && d2 <= 0.0f) return a;
+  const glm::vec3 bp = p - b;
+  const float d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
+  if (d3 >= 0.0f && d4 <= d3) return b;
+  const float vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0f && d1 >= 0.0f && d3 <= 0.0f) return a + ab * (d1 / (d1 - d3));
+  const glm::vec3 cp = p - c;
+  const float d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
+  if (d6 >= 0.0f && d5 <= d6) return c;
+  const float vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0f && d2 >= 0.0f && d6 <= 0.0f) return a + ac * (d2 / (d2 - d6));
+  const float va = d3 * d6 - d5 * d4;
+  if (va <= 0.0f && d4 - d3 >= 0.0f && d5 - d6 >= 0.0f) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  const float denominator = 1.0f / (va + vb + vc);
+  return a + ab * (vb * denominator) + ac * (vc * denominator);
+}
+
+// The distance from `position` to the nearest surface of the still scene (animation time 0), by testing every
+// triangle: the scenario scenes have a few thousand at most.
+float distanceToScene(glm::vec3 position, const renderer::Scene& scene) {
+  float nearest = std::numeric_limits<float>::max();
+  for (const renderer::Instance& instance : scene.instances) {
+    const renderer::Mesh& mesh = scene.meshes[instance.mesh];
+    const auto corner = [&](size_t index) {
+      return glm::vec3(instance.transform * glm::vec4(mesh.vertices[mesh.indices[index]].position, 1.0f));
+    };
+    for (size_t index = 0; index + 2 < mesh.indices.size(); index += 3)
+      nearest = std::min(nearest, glm::distance(position, closestPointOnTriangle(position, corner(index),
+                                                                                 corner(index + 1), corner(index + 2))));
+  }
+  return nearest;
 }
 
 bool insideBounds(glm::vec3 position, const renderer::Bounds& bounds) {
@@ -193,7 +230,8 @@ ProbeIrradianceResult measureProbeIrradiance(gpu::Device& device, const Scenario
     if (!shader::probeIsUsable(probe, coordinate)) continue;
     ++result.usableProbes;
     const glm::vec3 position = shader::probeWorldPosition(coordinate, spacing, probe.state);
-    if (!insideBounds(position, bounds) || !inSpaceSeenByCamera(position, frame, view.camera.position, viewDistance))
+    if (!insideBounds(position, bounds) || !inSpaceSeenByCamera(position, frame, view.camera.position, viewDistance) ||
+        distanceToScene(position, view.scene) < rendering.gi.voxelSize)
       continue;
     result.probes.push_back({.probe = coordinate, .position = position});
     positions.push_back(position);

@@ -95,8 +95,10 @@ struct ProbeIrradianceResult {
 // inside the scene's bounds, in the view frustum and in front of the surface drawn where they project: ssvgi's probes
 // see voxels, and voxels exist only where the camera saw a surface, so only a probe in the space the camera looks into
 // has surroundings the GI can know (in `cornell`, the box's interior and its open front). A probe elsewhere — outside
-// the box, behind a wall — would measure what the camera never saw rather than the probe cache. Throws
-// std::runtime_error when no probe qualifies.
+// the box, behind a wall — would measure what the camera never saw rather than the probe cache. And at least one
+// voxel (Settings::voxelSize) from every surface: the voxels place a surface only to within a voxel, so nearer than
+// that the distance to it — and the solid angle it fills — is not known to the GI at all; on a surface the
+// reference's own rays would start on it. Throws std::runtime_error when no probe qualifies.
 ProbeIrradianceResult measureProbeIrradiance(gpu::Device& device, const ScenarioRendering& rendering,
                                              const ScenarioView& view, const ProbeIrradianceOptions& options = {});
 

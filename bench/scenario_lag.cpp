@@ -5,6 +5,7 @@
 // lights stay on: the old steady state is not zero, and the lag is counted on the way from the old state to the new.
 #include "scenario_rendering.h"
 
+#include <algorithm>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -27,26 +28,37 @@ LagResult measureLag(gpu::Device& device, const ScenarioRendering& rendering, co
     throw std::runtime_error("scenario lag: the scene " + view.scene.name + " has no local light " +
                              std::to_string(options.light) + " to switch (it has " +
                              std::to_string(view.scene.lights.size()) + ")");
-  if (options.steadyFrames == 0 || options.steadyFrames > options.framesAfterSwitch)
-    throw std::runtime_error("scenario lag: the steady frames must be 1 to the frames after the switch");
+  if (options.steadyFrames == 0 || options.steadyFrames > std::min(options.convergenceFrames, options.framesAfterSwitch))
+    throw std::runtime_error("scenario lag: the steady frames must be 1 to the frames before and after the switch");
 
-  renderer::Scene scene = view.scene;  // the renderer reads its lights every frame: the switch below reaches it
-  renderer::LocalLight& light = scene.lights[options.light];
+  // Two runs side by side, frame for frame: one with the light switched on after convergenceFrames, and one with it
+  // on all along, whose last frames are the new steady state (the lit loop of SPEC §3 converges over many frames, so
+  // the switched run's own last frames would still be on their way).
+  renderer::Scene switchedScene = view.scene;  // the renderer reads its lights every frame: the switch reaches it
+  renderer::LocalLight& light = switchedScene.lights[options.light];
   const glm::vec3 intensityOn = light.intensity;
   light.intensity = glm::vec3(0.0f);
+  ScenarioRenderer switched(device, switchedScene, rendering);
+  ScenarioRenderer alwaysOn(device, view.scene, rendering);
 
-  ScenarioRenderer renderer(device, scene, rendering);
-  renderer::Renderer& frame = renderer.renderer();
-  renderer.render(view.camera, options.convergenceFrames);
-  const std::vector<bool> surface = surfacePoints(view.camera, frame.viewDistance()).isSurface;
-  const double before = meanWhere(luminance(frame.indirectIrradiance()), surface);
-
-  light.intensity = intensityOn;
-  std::vector<double> irradiance;
-  renderer.render(view.camera, options.framesAfterSwitch,
-                  [&] { irradiance.push_back(meanWhere(luminance(frame.indirectIrradiance()), surface)); });
-  const double after = std::accumulate(irradiance.end() - options.steadyFrames, irradiance.end(), 0.0) /
-                       double(options.steadyFrames);
+  std::vector<bool> surface;
+  std::vector<double> switchedIrradiance, alwaysOnIrradiance;
+  const uint32_t frames = options.convergenceFrames + options.framesAfterSwitch;
+  for (uint32_t frame = 0; frame < frames; ++frame) {
+    if (frame == options.convergenceFrames) light.intensity = intensityOn;
+    switched.render(view.camera, 1);
+    alwaysOn.render(view.camera, 1);
+    if (surface.empty()) surface = surfacePoints(view.camera, alwaysOn.renderer().viewDistance()).isSurface;
+    switchedIrradiance.push_back(meanWhere(luminance(switched.renderer().indirectIrradiance()), surface));
+    alwaysOnIrradiance.push_back(meanWhere(luminance(alwaysOn.renderer().indirectIrradiance()), surface));
+  }
+  // The mean of `steadyFrames` frames of a run, the last of them `end` − 1.
+  const auto steadyMean = [&](const std::vector<double>& irradiance, size_t end) {
+    return std::accumulate(irradiance.begin() + ptrdiff_t(end - options.steadyFrames),
+                           irradiance.begin() + ptrdiff_t(end), 0.0) / double(options.steadyFrames);
+  };
+  const double before = steadyMean(switchedIrradiance, options.convergenceFrames);
+  const double after = steadyMean(alwaysOnIrradiance, frames);
   if (!(after > before))
     throw std::runtime_error("scenario lag: switching the light on did not raise the indirect irradiance");
 
@@ -54,11 +66,15 @@ LagResult measureLag(gpu::Device& device, const ScenarioRendering& rendering, co
   result.irradianceBefore = before;
   result.irradianceAfter = after;
   result.targetFrames = kTargetProbeUpdates * kFramesPerProbeUpdate;
-  for (size_t index = 0; index < irradiance.size(); ++index) {
-    result.progress.push_back((irradiance[index] - before) / (after - before));
+  for (size_t frame = options.convergenceFrames; frame < frames; ++frame) {
+    result.progress.push_back((switchedIrradiance[frame] - before) / (after - before));
     if (!result.framesToNinetyPercent && result.progress.back() >= kLagFraction)
-      result.framesToNinetyPercent = uint32_t(index + 1);
+      result.framesToNinetyPercent = uint32_t(result.progress.size());
   }
+  for (size_t frame = 0; frame < frames && !result.alwaysOnFramesToNinetyPercent; ++frame)
+    if (alwaysOnIrradiance[frame] >= kLagFraction * after) result.alwaysOnFramesToNinetyPercent = uint32_t(frame + 1);
+  if (frames >= 2 * options.steadyFrames)
+    result.steadyDrift = after / steadyMean(alwaysOnIrradiance, frames - options.steadyFrames) - 1.0;
   return result;
 }
 
@@ -66,6 +82,10 @@ nlohmann::json toJson(const LagResult& result) {
   return {{"framesToNinetyPercent",
            result.framesToNinetyPercent ? nlohmann::json(*result.framesToNinetyPercent) : nlohmann::json(nullptr)},
           {"targetFrames", result.targetFrames},
+          {"alwaysOnFramesToNinetyPercent", result.alwaysOnFramesToNinetyPercent
+                                                ? nlohmann::json(*result.alwaysOnFramesToNinetyPercent)
+                                                : nlohmann::json(nullptr)},
+          {"steadyDrift", result.steadyDrift},
           {"irradianceBefore", result.irradianceBefore},
           {"irradianceAfter", result.irradianceAfter},
           {"progress", result.progress}};

@@ -14,8 +14,6 @@
 // surface point lies in, split at the shared wall's middle plane x = 0: every visible surface is inside one room.
 #include "scenario_rendering.h"
 
-#include "builtin_scenes.h"
-
 #include <stdexcept>
 
 namespace ssvgi::bench {
@@ -45,17 +43,17 @@ RoomIrradiance roomIrradiance(renderer::Renderer& renderer, const renderer::Came
 const renderer::Camera& cameraNamed(const renderer::Scene& scene, const std::string& name) {
   for (const renderer::Camera& camera : scene.cameras)
     if (camera.name == name) return camera;
-  throw std::logic_error("two-rooms has no camera '" + name + "'");
+  throw std::runtime_error("scenario leak: the scene " + scene.name + " has no camera '" + name + "'");
 }
 
 }  // namespace
 
-LeakResult measureLeak(gpu::Device& device, const ScenarioRendering& rendering, const LeakOptions& options) {
-  const renderer::Scene scene = *renderer::makeBuiltinScene("two-rooms");
-  const renderer::Camera& litView = cameraNamed(scene, "lit room");
-  const renderer::Camera& darkView = cameraNamed(scene, "dark room");
+LeakResult measureLeak(gpu::Device& device, const ScenarioRendering& rendering, const renderer::Scene& twoRooms,
+                       const LeakOptions& options) {
+  const renderer::Camera& litView = cameraNamed(twoRooms, "lit room");
+  const renderer::Camera& darkView = cameraNamed(twoRooms, "dark room");
 
-  ScenarioRenderer renderer(device, scene, rendering);
+  ScenarioRenderer renderer(device, twoRooms, rendering);
   renderer.render(litView, options.framesPerRoom);
   const RoomIrradiance lit = roomIrradiance(renderer.renderer(), litView, false);
   renderer.render(darkView, options.framesPerRoom);

@@ -21,7 +21,7 @@ namespace ssvgi::bench {
 struct ScenarioRendering {
   uint32_t width = 640;
   uint32_t height = 360;
-  Settings gi = settingsForTier(QualityTier::High);
+  Settings gi = settingsForTier(QualityTier::High);  // with the scene's detail scale applied (renderer::scaledToScene)
 };
 
 // A scene and the still view a scenario watches it from.
@@ -45,8 +45,10 @@ struct LeakResult {
   uint64_t darkRoomPixels = 0;
 };
 
-// Renders the built-in `two-rooms` scene (its cameras "lit room", then "dark room").
-LeakResult measureLeak(gpu::Device& device, const ScenarioRendering& rendering, const LeakOptions& options = {});
+// Renders `twoRooms` — the built-in scene, or a variant of it with the same rooms and cameras ("lit room", then
+// "dark room").
+LeakResult measureLeak(gpu::Device& device, const ScenarioRendering& rendering, const renderer::Scene& twoRooms,
+                       const LeakOptions& options = {});
 
 // ---------------------------------------------------------------------------------------------------------------------
 // Flicker (SPEC §7): mean over pixels of the frame-to-frame relative change of the final image, converged and still.
@@ -70,18 +72,25 @@ FlickerResult measureFlicker(gpu::Device& device, const ScenarioRendering& rende
 // its way from the old steady state to the new one.
 
 struct LagOptions {
-  uint32_t light = 0;                 // index of the scene's local light that is switched on
-  uint32_t convergenceFrames = 64;    // frames with the light off before the switch
-  uint32_t framesAfterSwitch = 96;    // frames rendered with the light on
-  uint32_t steadyFrames = 16;         // the last frames of those, averaged as the new steady state
+  uint32_t light = 0;                // index of the scene's local light that is switched on
+  uint32_t convergenceFrames = 64;   // frames with the light off before the switch
+  uint32_t framesAfterSwitch = 96;   // frames rendered with the light on
+  uint32_t steadyFrames = 16;        // frames averaged for a steady state: the last before the switch, and the last of
+                                     // a run with the light on all along
 };
 
 struct LagResult {
-  double irradianceBefore = 0.0;  // mean luminance of E_indirect over the surface pixels, light off (W/m²): the other
-                                  // lights, emissive surfaces and the sky still light the scene
-  double irradianceAfter = 0.0;   // the same, light on: the mean of the last steadyFrames frames
+  double irradianceBefore = 0.0;  // mean luminance of E_indirect over the surface pixels before the switch (W/m²): the
+                                  // other lights, emissive surfaces and the sky still light the scene
+  double irradianceAfter = 0.0;   // the same in a run with the light on all along, at its last frames
   std::vector<double> progress;   // per frame after the switch: (E − before) / (after − before)
   std::optional<uint32_t> framesToNinetyPercent;  // the first frame (1 = the switch frame) whose progress ≥ 0.9
+  // For comparison, the first frame of the run with the light on all along whose E ≥ 0.9 · after: how long the GI
+  // takes to build up from nothing (the lit-frame loop of SPEC §3 adds a bounce per pass through it).
+  std::optional<uint32_t> alwaysOnFramesToNinetyPercent;
+  // How far that run still moved: its last steadyFrames' mean over the mean of the steadyFrames before those, − 1.
+  // Far from 0, `after` is not yet a steady state and the frame counts above are too low.
+  double steadyDrift = 0.0;
   // SPEC §6.2's target, 90 % within 8 updates of each probe, in frames: one probe level is updated per frame
   // (round robin over the three levels), so each probe at most every third frame.
   uint32_t targetFrames = 0;

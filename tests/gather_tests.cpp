@@ -241,56 +241,73 @@ TEST_F(GatherFilters, upsampleAndTemporalFilterDoNotBlurAcrossADepthEdge) {
 // ---------------------------------------------------------------------------------------------------------------------
 // FinalGather through the public API: every probe of every level active, with the same radiance and distance SH.
 
-TEST_F(GatherFilters, finalGatherOfProbesWithConstantRadianceGivesPiTimesTheRadianceEverywhere) {
-  Settings settings;
-  settings.volumeBricks = {16, 8, 16};
-  settings.brickPoolCapacity = 256;
-  settings.probeGrid = {16, 8, 16};
-  const ContextDesc desc = testing::gpuTestContextDesc(settings, kSize);
-  auto created = Context::create(desc);
-  ASSERT_TRUE(created.ok()) << created.error().message;
-  Context& context = *created.value();
+// A GI context whose every probe of every level is active with radiance L everywhere (set by the test), dispatched
+// once more over them from a camera at `position` looking along −Z. No lit frame: nothing is injected and no probe is
+// traced, so the test's probes stay.
+class GatherOverConstantProbes : public GatherFilters {
+ protected:
+  static constexpr float kRadiance = 0.8f;
 
-  // Walls 2 and 8 m away; no lit frame, so nothing is injected and no probe is traced: the test's probes stay.
-  const glm::vec3 position(0.5f, 0.5f, 3.5f);
-  const TestView view = viewFrom(position);
-  setFrame(view, position);
-  FrameDesc frame;
-  std::copy(glm::value_ptr(view.viewProjection), glm::value_ptr(view.viewProjection) + 16,
-            frame.camera.viewProjection.begin());
-  frame.camera.position = {position.x, position.y, position.z};
-  frame.camera.width = frame.camera.height = kSize;
-  frame.depth.view = depthView();
-  frame.normal.view = normalView();
-  const auto dispatch = [&] {
-    Error error;
-    device().submitAndWait([&](VkCommandBuffer commandBuffer) { error = context.dispatch(frame, commandBuffer); });
-    ASSERT_FALSE(error) << error.message;
-    ++frame.frameIndex;
-  };
-  EXPECT_EQ(context.output().view, VkImageView(VK_NULL_HANDLE));
-  dispatch();  // the first frame clears the probe volume
+  Context& dispatchOverConstantProbes(glm::vec3 position) {
+    Settings settings;
+    settings.volumeBricks = {16, 8, 16};
+    settings.brickPoolCapacity = 256;
+    settings.probeGrid = {16, 8, 16};
+    auto created = Context::create(testing::gpuTestContextDesc(settings, kSize));
+    EXPECT_TRUE(created.ok()) << created.error().message;
+    context_ = std::move(created.value());
 
-  constexpr float kRadiance = 0.8f;
-  const gi::ProbeVolume& volume = gi::probeVolumeOf(context);
-  const glm::ivec3 dimensions(settings.probeGrid[0], settings.probeGrid[1], settings.probeGrid[2]);
-  std::vector<shader::Probe> probes;
-  for (uint32_t level = 0; level < shader::kProbeLevels; ++level) {
-    // Radiance L everywhere: L00 = 4π·Y00·L; a distance of two spacings (the distance SH's range) in every
-    // direction: D00 = 4π·Y00·D; no back faces: normal-dot 1.
-    const float band0 = 4.0f * kPi * shader::kSh2Band0Basis;
-    const glm::vec4 radiance(band0 * kRadiance, 0.0f, 0.0f, 0.0f);
-    const uint32_t unitSh = shader::packProbeUnitSh(glm::vec4(band0, 0.0f, 0.0f, 0.0f), 0.5f);
-    for (uint32_t slot = 0; slot < volume.probesPerLevel(); ++slot) {
-      const glm::ivec3 coordinate = shader::probeWorldCoordinate(slot, volume.levelOrigin(level, position), dimensions);
-      probes.push_back(shader::makeProbe({radiance, radiance, radiance}, unitSh, unitSh,
-                                         shader::packProbeState(1, 0, shader::kProbeStateActive),
-                                         shader::probeCoordinateTag(coordinate)));
+    const TestView view = viewFrom(position);
+    setFrame(view, position);
+    FrameDesc frame;
+    frame.camera = debugCamera(position);
+    frame.depth.view = depthView();
+    frame.normal.view = normalView();
+    const auto dispatch = [&] {
+      Error error;
+      device().submitAndWait([&](VkCommandBuffer commandBuffer) { error = context_->dispatch(frame, commandBuffer); });
+      EXPECT_FALSE(error) << error.message;
+      ++frame.frameIndex;
+    };
+    EXPECT_EQ(context_->output().view, VkImageView(VK_NULL_HANDLE));
+    dispatch();  // the first frame clears the probe volume
+
+    const gi::ProbeVolume& volume = gi::probeVolumeOf(*context_);
+    const glm::ivec3 dimensions(settings.probeGrid[0], settings.probeGrid[1], settings.probeGrid[2]);
+    for (uint32_t level = 0; level < shader::kProbeLevels; ++level) {
+      // Radiance L everywhere: L00 = 4π·Y00·L; a distance of two spacings (the distance SH's range) in every
+      // direction: D00 = 4π·Y00·D; no back faces: normal-dot 1.
+      const float band0 = 4.0f * kPi * shader::kSh2Band0Basis;
+      const glm::vec4 radiance(band0 * kRadiance, 0.0f, 0.0f, 0.0f);
+      const uint32_t unitSh = shader::packProbeUnitSh(glm::vec4(band0, 0.0f, 0.0f, 0.0f), 0.5f);
+      for (uint32_t slot = 0; slot < volume.probesPerLevel(); ++slot) {
+        const glm::ivec3 coordinate = shader::probeWorldCoordinate(slot, volume.levelOrigin(level, position), dimensions);
+        probes_.push_back(shader::makeProbe({radiance, radiance, radiance}, unitSh, unitSh,
+                                            shader::packProbeState(1, 0, shader::kProbeStateActive),
+                                            shader::probeCoordinateTag(coordinate)));
+      }
     }
+    gpu::uploadBuffer(device(), volume.probes(), std::as_bytes(std::span(probes_)));
+    dispatch();
+    return *context_;
   }
-  gpu::uploadBuffer(device(), volume.probes(), std::as_bytes(std::span(probes)));
-  dispatch();
 
+  static View debugCamera(glm::vec3 position) {
+    View camera;
+    const glm::mat4 viewProjection = viewFrom(position).viewProjection;
+    std::copy(glm::value_ptr(viewProjection), glm::value_ptr(viewProjection) + 16, camera.viewProjection.begin());
+    camera.position = {position.x, position.y, position.z};
+    camera.width = camera.height = kSize;
+    return camera;
+  }
+
+  std::unique_ptr<Context> context_;
+  std::vector<shader::Probe> probes_;  // as uploaded: level-major, slot order
+};
+
+TEST_F(GatherOverConstantProbes, finalGatherGivesPiTimesTheRadianceEverywhere) {
+  // Walls 2 and 8 m away.
+  Context& context = dispatchOverConstantProbes({0.5f, 0.5f, 3.5f});
   const gi::GatherTargets& targets = gi::gatherTargetsOf(context);
   const auto bytes = gpu::readImage(device(), targets.tileIrradiance());
   ASSERT_EQ(bytes.size(), size_t(kSize / 4) * (kSize / 4) * 8);
@@ -307,6 +324,47 @@ TEST_F(GatherFilters, finalGatherOfProbesWithConstantRadianceGivesPiTimesTheRadi
   EXPECT_EQ(output.layout, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
   EXPECT_EQ(output.width, kSize / 2);
   EXPECT_EQ(output.height, kSize / 2);
+}
+
+TEST_F(GatherOverConstantProbes, probeDebugViewShowsEachProbeAsASphereLitByItsShOrInItsStateColour) {
+  Context& context = dispatchOverConstantProbes({0.5f, 0.5f, 3.5f});
+  // A debug camera on the line of probes x = y = 0, half a spacing behind probe (0, 0, 3): the centre pixel's ray meets
+  // that probe's sphere head on.
+  const View camera = debugCamera({0.0f, 0.0f, 3.5f});
+  gpu::Image target(device(), {"test probe debug view", VK_FORMAT_R32G32B32A32_SFLOAT, kSize, kSize, 1, 1,
+                               VK_IMAGE_USAGE_STORAGE_BIT});
+  const auto debugImage = [&] {
+    device().submitAndWait([&](VkCommandBuffer commandBuffer) {
+      const Error error = context.debugView(DebugView::Probes, camera, target.handle(), target.view(), commandBuffer);
+      EXPECT_FALSE(error) << error.message;
+    });
+    target.state() = {VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT, 0, 0, VK_IMAGE_LAYOUT_GENERAL};
+    const auto bytes = gpu::readImage(device(), target);
+    std::vector<glm::vec4> pixels(bytes.size() / sizeof(glm::vec4));
+    std::memcpy(pixels.data(), bytes.data(), bytes.size());
+    return pixels;
+  };
+  const size_t centre = size_t(kSize / 2) * kSize + kSize / 2;
+  const auto probeColour = [&] { return glm::vec3(debugImage()[centre]); };
+
+  // Constant radiance L: E(n) = πL for every normal, drawn as E/π = L (half-float SH: 2^-10 relative).
+  const std::vector<glm::vec4> pixels = debugImage();
+  for (int channel = 0; channel < 3; ++channel) EXPECT_NEAR(pixels[centre][channel], kRadiance, kRadiance / 1024.0f);
+  // There are no voxels: rays that pass between the spheres see black.
+  EXPECT_GT(std::count(pixels.begin(), pixels.end(), glm::vec4(0.0f, 0.0f, 0.0f, 1.0f)), 0);
+
+  const gi::ProbeVolume& volume = gi::probeVolumeOf(context);
+  shader::Probe& probe = probes_[shader::probeSlotIndex(glm::ivec3(0, 0, 3), glm::ivec3(16, 8, 16))];  // level 0
+  ASSERT_EQ(probe.tag, shader::probeCoordinateTag(glm::ivec3(0, 0, 3)));
+  probe.state = shader::packProbeState(1, 0, shader::kProbeStateInvalid);
+  gpu::uploadBuffer(device(), volume.probes(), std::as_bytes(std::span(probes_)));
+  EXPECT_EQ(probeColour(), glm::vec3(1.0f, 0.0f, 1.0f)) << "invalid: magenta";
+  probe.state = shader::packProbeState(0, 0, shader::kProbeStateActive, shader::packProbeOffset({0, 0, 1}));
+  gpu::uploadBuffer(device(), volume.probes(), std::as_bytes(std::span(probes_)));
+  EXPECT_EQ(probeColour(), glm::vec3(1.0f, 0.85f, 0.0f)) << "moved by its virtual offset, not traced since: yellow";
+  probe.state = shader::packProbeState(0, 0, shader::kProbeStateNeverTraced);
+  gpu::uploadBuffer(device(), volume.probes(), std::as_bytes(std::span(probes_)));
+  EXPECT_NE(probeColour(), glm::vec3(kRadiance)) << "never traced: not drawn, the ray goes on";
 }
 
 class GatherMemory : public testing::GpuTest {};

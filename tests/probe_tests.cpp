@@ -2,11 +2,13 @@
 // ProbePlacement and ProbeTrace through the public API on voxel scenes written straight into the context's voxel scene
 // (the frames themselves inject nothing: their depth is empty and there is no lit frame), checked against analytic
 // irradiance: a furnace, a closed box, a wall hiding half the sky, the history count and α, the budget, the memory.
+#include "builtin_scenes.h"
 #include "camera.h"
 #include "gi/context_internals.h"
 #include "gi/voxels/build_octree.h"
 #include "gpu/resources.h"
 #include "gpu_test_device.h"
+#include "renderer.h"
 #include "shared/probe_interface.h"
 #include "ssvgi/ssvgi.h"
 
@@ -599,6 +601,116 @@ TEST_F(ProbeCache, anInvalidProbeTakesTheMeanRadianceOfItsUsableNeighbours) {
   }
 }
 
+// ---------------------------------------------------------------------------------------------------------------------
+// Stability (SPEC §4.5): the dark room, lit only through a 1×1 m skylight (the sun patch on its floor and the sky),
+// rendered by the host renderer with GI: few of a probe's rays find the light, the case the talk's reservoirs are for.
+
+// What the level-0 probes of the dark room do over a run of updates after warming up.
+struct DarkRoomProbes {
+  double variation = 0.0;      // mean over updates, probes and normals of |E_t − E_{t−1}|, over the mean E
+  double meanIrradiance = 0.0;  // mean E over the same updates, probes and normals, W/m² (luminance)
+  uint32_t probes = 0;         // probes measured
+  uint64_t raysTraced = 0;     // by every level, over the whole run
+};
+
+// Level 0's probes inside the room (interior x, z ∈ [−4, 4] m, y ∈ [0, 4] m), usable at every measured update; E is
+// the luminance of the SH irradiance along the six axes. The first `warmUpdates` updates of level 0 let the voxels
+// (the lit frame's multi-bounce loop) and the probes' histories (m at its cap) converge; the next `measuredUpdates`
+// are measured.
+DarkRoomProbes measureDarkRoomProbes(bool reservoirs, uint32_t warmUpdates, uint32_t measuredUpdates) {
+  const auto scene = renderer::makeBuiltinScene("dark-room");
+  renderer::RendererSettings settings;
+  settings.width = 96;
+  settings.height = 64;
+  // High tier's probes and rays, around the 8.5 m room: a 32×16×32 m voxel volume, 16×8×16 probes per level.
+  Settings gi = settingsForTier(QualityTier::High);
+  gi.volumeBricks = {32, 16, 32};
+  gi.brickPoolCapacity = 4096;
+  gi.probeGrid = {16, 8, 16};
+  gi.probeReservoirs = reservoirs;
+  settings.gi = gi;
+  renderer::Renderer renderer(testing::gpuTestDevice(), *scene, settings);
+  const renderer::AnimatedState view = renderer::evaluateAnimation(*scene, scene->cameras[0], 0.0f);
+  const gi::ProbeVolume& volume = gi::probeVolumeOf(*renderer.giContext());
+  const glm::ivec3 dimensions(gi.probeGrid[0], gi.probeGrid[1], gi.probeGrid[2]);
+  const glm::ivec3 origin = volume.levelOrigin(0, view.camera.position);
+
+  DarkRoomProbes result;
+  std::vector<std::vector<float>> irradiance;  // per measured update: per level-0 slot, E along the 6 axes
+  std::vector<bool> usableThroughout(volume.probesPerLevel(), true);
+  for (uint32_t updates = 0; updates < warmUpdates + measuredUpdates;) {
+    renderer.render(view);
+    const Stats stats = *renderer.giStats();
+    result.raysTraced += uint64_t(stats.probesUpdatedLastFrame) * gi.raysPerProbe;
+    if (stats.probeLevelUpdatedLastFrame != 0) continue;
+    if (++updates <= warmUpdates) continue;
+    const std::vector<shader::Probe> probes = gpu::readBufferAs<shader::Probe>(testing::gpuTestDevice(), volume.probes());
+    std::vector<float>& values = irradiance.emplace_back(size_t(volume.probesPerLevel()) * 6, 0.0f);
+    for (uint32_t slot = 0; slot < volume.probesPerLevel(); ++slot) {
+      const glm::ivec3 coordinate = shader::probeWorldCoordinate(slot, origin, dimensions);
+      const glm::vec3 position(coordinate);  // level 0: 1 m spacing
+      const bool inRoom = glm::all(glm::greaterThanEqual(position, glm::vec3(-4.0f, 0.0f, -4.0f))) &&
+                          glm::all(glm::lessThanEqual(position, glm::vec3(4.0f, 4.0f, 4.0f)));
+      if (!inRoom || !shader::probeIsUsable(probes[slot], coordinate)) {
+        usableThroughout[slot] = false;
+        continue;
+      }
+      const shader::Sh2Rgb radiance = shader::probeRadianceSh(probes[slot]);
+      for (int axis = 0; axis < 6; ++axis) {
+        glm::vec3 normal(0.0f);
+        normal[axis / 2] = axis % 2 ? 1.0f : -1.0f;
+        values[slot * 6 + axis] =
+            shader::probeSampleLuminance(glm::max(shader::sh2Irradiance(radiance, normal), glm::vec3(0.0f)));
+      }
+    }
+  }
+  double change = 0.0, sum = 0.0;
+  uint64_t changes = 0, values = 0;
+  for (uint32_t slot = 0; slot < volume.probesPerLevel(); ++slot) {
+    if (!usableThroughout[slot]) continue;
+    ++result.probes;
+    for (uint32_t update = 0; update < measuredUpdates; ++update)
+      for (int axis = 0; axis < 6; ++axis) {
+        const float value = irradiance[update][slot * 6 + axis];
+        sum += value;
+        ++values;
+        if (update == 0) continue;
+        change += std::abs(value - irradiance[update - 1][slot * 6 + axis]);
+        ++changes;
+      }
+  }
+  result.meanIrradiance = values ? sum / double(values) : 0.0;
+  result.variation = changes && sum > 0.0 ? (change / double(changes)) / result.meanIrradiance : 0.0;
+  return result;
+}
+
+class ProbeStability : public testing::GpuTest {};
+
+// NOT MET YET, so disabled (run it with --gtest_also_run_disabled_tests): on 2026-11-22 (lavapipe, 2 cores) the first
+// reservoir design measured variation 0.0026 off and 0.0035 on (0.75×, worse, not ≥ 2× better), means −0.14 % apart
+// (docs/QUALITY.md, "Probe stability"). Likely cause: the reused reservoir is re-weighted by its sample's radiance
+// this frame, and the sun patch's edge voxels, re-injected from a random point each frame, flip between lit and
+// unlit, so the reused weight jumps with them; and the 3 candidates per stratum carry the band-1 part alone.
+TEST_F(ProbeStability, DISABLED_inTheDarkRoomReservoirsHalveTheFrameToFrameVariationOfProbeIrradianceAndKeepItsMean) {
+  constexpr uint32_t kWarmUpdates = 40, kMeasuredUpdates = 16;
+  const DarkRoomProbes off = measureDarkRoomProbes(false, kWarmUpdates, kMeasuredUpdates);
+  const DarkRoomProbes on = measureDarkRoomProbes(true, kWarmUpdates, kMeasuredUpdates);
+  std::printf("dark room, level-0 probes: variation |E_t - E_t-1| / mean E: reservoirs off %.4f (%u probes), on %.4f "
+              "(%u probes), ratio %.2f; mean E off %.4f, on %.4f (%+.2f %%); rays traced %llu + %llu\n",
+              off.variation, off.probes, on.variation, on.probes, off.variation / on.variation, off.meanIrradiance,
+              on.meanIrradiance, 100.0 * (on.meanIrradiance / off.meanIrradiance - 1.0),
+              static_cast<unsigned long long>(off.raysTraced), static_cast<unsigned long long>(on.raysTraced));
+  RecordProperty("variationOff", std::to_string(off.variation));
+  RecordProperty("variationOn", std::to_string(on.variation));
+  RecordProperty("meanOff", std::to_string(off.meanIrradiance));
+  RecordProperty("meanOn", std::to_string(on.meanIrradiance));
+  ASSERT_GE(off.probes, 50u);
+  ASSERT_GE(on.probes, 50u);
+  ASSERT_GT(off.meanIrradiance, 0.0);
+  EXPECT_GE(off.variation, 2.0 * on.variation);
+  EXPECT_LT(std::abs(on.meanIrradiance / off.meanIrradiance - 1.0), 0.03);
+}
+
 TEST(ProbeCacheSettings, reservoirSettingsOutOfRangeAreRejectedWithTheFieldNamed) {
   const auto rejection = [](const Settings& settings) {
     auto result = Context::create(testing::gpuTestContextDesc(settings, 64));
@@ -608,6 +720,7 @@ TEST(ProbeCacheSettings, reservoirSettingsOutOfRangeAreRejectedWithTheFieldNamed
     return result.error().message;
   };
   Settings settings = probeTestSettings();
+  settings.probeReservoirs = true;
   settings.raysPerProbe = 8;  // one ray per stratum: no room for a candidate beside the reservoir's ray
   EXPECT_NE(rejection(settings).find("raysPerProbe"), std::string::npos);
   settings = probeTestSettings();
@@ -635,6 +748,7 @@ TEST(ProbeCacheMemory, theHighTierProbeVolumeFitsItsShareOfTheMemoryBudget) {
   desc.physicalDevice = device.physicalDevice();
   desc.device = device.device();
   desc.settings = settingsForTier(QualityTier::High);
+  desc.settings.probeReservoirs = true;  // the budget must hold with level 0's reservoirs
   auto context = Context::create(desc);
   ASSERT_TRUE(context.ok()) << context.error().message;
   const Stats stats = context.value()->stats();

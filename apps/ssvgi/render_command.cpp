@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstdio>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -18,13 +19,16 @@ namespace {
 
 constexpr float kFrameSeconds = 1.0f / 30.0f;  // animation time step per rendered frame
 
+const std::map<std::string, ssvgi::DebugView> kDebugViews = {
+    {"voxels", ssvgi::DebugView::Voxels}, {"bricks", ssvgi::DebugView::Bricks}, {"probes", ssvgi::DebugView::Probes}};
+
 struct RenderOptions {
   SceneOptions scene;
   uint32_t frames = 32;  // enough for the GI of a still view to settle (SPEC §4.5: probes converge over updates)
   std::string gi = "on";
   GiOptions giOptions;
   float exposure = 1.0f;
-  std::vector<std::string> debugViews;  // "voxels", "bricks"
+  std::vector<std::string> debugViews;  // names of kDebugViews
   std::string out = "out";
 };
 
@@ -88,7 +92,7 @@ int runRender(const RenderOptions& options) {
                                      renderer.viewDistance(), renderer.tonemapped()},
                       statsJson(device, options, resolved, settings, renderer));
   for (const std::string& name : options.debugViews) {
-    const auto debug = renderer.giDebugView(name == "bricks" ? ssvgi::DebugView::Bricks : ssvgi::DebugView::Voxels);
+    const auto debug = renderer.giDebugView(kDebugViews.at(name));
     writeDebugImage(options.out, "debug_" + name, debug.radiance, debug.tonemapped);
   }
 
@@ -116,9 +120,10 @@ CommandRunner addRenderCommand(CLI::App& app) {
   command->add_option("--exposure", options->exposure, "Multiplier on radiance before tonemapping")->capture_default_str();
   command->add_option("--debug", options->debugViews,
                       "Also write ssvgi's view of the last frame, ray-traced through its voxels from the camera: "
-                      "voxels (stored radiance) or bricks (a colour per brick), as DIR/debug_NAME.png and .exr; "
-                      "may be given twice")
-      ->check(CLI::IsMember({"voxels", "bricks"}));
+                      "voxels (stored radiance), bricks (a colour per brick) or probes (level-0 probes as spheres lit "
+                      "by their SH; magenta invalid, yellow just offset), as DIR/debug_NAME.png and .exr; may be "
+                      "repeated")
+      ->check(CLI::IsMember(std::vector<std::string>{"voxels", "bricks", "probes"}));
   command->add_option("--out", options->out, "Output directory")->capture_default_str();
   return [options] { return runRender(*options); };
 }

@@ -18,6 +18,8 @@ constexpr std::array kScenarios = {
     addFlickerScenario,
     addLagScenario,
     addCameraCutScenario,
+    addErrorScenario,
+    addProbesScenario,
 };
 
 }  // namespace
@@ -29,16 +31,14 @@ void addScenarioOptions(CLI::App& command, ScenarioOptions& options, const std::
   addSceneOptions(command, options.scene);
   for (const char* name : {"--moving-object", "--sun-cycle", "--camera-path"}) command.remove_option(command.get_option(name));
   for (const char* name : without) command.remove_option(command.get_option(name));
-  command.add_option("--tier", options.tier, "GI quality tier (SPEC §4.7)")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"low", "medium", "high"}));
+  addGiOptions(command, options.gi);
   command.add_option("--out", options.out, "Write the JSON report to this file instead of standard output");
 }
 
 int runScenario(const std::string& name, const ScenarioOptions& options, const ScenarioMeasurement& measure) {
   const ResolvedScene resolved = resolveScene(options.scene);
   gpu::Device device(gpu::DeviceDesc{options.scene.device, options.scene.validation});
-  const bench::ScenarioRendering rendering{resolved.width, resolved.height, giSettingsForTier(options.tier)};
+  const bench::ScenarioRendering rendering{resolved.width, resolved.height, giSettings(options.gi, resolved.scene)};
 
   const auto start = std::chrono::steady_clock::now();
   const nlohmann::json figures = measure(device, resolved, rendering);
@@ -49,7 +49,8 @@ int runScenario(const std::string& name, const ScenarioOptions& options, const S
                            {"scene", options.scene.scene},
                            {"width", resolved.width},
                            {"height", resolved.height},
-                           {"tier", options.tier},
+                           {"tier", options.gi.tier},
+                           {"giSettings", giSettingsJson(rendering.gi)},
                            {"seconds", seconds.count()}};
   report.update(figures);
   const std::string json = report.dump(2);
@@ -69,8 +70,9 @@ int runScenario(const std::string& name, const ScenarioOptions& options, const S
 
 CommandRunner addScenarioCommand(CLI::App& app) {
   CLI::App* command = app.add_subcommand(
-      "scenario", "Measure one of SPEC §7's scenarios (leak ratio, flicker, lag, recovery after a camera cut) with "
-                  "ssvgi on, and report its figures as JSON");
+      "scenario", "Measure one of SPEC §7's scenarios (leak ratio, flicker, lag, recovery after a camera cut, error vs "
+                  "the path-traced reference, probe irradiance vs the reference) with ssvgi on, and report its "
+                  "figures as JSON");
   command->require_subcommand(1);
   auto runners = std::make_shared<std::map<CLI::App*, CommandRunner>>();
   for (const auto addScenario : kScenarios) {

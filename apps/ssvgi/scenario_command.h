@@ -21,11 +21,14 @@ CommandRunner addLeakScenario(CLI::App& scenario);
 CommandRunner addFlickerScenario(CLI::App& scenario);
 CommandRunner addLagScenario(CLI::App& scenario);
 CommandRunner addCameraCutScenario(CLI::App& scenario);
+CommandRunner addErrorScenario(CLI::App& scenario);
+CommandRunner addProbesScenario(CLI::App& scenario);
 
-// The options every scenario has: the scene options of render (scene_options.h) at 640×360, --tier and --out.
+// The options every scenario has: the scene options of render (scene_options.h) at 640×360, the GI options (--tier,
+// --gi-set) and --out.
 struct ScenarioOptions {
   SceneOptions scene;
-  std::string tier = "high";
+  GiOptions gi;
   std::string out;  // JSON file; standard output when empty
 };
 
@@ -40,7 +43,7 @@ using ScenarioMeasurement = std::function<nlohmann::json(gpu::Device& device, co
                                                          const bench::ScenarioRendering& rendering)>;
 
 // Resolves the scene, opens the device, measures, and prints the report — the scenario's name, the device, scene,
-// size, tier and wall time, then the figures — on standard output or into --out. Returns the exit code: 1 when
+// size, GI settings and wall time, then the figures — on standard output or into --out. Returns the exit code: 1 when
 // validation was on and reported errors, else 0; a bad option or file throws std::runtime_error (one line).
 int runScenario(const std::string& name, const ScenarioOptions& options, const ScenarioMeasurement& measure);
 

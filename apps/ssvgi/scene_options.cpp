@@ -190,6 +190,9 @@ const std::vector<SettingField>& settingFields() {
       settingField("probeBudget", &Settings::probeBudget),
       settingField("raysPerProbe", &Settings::raysPerProbe),
       settingField("probeHistoryCap", &Settings::probeHistoryCap),
+      settingField("probeReservoirs", &Settings::probeReservoirs),
+      settingField("probeReservoirHistoryCap", &Settings::probeReservoirHistoryCap),
+      settingField("probeSampleClamp", &Settings::probeSampleClamp),
   };
   return fields;
 }

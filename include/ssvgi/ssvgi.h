@@ -69,7 +69,10 @@ struct Settings {
   // and trace their rays through them; the estimate stays unbiased. Level 0 only, for memory: 8 × 4 bytes per probe
   // (1.77 MB at high tier), paid for by 8-bit distance and normal-dot SH (docs/ARCHITECTURE.md, "Probe memory").
   // Off: every probe traces the next raysPerProbe of the 1024 fixed directions, as levels 1 and 2 always do.
-  bool probeReservoirs = true;                    // needs raysPerProbe ≥ 16 (per stratum ≥ 1 new candidate + its
+  // Off by default for now: the first design keeps the mean but does not yet reduce flicker (dark room: 0.75× the
+  // frame-to-frame variation without, docs/QUALITY.md) and its temporal reuse adds lag (the Cornell colour-bleed test
+  // after 32 frames fails with it on).
+  bool probeReservoirs = false;                   // needs raysPerProbe ≥ 16 (per stratum ≥ 1 new candidate + its
                                                   // reservoir's ray)
   uint32_t probeReservoirHistoryCap = 48;         // cap of a reservoir's M (candidates it stands for), 1..252: with 3
                                                   // new candidates per update it remembers about 16 updates
@@ -159,6 +162,8 @@ struct Stats {
 enum class DebugView {
   Voxels,  // the voxels' stored radiance (black where a ray leaves the volume)
   Bricks,  // brick occupancy: each live brick in a colour of its own
+  Probes,  // the finest probe level as small spheres in front of the voxels: white balls lit by each probe's SH
+           // irradiance; magenta: invalid (inside geometry); yellow: just moved by its virtual offset, not yet traced
 };
 
 // ssvgi's result (SPEC §3), owned by the context: the indirect irradiance E(n) of the last dispatched frame at half

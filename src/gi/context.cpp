@@ -2,6 +2,7 @@
 #include "gather/gather_passes.h"
 #include "gpu/command_list.h"
 #include "gpu/profiler.h"
+#include "probes/probe_debug_view.h"
 #include "probes/probe_passes.h"
 #include "shared/gi_frame.h"
 #include "ssvgi/ssvgi.h"
@@ -132,7 +133,8 @@ class ContextImplementation final : public Context {
         finalGather_(device_),
         upsample_(device_),
         temporalFilter_(device_),
-        debugView_(device_) {
+        voxelDebugView_(device_),
+        probeDebugView_(device_) {
     for (uint32_t i = 0; i < desc.framesInFlight; ++i) {
       perFrame_.push_back(std::make_unique<PerFrame>(device_));
     }
@@ -150,7 +152,10 @@ class ContextImplementation final : public Context {
     return guarded([&] {
       PerFrame& slot = *perFrame_[lastSlot_];
       gpu::CommandList commands(device_, commandBuffer, slot.descriptors);
-      debugView_.record(commands, scene_, view, camera, target, targetView);
+      if (view == DebugView::Probes)
+        probeDebugView_.record(commands, scene_, probes_, lastCameraPosition_, camera, target, targetView);
+      else
+        voxelDebugView_.record(commands, scene_, view, camera, target, targetView);
     });
   }
 
@@ -308,7 +313,8 @@ class ContextImplementation final : public Context {
       commands.updateBuffer(probes_.list(), 0, &empty, sizeof(empty));
     }
 
-    const gi::VoxelFrameInputs inputs{slot.frameConstants, pointSampler_.handle(), desc.depth.view, hiz_, visibleBricks_};
+    const gi::VoxelFrameInputs inputs{slot.frameConstants, pointSampler_.handle(), desc.depth.view, desc.normal.view,
+                                      hiz_, visibleBricks_};
     hizBuild_.record(commands, inputs, frame, hizLevels);                               // 1. HiZBuild
     if (scrolled) volumeScroll_.record(commands, scene_, inputs);                       // 2. VolumeScroll
     brickAllocate_.record(commands, scene_, inputs, {desc.camera.width, desc.camera.height},
@@ -323,7 +329,7 @@ class ContextImplementation final : public Context {
     probeRelocate_.record(commands, scene_, probes_);                                   // 9. ProbeRelocate
     probeDilate_.record(commands, probes_);                                             //    ProbeDilate
     const gi::GatherInputs gatherInputs{slot.frameConstants, pointSampler_.handle(), desc.depth.view, desc.normal.view};
-    finalGather_.record(commands, gatherInputs, gather_, probes_.probes());            // 10. FinalGather
+    finalGather_.record(commands, gatherInputs, gather_, scene_, probes_.probes());    // 10. FinalGather
     upsample_.record(commands, gatherInputs, gather_);                                 // 11. Upsample
     temporalFilter_.record(commands, gatherInputs, gather_);                           // 12. TemporalFilter
     commands.use(gather_.output(), gpu::Usage::ComputeSampled);  // the output's contract (OutputImage)
@@ -334,6 +340,7 @@ class ContextImplementation final : public Context {
     commands.use(slot.probeListReadback, gpu::Usage::HostRead);
     commands.flushBarriers();
     lastSlot_ = slotIndex;
+    lastCameraPosition_ = glm::vec3(frame.cameraPosition);
     dispatched_ = true;
   }
 
@@ -359,7 +366,9 @@ class ContextImplementation final : public Context {
   gi::FinalGather finalGather_;
   gi::Upsample upsample_;
   gi::TemporalFilter temporalFilter_;
-  gi::VoxelDebugView debugView_;
+  gi::VoxelDebugView voxelDebugView_;
+  gi::ProbeDebugView probeDebugView_;
+  glm::vec3 lastCameraPosition_{0.0f};  // where the last dispatch centred the voxel and probe volumes
   uint32_t lastSlot_ = 0;
   bool dispatched_ = false;
   bool initialised_ = false;

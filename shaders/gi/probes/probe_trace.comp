@@ -65,8 +65,9 @@ vec3 skyRadiance(vec3 direction) {
 // coarser probes around it that are usable, renormalised. Trilinear rather than nearest: it is what a gather reads
 // there, so a probe that appears continues the light that was shown before it, and the levels nest, so half the
 // weights are zero (a probe on a coarser probe takes exactly that probe's value). False where no coarser probe around
-// it is usable, and always on the coarsest level: the probe then starts from its first trace alone.
-bool coarserLevelRadiance(ivec3 probe, out Sh2Rgb radiance) {
+// it is usable, and always on the coarsest level: the probe then starts from its first trace alone. A coarser probe
+// with a voxel between it and this one is left out: it may stand on the other side of a wall (`ssvgi scenario leak`).
+bool coarserLevelRadiance(ivec3 probe, vec3 position, out Sh2Rgb radiance) {
   radiance = Sh2Rgb(vec4(0.0), vec4(0.0), vec4(0.0));
   uint coarserLevel = uint(update.originProbe.w) + 1u;
   if (coarserLevel >= kProbeLevels) return false;
@@ -80,6 +81,11 @@ bool coarserLevelRadiance(ivec3 probe, out Sh2Rgb radiance) {
     ivec3 coarser = base + side;
     Probe candidate = probes[coarserLevel * uint(update.dimensions.w) + probeSlotIndex(coarser, update.dimensions.xyz)];
     if (weight == 0.0 || !probeIsUsable(candidate, coarser)) continue;
+    vec3 toProbe = position - probeWorldPosition(coarser, 2.0 * update.distances.x, candidate.state);
+    float separation = length(toProbe);
+    if (separation > 0.5 * volume.voxelSize.x &&
+        traceVoxelsHierarchical(position - toProbe, toProbe / separation, separation - 0.5 * volume.voxelSize.x).hit)
+      continue;
     Sh2Rgb coarserRadiance = probeRadianceSh(candidate);
     radiance.r += weight * coarserRadiance.r;
     radiance.g += weight * coarserRadiance.g;
@@ -260,7 +266,7 @@ void main() {
   Sh2Rgb history = historyCount > 0u ? probeRadianceSh(stored) : Sh2Rgb(vec4(0.0), vec4(0.0), vec4(0.0));
   float radianceAlpha = alpha;
   Sh2Rgb startRadiance;
-  if (historyCount == 0u && coarserLevelRadiance(probe, startRadiance)) {
+  if (historyCount == 0u && coarserLevelRadiance(probe, origin, startRadiance)) {
     history = startRadiance;
     radianceAlpha = 0.5;
   }

@@ -8,6 +8,7 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(binding = 8) uniform sampler2D depthBuffer;
+layout(binding = 9) uniform sampler2D normalBuffer;
 
 void main() {
   uint stride = frame.frame.y;
@@ -18,7 +19,8 @@ void main() {
   if (depth <= 0.0) return;  // nothing drawn: infinitely far
 
   vec3 position = reconstructPosition(frame.inverseViewProjection, vec2(pixel), vec2(frame.sizes.xy), depth);
-  ivec3 worldBrick = worldBrickOf(position);
+  vec3 normal = normalize(texelFetch(normalBuffer, ivec2(pixel), 0).xyz);
+  ivec3 worldBrick = worldBrickOf(heldSurfacePoint(position, normal));
   if (!brickInVolume(worldBrick, volume)) return;
   uint cell = brickCellIndex(worldBrick, volumeDimensions());
   if (brickLookup[cell] != kInvalidBrick) return;  // cheap test first: almost every surface brick already exists

@@ -53,18 +53,24 @@ void main() {
       float depth = texelFetch(litDepth, texel, 0).r;
       vec3 surface = depth > 0.0 ? reconstructPosition(frame.litInverseViewProjection, vec2(texel), litSize, depth)
                                  : vec3(0.0);
+      vec3 normal = depth > 0.0 ? normalize(texelFetch(litNormal, texel, 0).xyz) : vec3(0.0);
       float sampleDistance = distance(samplePoint, frame.litCameraPosition.xyz);
       // "Clearly in front": by more than half a voxel, so that depth quantisation and a surface point just outside
-      // this voxel do not count against it. A voxel holding a surface keeps being found Valid (which resets its
-      // counter) faster than stray Invalid samples clear it.
+      // this voxel do not count against it.
       float clearMargin = voxelSize * 0.5;
-      if (depth > 0.0 && all(greaterThanEqual(surface, voxelMin)) && all(lessThan(surface, voxelMin + voxelSize))) {
-        vec3 normal = texelFetch(litNormal, texel, 0).xyz;
+      bool inFront = sampleDistance < distance(surface, frame.litCameraPosition.xyz) - clearMargin;
+      vec3 held = heldSurfacePoint(surface, normal);
+      // Seeing through one point of a voxel proves only that point empty. A voxel that the surface seen there passes
+      // through (its tangent plane cuts the voxel's box) may hold that surface elsewhere: at a grazing view most of
+      // the points of a voxel on a wall lie in front of the wall and see it further on, and would clear the voxel
+      // (holes in walls, and light through them). Only a voxel wholly in front of that plane is seen through.
+      float halfExtent = 0.5 * voxelSize * dot(abs(normal), vec3(1.0));
+      bool cutBySurfacePlane = abs(dot(voxelMin + 0.5 * voxelSize - held, normal)) < halfExtent;
+      if (depth > 0.0 && all(greaterThanEqual(held, voxelMin)) && all(lessThan(held, voxelMin + voxelSize))) {
         voxel.radiance = packR11G11B10F(texelFetch(litColor, texel, 0).rgb);
-        voxel.normalAndLastHit = packOctahedralNormal(normalize(normal));
+        voxel.normalAndLastHit = packOctahedralNormal(normal);
         occupied = true;
-      } else if (occupied &&
-                 (depth <= 0.0 || sampleDistance < distance(surface, frame.litCameraPosition.xyz) - clearMargin)) {
+      } else if (occupied && (depth <= 0.0 || (inFront && !cutBySurfacePlane))) {
         uint lastHit = min((voxel.normalAndLastHit >> 16u) + 1u, kMaxLastHit);
         voxel.normalAndLastHit = (voxel.normalAndLastHit & 0xffffu) | (lastHit << 16u);
         if (lastHit >= volume.settings.x) occupied = false;

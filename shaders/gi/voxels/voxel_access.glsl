@@ -36,6 +36,11 @@ uint brickAt(ivec3 worldBrick) {
   return index == kAllocatingBrick ? kInvalidBrick : index;
 }
 
+// The point of the voxel scene that holds a surface point seen at a pixel (BrickAllocate, SceneVoxelization): a hair
+// behind the surface, along its normal. A surface on a voxel boundary (a wall on the grid) then always lands in the
+// voxel on its solid side rather than in either by rounding, so its voxels do not spread into the free side.
+vec3 heldSurfacePoint(vec3 surface, vec3 normal) { return surface - normal * (0.01 * volume.voxelSize.x); }
+
 bool voxelOccupied(uint brick, uvec3 voxelInBrick) {
   uint bit = voxelBit(voxelInBrick);
   uint word = bit < 32u ? bricks[brick].occupancy.x : bricks[brick].occupancy.y;

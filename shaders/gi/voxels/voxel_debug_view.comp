@@ -4,7 +4,7 @@
 // brick, shaded by the voxel normal so the bricks' shapes read.
 #include "gi/voxels/voxel_trace.glsl"
 #include "shared/sampling.h"
-#include "shared/voxel_debug_view.h"
+#include "shared/debug_view.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -13,17 +13,14 @@ layout(push_constant) uniform Push { VoxelDebugViewPush push; };
 
 void main() {
   uvec2 pixel = gl_GlobalInvocationID.xy;
-  if (any(greaterThanEqual(pixel, push.sizeAndMode.xy))) return;
-  vec2 size = vec2(push.sizeAndMode.xy);
-  vec2 uv = (vec2(pixel) + 0.5) / size;
-  vec4 onFarPlane = push.inverseViewProjection * vec4(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0, 0.5, 1.0);
-  vec3 origin = push.cameraPosition.xyz;
-  vec3 direction = normalize(onFarPlane.xyz / onFarPlane.w - origin);
+  if (any(greaterThanEqual(pixel, push.camera.sizeAndMode.xy))) return;
+  vec3 origin = push.camera.position.xyz;
+  vec3 direction = debugViewDirection(push.camera, pixel);
   float range = length(vec3(volume.dimensionsBricks.xyz)) * volume.voxelSize.y;  // crosses the whole volume
   VoxelHit hit = traceVoxelsHierarchical(origin, direction, range);
   vec3 colour = vec3(0.0);
   if (hit.hit) {
-    if (push.sizeAndMode.z == 0u) {
+    if (push.camera.sizeAndMode.z == 0u) {
       colour = hit.radiance;
     } else {
       vec3 brickColour = vec3(0.25) + 0.75 * hashToUnitCube(uvec3(bricks[hit.brick].coordinate.xyz + ivec3(1 << 16)));

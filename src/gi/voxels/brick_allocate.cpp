@@ -10,7 +10,10 @@ void BrickAllocate::record(gpu::CommandList& commands, const VoxelScene& scene, 
   auto scope = commands.scope("ssvgi: BrickAllocate");
   const glm::uvec2 threads = (depthSize + pixelStride - 1u) / pixelStride;
   commands.dispatch(pipeline_,
-                    scene.bindings().buffer(shader::kBindGiFrame, inputs.frame).externalSampled(8, inputs.depth, inputs.pointSampler),
+                    scene.bindings()
+                        .buffer(shader::kBindGiFrame, inputs.frame)
+                        .externalSampled(8, inputs.depth, inputs.pointSampler)
+                        .externalSampled(9, inputs.normal, inputs.pointSampler),
                     {threads.x, threads.y, 1});
 }
 

@@ -12,6 +12,7 @@ struct VoxelFrameInputs {
   const gpu::Buffer& frame;  // GiFrame uniform
   VkSampler pointSampler;
   VkImageView depth;         // current depth (host image)
+  VkImageView normal;        // current world normal (host image)
   const gpu::Buffer& hiz;    // Hi-Z pyramid
   const gpu::Buffer& visibleBricks;  // IndirectList of pool indices, written by BrickCulling
 };

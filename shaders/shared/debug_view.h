@@ -1,0 +1,38 @@
+// The debug views of Context::debugView (SPEC §6.6): what ssvgi knows, ray-traced from a camera through its voxels.
+#ifndef SSVGI_SHARED_DEBUG_VIEW_H
+#define SSVGI_SHARED_DEBUG_VIEW_H
+#include "shared/glsl_cpp.h"
+
+SSVGI_SHARED_BEGIN
+
+struct DebugViewCamera {
+  mat4 inverseViewProjection;  // the debug camera, reversed-Z
+  vec4 position;
+  uvec4 sizeAndMode;           // x, y: image size; z: the view's mode
+};
+SSVGI_CHECK_SIZE(DebugViewCamera, 96);
+
+// VoxelDebugView: mode 0 the voxels' radiance, 1 a colour per brick.
+struct VoxelDebugViewPush {
+  DebugViewCamera camera;
+};
+SSVGI_CHECK_SIZE(VoxelDebugViewPush, 96);
+
+// ProbeDebugView: the finest probe level as it stood in the last dispatch.
+struct ProbeDebugViewPush {
+  DebugViewCamera camera;
+  ivec4 probeOrigin;  // xyz: world probe coordinate of level 0's minimum corner; w: its spacing (float bits)
+  ivec4 probeDimensions;  // xyz: probes per level and axis; w: probes per level
+};
+SSVGI_CHECK_SIZE(ProbeDebugViewPush, 128);
+
+// The unit direction of the camera ray through a pixel's centre (rows top to bottom).
+SSVGI_INLINE vec3 debugViewDirection(DebugViewCamera camera, uvec2 pixel) {
+  vec2 uv = (vec2(pixel) + vec2(0.5f)) / vec2(camera.sizeAndMode.x, camera.sizeAndMode.y);
+  vec4 onPlane = camera.inverseViewProjection * vec4(uv.x * 2.0f - 1.0f, 1.0f - uv.y * 2.0f, 0.5f, 1.0f);
+  return normalize(vec3(onPlane) / onPlane.w - vec3(camera.position));
+}
+
+SSVGI_SHARED_END
+
+#endif
