@@ -123,12 +123,15 @@ Settings probeTestSettings() {
   return settings;
 }
 
-// A brick of a test scene: every voxel of `mask` with the same radiance and normal.
+// A brick of a test scene: every voxel of `mask` with the same radiance and normal, but those of `brightMask`, which
+// have `brightRadiance`.
 struct TestBrick {
   glm::ivec3 coordinate;  // world brick coordinate
   uint64_t mask;
   glm::vec3 radiance;
   glm::vec3 normal;
+  uint64_t brightMask = 0;
+  glm::vec3 brightRadiance{0.0f};
 };
 
 constexpr uint64_t kFullBrick = ~uint64_t(0);
@@ -198,8 +201,11 @@ class ProbeCache : public testing::GpuTest {
       ASSERT_EQ(lookup[cell], shader::kInvalidBrick) << "two bricks in one cell";
       lookup[cell] = uint32_t(bricks.size());
       bricks.push_back({glm::ivec4(brick.coordinate, 1), glm::uvec4(uint32_t(brick.mask), uint32_t(brick.mask >> 32), 0, 0)});
-      for (uint32_t voxel = 0; voxel < shader::kVoxelsPerBrick; ++voxel)
-        voxelData.push_back({shader::packR11G11B10F(brick.radiance), shader::packOctahedralNormal(brick.normal)});
+      for (uint32_t voxel = 0; voxel < shader::kVoxelsPerBrick; ++voxel) {
+        const bool bright = (brick.brightMask >> voxel) & 1u;
+        voxelData.push_back({shader::packR11G11B10F(bright ? brick.brightRadiance : brick.radiance),
+                             shader::packOctahedralNormal(brick.normal)});
+      }
       changed.push_back(cell);
     }
     shader::BrickPoolState pool{};
@@ -371,6 +377,7 @@ TEST_F(ProbeCache, aProbeBesideALargeWallSeesHalfTheSky) {
 TEST_P(ProbeCacheReservoirs, theHistoryCountGrowsByOnePerUpdateToItsCapAndAlphaIsOneOverCountPlusOne) {
   Settings settings = settingsWithReservoirsAsParameter();
   settings.probeHistoryCap = 4;
+  settings.probeChangeThreshold = 0.0f;  // the plain blend (change detection is tested below)
   create(settings);
   // Inside the closed box every ray sees the walls' radiance A, so every update's L00 is exactly 4π·Y00·A: the
   // blend must keep it (half floats: 2^-11 relative per store).
@@ -396,6 +403,65 @@ TEST_P(ProbeCacheReservoirs, theHistoryCountGrowsByOnePerUpdateToItsCapAndAlphaI
   const float expected = wallA + (wallB - wallA) / float(settings.probeHistoryCap + 1);
   EXPECT_NEAR(sphereMean(radianceSh(probe).r), expected, 2e-3f * expected);
   EXPECT_EQ(historyCount(probe), settings.probeHistoryCap);
+}
+
+// Less lag (SPEC §6.2): the walls of the closed box brighten 4× once the probe's history is at its cap of 32. The
+// trimmed mean of the next update is 4× its history's (d = 0.6) against a usual deviation of nothing (the floor,
+// 5 %): the history shrinks to nothing and the probe takes the new light at once. Without change detection one update
+// moves it by 1/33 of the step, and four updates by 1 − (32/33)^4 = 11.6 %.
+TEST_F(ProbeCache, aProbeWhoseSurroundingsBrightenFollowsWithinAnUpdateAndWithoutChangeDetectionOnlyByItsBlend) {
+  constexpr float kBefore = 0.25f, kAfter = 1.0f;
+  for (const bool detection : {true, false}) {
+    SCOPED_TRACE(detection ? "change detection on" : "change detection off");
+    Settings settings = probeTestSettings();
+    if (!detection) settings.probeChangeThreshold = 0.0f;
+    create(settings);
+    writeScene(closedBox(glm::vec3(kBefore)));
+    runUpdates(40);
+    ASSERT_EQ(historyCount(probeAt(readProbes(), 0, glm::vec3(kProbe))), settings.probeHistoryCap);
+    writeScene(closedBox(glm::vec3(kAfter)));
+    runUpdates(1);
+    shader::Probe probe = probeAt(readProbes(), 0, glm::vec3(kProbe));
+    const float afterOne = sphereMean(radianceSh(probe).r);
+    if (detection) {
+      EXPECT_NEAR(afterOne, kAfter, 2e-3f * kAfter);
+      EXPECT_EQ(historyCount(probe), 1u) << "the history shrank to nothing, then counted this update";
+    } else {
+      EXPECT_NEAR(afterOne, kBefore + (kAfter - kBefore) / 33.0f, 2e-3f * kAfter);
+      EXPECT_EQ(historyCount(probe), settings.probeHistoryCap);
+    }
+    runUpdates(3);
+    probe = probeAt(readProbes(), 0, glm::vec3(kProbe));
+    const float expected = detection ? kAfter : kBefore + (kAfter - kBefore) * (1.0f - std::pow(32.0f / 33.0f, 4.0f));
+    EXPECT_NEAR(sphereMean(radianceSh(probe).r), expected, 2e-3f * kAfter);
+  }
+}
+
+// The other side of change detection: a probe whose updates are noisy by nature keeps its history. In the closed
+// box one voxel of a wall glows 200× as bright as the walls: 0.25 m wide and 0.9 m away, it fills about 0.5 % of the
+// sphere, so an update's 32 rays find it about every sixth update, and the update's mean is then 7× the walls'. The
+// trimmed mean leaves out the brightest eighth of the rays and does not see it, so the history count stays at its cap
+// while the history itself moves with those hits.
+TEST_F(ProbeCache, aProbeThatARareBrightVoxelMakesNoisyKeepsItsHistory) {
+  Settings settings = probeTestSettings();
+  create(settings);
+  std::vector<TestBrick> box = closedBox(glm::vec3(0.05f));
+  // The low corner brick, (−1, −1, 3): its voxel (0, 1, 1) lies on the inner face of the box's −X wall.
+  box[0].brightMask = uint64_t(1) << (0 + 4 * 1 + 16 * 1);
+  box[0].brightRadiance = glm::vec3(10.0f);
+  writeScene(box);
+  runUpdates(40);
+  uint32_t lowestCount = settings.probeHistoryCap;
+  float lowestMean = 1e30f, highestMean = 0.0f;
+  for (uint32_t update = 0; update < 64; ++update) {
+    runUpdates(1);
+    const shader::Probe probe = probeAt(readProbes(), 0, glm::vec3(kProbe));
+    lowestCount = std::min(lowestCount, historyCount(probe));
+    lowestMean = std::min(lowestMean, sphereMean(radianceSh(probe).r));
+    highestMean = std::max(highestMean, sphereMean(radianceSh(probe).r));
+  }
+  EXPECT_EQ(lowestCount, settings.probeHistoryCap);
+  EXPECT_GT(highestMean, 1.1f * lowestMean) << "the bright voxel does make the probe noisy";
 }
 
 TEST_F(ProbeCache, placementTracesOnlyProbesNearVoxelsAndNoMoreThanTheBudget) {
@@ -752,21 +818,23 @@ TEST(ProbeCacheMemory, theHighTierProbeVolumeFitsItsShareOfTheMemoryBudget) {
   auto context = Context::create(desc);
   ASSERT_TRUE(context.ok()) << context.error().message;
   const Stats stats = context.value()->stats();
-  uint64_t probeBytes = 0, reservoirBytes = 0;
+  uint64_t probeBytes = 0, reservoirBytes = 0, changeBytes = 0;
   for (const auto& resource : stats.memory) {
     if (resource.name.rfind("ssvgi probe", 0) == 0) probeBytes += resource.bytes;
     if (resource.name == "ssvgi probe reservoirs") reservoirBytes = resource.bytes;
+    if (resource.name == "ssvgi probe change statistics") changeBytes = resource.bytes;
   }
   std::printf("GI memory at high tier: %.2f MiB in all, probes %.2f MiB (reservoirs %.2f MiB)\n",
               double(stats.totalBytes) / 1048576.0, double(probeBytes) / 1048576.0,
               double(reservoirBytes) / 1048576.0);
   RecordProperty("totalBytes", std::to_string(stats.totalBytes));
   RecordProperty("probeBytes", std::to_string(probeBytes));
-  // 3 levels × 48·24·48 probes × 40 bytes = 6.64 MB, level 0's 8 reservoirs of 4 bytes per probe = 1.77 MB, plus the
-  // list and the per-frame uploads.
+  // 3 levels × 48·24·48 probes × 40 bytes = 6.64 MB, level 0's 8 reservoirs of 4 bytes per probe = 1.77 MB, the
+  // change statistics' 4 bytes per probe of every level = 0.66 MB, plus the list and the per-frame uploads.
   EXPECT_EQ(reservoirBytes, 48u * 24 * 48 * shader::kProbeStrata * 4);
-  EXPECT_GT(probeBytes, 8'400'000u);
-  EXPECT_LE(probeBytes, 8'900'000u);
+  EXPECT_EQ(changeBytes, 3u * 48 * 24 * 48 * 4);
+  EXPECT_GT(probeBytes, 9'050'000u);
+  EXPECT_LE(probeBytes, 9'150'000u);
   // SPEC §5: all GI data ≤ 30 MB (the talk's table counts MB of 2^20 bytes): voxel scene 21.6 + probes 8.0.
   EXPECT_LE(stats.totalBytes, 30u * 1024 * 1024);
 }

@@ -193,6 +193,7 @@ const std::vector<SettingField>& settingFields() {
       settingField("probeReservoirs", &Settings::probeReservoirs),
       settingField("probeReservoirHistoryCap", &Settings::probeReservoirHistoryCap),
       settingField("probeSampleClamp", &Settings::probeSampleClamp),
+      settingField("probeChangeThreshold", &Settings::probeChangeThreshold),
   };
   return fields;
 }

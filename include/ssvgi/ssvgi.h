@@ -79,6 +79,10 @@ struct Settings {
   float probeSampleClamp = 4.0f;                  // with reservoirs: a new sample's luminance is clamped to this ×
                                                   // the brightest direction the probe's reservoirs hold (the talk's
                                                   // "history maximum"); 0: no clamp, else ≥ 1
+  // Less lag (SPEC §6.2): an update of a probe that differs from its history by more than this many standard
+  // deviations of its usual difference shortens the probe's history in proportion (shared/probe_interface.h), so a
+  // light switched on or off is followed in a few updates. 0: off (plain α = 1/(m+1)).
+  float probeChangeThreshold = 2.0f;
 };
 
 Settings settingsForTier(QualityTier tier);

@@ -70,7 +70,7 @@ struct ProbeUpdate {
                          // cells ProbePlacement searches for voxels
   uvec4 reservoirs;      // x: 1 when this level keeps reservoirs (Settings::probeReservoirs, level 0 only); y: their
                          // M cap (Settings::probeReservoirHistoryCap); z: the frame index (seeds their random choices)
-  vec4 sampleClamp;      // x: Settings::probeSampleClamp (0: off)
+  vec4 sampleClamp;      // x: Settings::probeSampleClamp (0: off); y: Settings::probeChangeThreshold (0: off)
   Sh2Rgb skyRadiance;    // the host's sky (FrameDesc::skyRadianceSh): what a ray that leaves the voxel volume sees
 };
 SSVGI_CHECK_SIZE(ProbeUpdate, 6 * 16 + 48);
@@ -207,6 +207,7 @@ SSVGI_CONSTANT(uint, kProbeStrata, 8u);
 SSVGI_CONSTANT(uint, kProbeStratumDirectionCount, 128u);
 SSVGI_CONSTANT(float, kProbeStratumSolidAngle, 4.0f * kPi / 8.0f);
 SSVGI_CONSTANT(uint, kBindProbeReservoirs, kBindFirstPassSlot + 4u);  // uint[probes of level 0 · kProbeStrata]
+SSVGI_CONSTANT(uint, kBindProbeChanges, kBindFirstPassSlot + 5u);     // uint[kProbeLevels · probes per level]
 
 SSVGI_INLINE uvec2 probeStratumCell(uint stratum) { return uvec2(stratum % kProbeStrataZ, stratum / kProbeStrataZ); }
 
@@ -248,6 +249,25 @@ SSVGI_INLINE uint probeReservoirCount(uint reservoir) { return reservoir >> 24u;
 // reused part until it decays.
 SSVGI_CONSTANT(float, kProbeReservoirTargetFloor, 0.0625f);
 SSVGI_INLINE float probeSampleLuminance(vec3 radiance) { return dot(radiance, vec3(0.2126f, 0.7152f, 0.0722f)); }
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Less lag (SPEC §6.2): each probe keeps, beside its SH, two half floats in its word of the change buffer: the mean
+// luminance of its updates' uniform rays but the brightest eighth (the trimmed mean T, blended as its SH), and the mean
+// square of how far an update's T strays from that history H, d = (T − H) / (T + H). An update with d² beyond
+// Settings::probeChangeThreshold² times that is a change, not noise: the probe's history count shrinks in proportion,
+// so that a light switched on is followed within a few updates. Trimmed, because a probe's noise is mostly a few bright
+// rays — the small emitter or sun patch that one ray in thirty finds — while a light switched on or off, or a wall
+// moved, changes what most of its rays see.
+SSVGI_CONSTANT(uint, kProbeChangeTrimFraction, 8u);
+// Its ordinary noise is taken as at least this variance of d (5 % either way): a still probe may tell 32 rays apart
+// from its history by less, and changes smaller than threshold × 5 % are left to the plain blend.
+SSVGI_CONSTANT(float, kProbeChangeVarianceFloor, 0.0025f);
+// Below this history count the blend weight 1/(m+1) is large anyway, and the variance has too few updates.
+SSVGI_CONSTANT(uint, kProbeChangeMinimumHistory, 4u);
+// The mean radiance over the sphere of an SH2, as luminance: band 0 over 4π·Y00.
+SSVGI_INLINE float probeMeanLuminance(Sh2Rgb radiance) {
+  return probeSampleLuminance(vec3(radiance.r.x, radiance.g.x, radiance.b.x)) / (4.0f * kPi * kSh2Band0Basis);
+}
 
 SSVGI_SHARED_END
 

@@ -94,6 +94,8 @@ Error validateSettings(const ContextDesc& desc) {
   if (!(settings.probeSampleClamp == 0.0f || settings.probeSampleClamp >= 1.0f) ||
       !std::isfinite(settings.probeSampleClamp))
     return invalid("Settings::probeSampleClamp must be 0 (off) or at least 1");
+  if (!(settings.probeChangeThreshold >= 0.0f) || !std::isfinite(settings.probeChangeThreshold))
+    return invalid("Settings::probeChangeThreshold must be 0 (off) or positive");
   if (desc.framesInFlight == 0 || desc.framesInFlight > 8) return invalid("ContextDesc::framesInFlight must be in 1..8");
   if (desc.maxWidth == 0 || desc.maxHeight == 0) return invalid("ContextDesc::maxWidth/maxHeight must be positive");
   return {};
@@ -301,6 +303,7 @@ class ContextImplementation final : public Context {
         commands.fillBuffer(scene_.occupancyGrid(), 0);
         commands.fillBuffer(probes_.probes(), 0);  // every probe kProbeStateNeverTraced
         commands.fillBuffer(probes_.reservoirs(), 0);  // every reservoir empty
+        commands.fillBuffer(probes_.changes(), 0);
         initialised_ = true;
       }
       // This frame's counters and the two lists start empty (dispatch arguments {0, 1, 1}).

@@ -47,12 +47,16 @@ layout(binding = kBindProbeList) readonly buffer ProbeList {
 // One reservoir per stratum of every probe of level 0 (probe_interface.h); read and written only when the updated
 // level keeps reservoirs.
 layout(binding = kBindProbeReservoirs) buffer Reservoirs { uint reservoirs[]; };
+layout(binding = kBindProbeChanges) buffer Changes { uint changes[]; };
 
 // Per thread: its sample times the basis, for the five SH2 of a probe (radiance R, G, B, distance, normal-dot).
 const uint kSh2PerProbe = 5u;
 shared vec4 partialSums[kSh2PerProbe][kProbeTraceGroupSize];
 // With reservoirs: each ray's radiance (candidates clamped), for the reservoir update of its stratum.
 shared vec3 rayRadiance[kProbeTraceGroupSize];
+// The luminance of each uniform ray but the brightest eighth, summed by the reduction: the update's trimmed mean,
+// which "Less lag" watches (shared/probe_interface.h).
+shared float trimmedLuminance[kProbeTraceGroupSize];
 
 vec3 skyRadiance(vec3 direction) {
   vec4 basis = sh2Basis(direction);
@@ -219,6 +223,22 @@ void main() {
   }
   barrier();
 
+  // This ray's share of the trimmed mean: its rank among the uniform rays (ties broken by index) decides whether it is
+  // among the brightest eighth, which are left out.
+  bool uniformRay = ray < raysPerProbe && !(keepsReservoirs && reusesReservoir);
+  uint uniformRays = keepsReservoirs ? kProbeStrata * rays.candidates : raysPerProbe;
+  float luminance = probeSampleLuminance(rayRadiance[ray]);
+  uint brighter = 0u;
+  for (uint other = 0u; other < raysPerProbe; ++other) {
+    bool otherUniform = !(keepsReservoirs && other % rays.raysPerStratum == rays.candidates);
+    float otherLuminance = probeSampleLuminance(rayRadiance[other]);
+    if (otherUniform && (otherLuminance > luminance || (otherLuminance == luminance && other < ray))) ++brighter;
+  }
+  uint trimmedRays = uniformRays - uniformRays / kProbeChangeTrimFraction;
+  trimmedLuminance[ray] = uniformRay && brighter >= uniformRays / kProbeChangeTrimFraction
+                              ? luminance / float(trimmedRays)
+                              : 0.0;
+
   if (keepsReservoirs) {
     // The clamp: the brightest direction the reservoirs hold, re-traced this frame (none for empty reservoirs).
     float clampFactor = update.sampleClamp.x;
@@ -251,8 +271,10 @@ void main() {
     barrier();
   }
   for (uint stride = kProbeTraceGroupSize / 2u; stride > 0u; stride /= 2u) {
-    if (ray < stride)
+    if (ray < stride) {
       for (uint sh = 0u; sh < kSh2PerProbe; ++sh) partialSums[sh][ray] += partialSums[sh][ray + stride];
+      trimmedLuminance[ray] += trimmedLuminance[ray + stride];
+    }
     barrier();
   }
   if (ray != 0u) return;
@@ -262,11 +284,31 @@ void main() {
   // level, half from this first trace — the coarser value counts as one earlier update, so its weight then decays as
   // 1/(m+1) like any update's; without a coarser value, and always for distance and normal-dot (which belong to this
   // probe's own position and spacing), it takes the first trace whole. A stale slot may hold anything: no history.
-  float alpha = 1.0 / float(historyCount + 1u);
   Sh2Rgb history = historyCount > 0u ? probeRadianceSh(stored) : Sh2Rgb(vec4(0.0), vec4(0.0), vec4(0.0));
+  // Less lag (SPEC §6.2; shared/probe_interface.h): an update whose trimmed mean strays from its history's by more
+  // than its usual noise shortens the history in proportion. The deviation it learns from is capped at the threshold,
+  // so that a change does not teach the probe to expect changes.
+  uint storedCount = historyCount;
+  float threshold = update.sampleClamp.y;
+  float trimmedMean = trimmedLuminance[0];
+  vec2 change = storedCount > 0u ? unpackHalf2x16(changes[probeIndex]) : vec2(trimmedMean, 0.0);
+  float deviation = (trimmedMean - change.x) / max(trimmedMean + change.x, 1e-20);
+  float squaredDeviation = deviation * deviation;
+  if (threshold > 0.0 && storedCount >= kProbeChangeMinimumHistory) {
+    float expected = threshold * threshold * max(change.y, kProbeChangeVarianceFloor);
+    if (squaredDeviation > expected) {
+      historyCount = uint(float(storedCount) * expected / squaredDeviation);
+      squaredDeviation = change.y;
+    }
+  }
+  // Both as the SH blend: the mean over the updates so far, then a window of about the history cap.
+  change.y = mix(change.y, squaredDeviation, 1.0 / float(storedCount + 1u));
+  change.x = mix(change.x, trimmedMean, 1.0 / float(historyCount + 1u));
+  changes[probeIndex] = packHalf2x16(min(change, vec2(65504.0)));
+  float alpha = 1.0 / float(historyCount + 1u);
   float radianceAlpha = alpha;
   Sh2Rgb startRadiance;
-  if (historyCount == 0u && coarserLevelRadiance(probe, origin, startRadiance)) {
+  if (storedCount == 0u && coarserLevelRadiance(probe, origin, startRadiance)) {
     history = startRadiance;
     radianceAlpha = 0.5;
   }

@@ -66,10 +66,16 @@ void main() {
       // (holes in walls, and light through them). Only a voxel wholly in front of that plane is seen through.
       float halfExtent = 0.5 * voxelSize * dot(abs(normal), vec3(1.0));
       bool cutBySurfacePlane = abs(dot(voxelMin + 0.5 * voxelSize - held, normal)) < halfExtent;
+      vec3 nearestInVoxel = clamp(held, voxelMin, voxelMin + voxelSize);
+      bool sameSurfaceNearby = occupied && cutBySurfacePlane && distance(held, nearestInVoxel) <= voxelSize &&
+                               dot(unpackOctahedralNormal(voxel.normalAndLastHit & 0xffffu), normal) > 0.9;
       if (depth > 0.0 && all(greaterThanEqual(held, voxelMin)) && all(lessThan(held, voxelMin + voxelSize))) {
         voxel.radiance = packR11G11B10F(texelFetch(litColor, texel, 0).rgb);
         voxel.normalAndLastHit = packOctahedralNormal(normal);
         occupied = true;
+      } else if (depth > 0.0 && sameSurfaceNearby) {
+        voxel.radiance = packR11G11B10F(texelFetch(litColor, texel, 0).rgb);
+        voxel.normalAndLastHit &= 0xffffu;
       } else if (occupied && (depth <= 0.0 || (inFront && !cutBySurfacePlane))) {
         uint lastHit = min((voxel.normalAndLastHit >> 16u) + 1u, kMaxLastHit);
         voxel.normalAndLastHit = (voxel.normalAndLastHit & 0xffffu) | (lastHit << 16u);

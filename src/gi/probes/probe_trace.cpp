@@ -9,7 +9,9 @@ void ProbeTrace::record(gpu::CommandList& commands, const VoxelScene& scene, con
   // SPEC §4 step 8's UpdateReservoirs runs inside this pass (probe_trace.comp says why), under its label.
   auto scope = commands.scope("ssvgi: ProbeTrace");
   const gpu::Bindings bindings =
-      probes.listedProbeBindings(scene.bindings()).buffer(shader::kBindProbeReservoirs, probes.reservoirs());
+      probes.listedProbeBindings(scene.bindings())
+          .buffer(shader::kBindProbeReservoirs, probes.reservoirs())
+          .buffer(shader::kBindProbeChanges, probes.changes());
   commands.dispatchIndirect(pipeline_, bindings, probes.list(), 0);  // one workgroup per listed probe
 }
 

@@ -29,7 +29,11 @@ ProbeVolume::ProbeVolume(gpu::Device& device, const Settings& settings, uint32_t
                   settings.probeReservoirs ? VkDeviceSize(settings.probeGrid[0]) * settings.probeGrid[1] *
                                                  settings.probeGrid[2] * shader::kProbeStrata * sizeof(uint32_t)
                                            : sizeof(uint32_t),
-                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT) {
+                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT),
+      changes_(device, "ssvgi probe change statistics",
+               VkDeviceSize(shader::kProbeLevels) * settings.probeGrid[0] * settings.probeGrid[1] * settings.probeGrid[2] *
+                   sizeof(uint32_t),
+               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT) {
   const glm::uvec3 blocks = gridOf(settings) / shader::kProbeBlockSize;
   for (uint32_t i = 0; i < framesInFlight; ++i) {
     updates_.emplace_back(device, "ssvgi probe update", sizeof(shader::ProbeUpdate), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
@@ -70,7 +74,7 @@ uint32_t ProbeVolume::prepare(uint32_t frameIndex, glm::vec3 cameraPosition, con
   current_.settings = glm::uvec4(settings_.raysPerProbe, settings_.probeHistoryCap, settings_.probeBudget, searchLevel);
   current_.reservoirs = glm::uvec4(settings_.probeReservoirs && level == 0 ? 1u : 0u, settings_.probeReservoirHistoryCap,
                                    frameIndex, 0u);
-  current_.sampleClamp = glm::vec4(settings_.probeSampleClamp, 0.0f, 0.0f, 0.0f);
+  current_.sampleClamp = glm::vec4(settings_.probeSampleClamp, settings_.probeChangeThreshold, 0.0f, 0.0f);
   std::memcpy(&current_.skyRadiance, skyRadianceSh.data(), sizeof(current_.skyRadiance));
 
   // SPEC §4.5: "the CPU culls the level's volume against the frustum coarsely" — per block, the union of its probes'

@@ -26,6 +26,8 @@ class ProbeVolume {
   const gpu::Buffer& list() const { return list_; }      // IndirectList of probe indices, then the indices
   // kProbeStrata reservoirs per probe of level 0 (Settings::probeReservoirs; one word when off: nothing reads it).
   const gpu::Buffer& reservoirs() const { return reservoirs_; }
+  // Per probe, how far its updates usually stray from its history (shared/probe_interface.h, "Less lag").
+  const gpu::Buffer& changes() const { return changes_; }
   const gpu::Buffer& update() const { return updates_[currentFrame_]; }  // this frame's ProbeUpdate
   // `bindings` plus what a pass over the listed probes binds: this frame's update, the probes, the list.
   gpu::Bindings listedProbeBindings(gpu::Bindings bindings) const {
@@ -45,6 +47,7 @@ class ProbeVolume {
   gpu::Buffer probes_;
   gpu::Buffer list_;
   gpu::Buffer reservoirs_;
+  gpu::Buffer changes_;
   std::vector<gpu::Buffer> updates_;
   std::vector<gpu::Buffer> blocks_;
   size_t currentFrame_ = 0;
