@@ -2,8 +2,9 @@
 // SceneVoxelization: injects the latest lit frame into the listed bricks, one thread per voxel, by gather (SPEC §4.3).
 // Each voxel picks a random point inside itself (new every frame), projects it into the lit frame and compares:
 //   Valid   the surface seen at that pixel lies inside this voxel: store its colour and normal, reset the counter;
-//   Invalid the point is clearly in front of the surface seen there (the camera looks through this voxel): count a
-//           frame; past the threshold the voxel is cleared;
+//   Invalid the point is clearly in front of the surface seen there (the camera looks through this voxel) and the
+//           voxel lies wholly off that surface's tangent plane: count a frame; past the threshold the voxel is
+//           cleared;
 //   Skip    behind the surface or off-screen: nothing is known, nothing changes.
 // A brick left empty for emptyFramesToRelease updates returns to the pool the same frame.
 #include "gi/gi_frame.glsl"
@@ -66,16 +67,18 @@ void main() {
       // (holes in walls, and light through them). Only a voxel wholly in front of that plane is seen through.
       float halfExtent = 0.5 * voxelSize * dot(abs(normal), vec3(1.0));
       bool cutBySurfacePlane = abs(dot(voxelMin + 0.5 * voxelSize - held, normal)) < halfExtent;
-      vec3 nearestInVoxel = clamp(held, voxelMin, voxelMin + voxelSize);
-      bool sameSurfaceNearby = occupied && cutBySurfacePlane && distance(held, nearestInVoxel) <= voxelSize &&
-                               dot(unpackOctahedralNormal(voxel.normalAndLastHit & 0xffffu), normal) > 0.9;
-      if (depth > 0.0 && all(greaterThanEqual(held, voxelMin)) && all(lessThan(held, voxelMin + voxelSize))) {
+      bool holdsSurface =
+          depth > 0.0 && all(greaterThanEqual(held, voxelMin)) && all(lessThan(held, voxelMin + voxelSize));
+      // An occupied voxel also takes the colour of a pixel of its own surface (the seen surface's plane cuts it, the
+      // normals agree) up to a voxel away: few random points of a voxel on a wall seen at a grazing angle land on its
+      // own pixels, and its radiance would lag a change of light by many frames.
+      bool refreshesColour = depth > 0.0 && occupied && cutBySurfacePlane &&
+                             distance(held, clamp(held, voxelMin, voxelMin + voxelSize)) <= voxelSize &&
+                             dot(unpackOctahedralNormal(voxel.normalAndLastHit & 0xffffu), normal) > 0.9;
+      if (holdsSurface || refreshesColour) {
         voxel.radiance = packR11G11B10F(texelFetch(litColor, texel, 0).rgb);
-        voxel.normalAndLastHit = packOctahedralNormal(normal);
+        voxel.normalAndLastHit = holdsSurface ? packOctahedralNormal(normal) : voxel.normalAndLastHit & 0xffffu;
         occupied = true;
-      } else if (depth > 0.0 && sameSurfaceNearby) {
-        voxel.radiance = packR11G11B10F(texelFetch(litColor, texel, 0).rgb);
-        voxel.normalAndLastHit &= 0xffffu;
       } else if (occupied && (depth <= 0.0 || (inFront && !cutBySurfacePlane))) {
         uint lastHit = min((voxel.normalAndLastHit >> 16u) + 1u, kMaxLastHit);
         voxel.normalAndLastHit = (voxel.normalAndLastHit & 0xffffu) | (lastHit << 16u);
