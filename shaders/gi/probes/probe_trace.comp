@@ -85,10 +85,11 @@ bool coarserLevelRadiance(ivec3 probe, vec3 position, out Sh2Rgb radiance) {
     ivec3 coarser = base + side;
     Probe candidate = probes[coarserLevel * uint(update.dimensions.w) + probeSlotIndex(coarser, update.dimensions.xyz)];
     if (weight == 0.0 || !probeIsUsable(candidate, coarser)) continue;
-    vec3 toProbe = position - probeWorldPosition(coarser, 2.0 * update.distances.x, candidate.state);
-    float separation = length(toProbe);
+    vec3 coarserPosition = probeWorldPosition(coarser, 2.0 * update.distances.x, candidate.state);
+    float separation = distance(coarserPosition, position);
     if (separation > 0.5 * volume.voxelSize.x &&
-        traceVoxelsHierarchical(position - toProbe, toProbe / separation, separation - 0.5 * volume.voxelSize.x).hit)
+        traceVoxelsHierarchical(coarserPosition, (position - coarserPosition) / separation,
+                                separation - 0.5 * volume.voxelSize.x).hit)
       continue;
     Sh2Rgb coarserRadiance = probeRadianceSh(candidate);
     radiance.r += weight * coarserRadiance.r;
@@ -234,10 +235,9 @@ void main() {
     float otherLuminance = probeSampleLuminance(rayRadiance[other]);
     if (otherUniform && (otherLuminance > luminance || (otherLuminance == luminance && other < ray))) ++brighter;
   }
-  uint trimmedRays = uniformRays - uniformRays / kProbeChangeTrimFraction;
-  trimmedLuminance[ray] = uniformRay && brighter >= uniformRays / kProbeChangeTrimFraction
-                              ? luminance / float(trimmedRays)
-                              : 0.0;
+  uint trimmedRays = uniformRays / kProbeChangeTrimFraction;
+  trimmedLuminance[ray] =
+      uniformRay && brighter >= trimmedRays ? luminance / float(uniformRays - trimmedRays) : 0.0;
 
   if (keepsReservoirs) {
     // The clamp: the brightest direction the reservoirs hold, re-traced this frame (none for empty reservoirs).
@@ -286,8 +286,8 @@ void main() {
   // probe's own position and spacing), it takes the first trace whole. A stale slot may hold anything: no history.
   Sh2Rgb history = historyCount > 0u ? probeRadianceSh(stored) : Sh2Rgb(vec4(0.0), vec4(0.0), vec4(0.0));
   // Less lag (SPEC §6.2; shared/probe_interface.h): an update whose trimmed mean strays from its history's by more
-  // than its usual noise shortens the history in proportion. The deviation it learns from is capped at the threshold,
-  // so that a change does not teach the probe to expect changes.
+  // than its usual noise shortens the history in proportion. Its deviation is then not learnt as noise, so that a
+  // change does not teach the probe to expect changes.
   uint storedCount = historyCount;
   float threshold = update.sampleClamp.y;
   float trimmedMean = trimmedLuminance[0];
