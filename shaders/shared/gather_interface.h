@@ -48,7 +48,6 @@ SSVGI_CONSTANT(uint, kBindGatherProbes, kBindFirstPassSlot + 3u);          // Pr
 SSVGI_CONSTANT(uint, kBindGatherTileIrradiance, kBindFirstPassSlot + 4u);  // rgba16f, 1/4: rgb E; a: 1 where sampled
 SSVGI_CONSTANT(uint, kBindGatherHistory, kBindFirstPassSlot + 5u);         // rgba16f, 1/2: last output
 SSVGI_CONSTANT(uint, kBindGatherOutput, kBindFirstPassSlot + 6u);          // rgba16f, 1/2: rgb E; a: depth
-SSVGI_CONSTANT(uint, kBindGatherProbeVisibility, kBindFirstPassSlot + 7u); // uint[] (probe_interface.h)
 
 // What the gather passes know of this frame beyond GiFrame (uniform buffer, one per frame in flight).
 struct GatherConstants {

@@ -138,28 +138,6 @@ SSVGI_INLINE ivec3 probeNeighbourOffset(uint neighbour) {
   return ivec3(int(cell % 3u), int((cell / 3u) % 3u), int(cell / 9u)) - ivec3(1);
 }
 
-// Neighbour visibility (beyond the talk, which says its leak weights only ease leaks): bit i of a probe's word in the
-// visibility buffer is set when voxels block the segment from the probe (with its virtual offset) to the grid position
-// of neighbour i. ProbeRelocate traces the 26 segments at every update of the probe; a gather leaves out a probe whose
-// segment nearest in direction to the point is blocked — the wall the point lies beyond. The SH2 distance cannot tell
-// a wall a probe stands a few centimetres behind: through the closed door of `two-rooms` the lit room's probes lit the
-// dark room (`ssvgi scenario leak`, 7 % before).
-SSVGI_INLINE uint probeNeighbourToward(vec3 direction) {
-  uint nearest = 0u;
-  float best = -2.0f;
-  for (uint neighbour = 0u; neighbour < kProbeNeighbourCount; ++neighbour) {
-    float alignment = dot(normalize(vec3(probeNeighbourOffset(neighbour))), direction);
-    if (alignment > best) {
-      best = alignment;
-      nearest = neighbour;
-    }
-  }
-  return nearest;
-}
-SSVGI_INLINE bool probeSeesToward(uint visibility, vec3 direction) {
-  return ((visibility >> probeNeighbourToward(direction)) & 1u) == 0u;
-}
-
 // A block of the CPU cull, in blocks from the level's minimum corner, 10 bits per axis.
 SSVGI_INLINE uint packProbeBlock(uvec3 block) { return block.x | (block.y << 10u) | (block.z << 20u); }
 SSVGI_INLINE uvec3 unpackProbeBlock(uint packed) {
@@ -230,7 +208,6 @@ SSVGI_CONSTANT(uint, kProbeStratumDirectionCount, 128u);
 SSVGI_CONSTANT(float, kProbeStratumSolidAngle, 4.0f * kPi / 8.0f);
 SSVGI_CONSTANT(uint, kBindProbeReservoirs, kBindFirstPassSlot + 4u);  // uint[probes of level 0 · kProbeStrata]
 SSVGI_CONSTANT(uint, kBindProbeChanges, kBindFirstPassSlot + 5u);     // uint[kProbeLevels · probes per level]
-SSVGI_CONSTANT(uint, kBindProbeVisibility, kBindFirstPassSlot + 6u);  // uint[kProbeLevels · probes per level]
 
 SSVGI_INLINE uvec2 probeStratumCell(uint stratum) { return uvec2(stratum % kProbeStrataZ, stratum / kProbeStrataZ); }
 

@@ -304,7 +304,6 @@ class ContextImplementation final : public Context {
         commands.fillBuffer(probes_.probes(), 0);  // every probe kProbeStateNeverTraced
         commands.fillBuffer(probes_.reservoirs(), 0);  // every reservoir empty
         commands.fillBuffer(probes_.changes(), 0);
-        commands.fillBuffer(probes_.visibility(), 0);
         initialised_ = true;
       }
       // This frame's counters and the two lists start empty (dispatch arguments {0, 1, 1}).
@@ -333,7 +332,7 @@ class ContextImplementation final : public Context {
     probeRelocate_.record(commands, scene_, probes_);                                   // 9. ProbeRelocate
     probeDilate_.record(commands, probes_);                                             //    ProbeDilate
     const gi::GatherInputs gatherInputs{slot.frameConstants, pointSampler_.handle(), desc.depth.view, desc.normal.view};
-    finalGather_.record(commands, gatherInputs, gather_, probes_);                     // 10. FinalGather
+    finalGather_.record(commands, gatherInputs, gather_, scene_, probes_.probes());    // 10. FinalGather
     upsample_.record(commands, gatherInputs, gather_);                                 // 11. Upsample
     temporalFilter_.record(commands, gatherInputs, gather_);                           // 12. TemporalFilter
     commands.use(gather_.output(), gpu::Usage::ComputeSampled);  // the output's contract (OutputImage)

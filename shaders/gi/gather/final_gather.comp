@@ -1,9 +1,10 @@
 #version 450
 // FinalGather (SPEC §4.6; the talk's "DownSample: Probe Volume sampling with custom weights, 1 sample per 4x4 pixels,
 // temporal jitter; output indirect light + normal + depth"): one thread per 4×4 tile samples the probe volume at one
-// pixel of its tile, a different one each frame (gatherSampleOffset), with the talk's three leak remedies and the
-// probes' neighbour visibility. The tile's normal and depth are that pixel's in the host's G-buffer, where Upsample reads them.
+// pixel of its tile, a different one each frame (gatherSampleOffset), with the talk's three leak remedies and a voxel
+// visibility test. The tile's normal and depth are that pixel's in the host's G-buffer, where Upsample reads them.
 #include "gi/gi_frame.glsl"
+#include "gi/voxels/voxel_trace.glsl"
 #include "shared/gather_interface.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -12,7 +13,6 @@ layout(binding = kBindGatherConstants) uniform GatherConstantsBlock { GatherCons
 layout(binding = kBindGatherDepth) uniform sampler2D depthBuffer;
 layout(binding = kBindGatherNormal) uniform sampler2D normalBuffer;
 layout(binding = kBindGatherProbes) readonly buffer Probes { Probe probes[]; };
-layout(binding = kBindGatherProbeVisibility) readonly buffer Visibility { uint visibility[]; };
 layout(binding = kBindGatherTileIrradiance, rgba16f) writeonly uniform image2D tileIrradiance;
 
 // How far a point lies inside the cells of a level, in spacings; negative when some of its 8 probes are outside it.
@@ -52,8 +52,7 @@ vec4 gatherLevel(uint level, vec3 position, vec3 normal) {
     ivec3 offset = ivec3(corner & 1, (corner >> 1) & 1, corner >> 2);
     ivec3 probe = base + offset;
     if (any(lessThan(probe, origin)) || any(greaterThanEqual(probe, origin + dimensions))) continue;
-    uint probeSlot = level * uint(gather.probeDimensions.w) + probeSlotIndex(probe, dimensions);
-    Probe stored = probes[probeSlot];
+    Probe stored = probes[level * uint(gather.probeDimensions.w) + probeSlotIndex(probe, dimensions)];
     // A probe never traced, inside geometry, just moved, or a slot that still holds a probe the level scrolled away
     // from, knows nothing here.
     if (!probeIsUsable(stored, probe)) continue;
@@ -71,9 +70,12 @@ vec4 gatherLevel(uint level, vec3 position, vec3 normal) {
       float traced = dot(probeDistanceSh(stored, spacing), sh2Basis(fromProbe / pointDistance));
       float visible = clamp(traced / pointDistance, 0.0, 1.0);
       weight *= max(visible * visible * visible, kGatherOccludedProbeWeight);
-      // Beyond the talk's weights, which it says only ease leaks: a probe whose way toward the point voxels block
-      // does not light it (neighbour visibility, shared/probe_interface.h).
-      if (!probeSeesToward(visibility[probeSlot], fromProbe / pointDistance)) continue;
+      // Beyond the talk's weights, which it says only ease leaks: a probe with a voxel between it and the point does
+      // not light it. The SH2 distance is far too coarse to see a wall a probe stands a few centimetres behind (the
+      // virtual offset may put it on either side), and through a closed door the lit room's probes would light the
+      // dark one (`ssvgi scenario leak`). A voxel within half a voxel of the biased point is the point's own surface.
+      VoxelHit blocker = traceVoxelsHierarchical(probePosition, fromProbe / pointDistance, pointDistance);
+      if (blocker.hit && blocker.distance < pointDistance - 0.5 * volume.voxelSize.x) continue;
     }
     Sh2Rgb radiance = probeRadianceSh(stored);
     // SH2 rings below zero opposite bright light; negative irradiance is not light.

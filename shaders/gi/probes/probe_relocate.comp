@@ -27,11 +27,9 @@ layout(binding = kBindProbeList) readonly buffer ProbeList {
   IndirectList list;
   uint listedProbes[];
 };
-layout(binding = kBindProbeVisibility) writeonly buffer Visibility { uint visibility[]; };
 
 shared float normalDotAlong[kProbeTraceGroupSize];
 shared float distanceAlong[kProbeTraceGroupSize];
-shared uint blockedNeighbours;
 
 // The neighbour direction of the nearest back face, or -1 when the probe sees none.
 int nearestBackFace() {
@@ -49,27 +47,13 @@ void main() {
   uint probeIndex = listedProbes[gl_WorkGroupID.x];
   uint thread = gl_LocalInvocationID.x;
   Probe probe = probes[probeIndex];
-  float spacing = update.distances.x;
-  ivec3 coordinate = probeWorldCoordinate(probeIndex % uint(update.dimensions.w), update.originProbe.xyz,
-                                          update.dimensions.xyz);
-  if (thread == 0u) blockedNeighbours = 0u;
-  barrier();
   if (thread < kProbeNeighbourCount) {
-    vec3 toNeighbour = vec3(probeNeighbourOffset(thread));
-    vec4 basis = sh2Basis(normalize(toNeighbour));
+    vec4 basis = sh2Basis(normalize(vec3(probeNeighbourOffset(thread))));
     normalDotAlong[thread] = dot(probeNormalDotSh(probe), basis);
-    distanceAlong[thread] = dot(probeDistanceSh(probe, spacing), basis);
-    // Neighbour visibility (shared/probe_interface.h), from where the probe stands now. A voxel within half a voxel
-    // of the neighbour's grid position is the surface that neighbour stands on, not one between them.
-    vec3 from = probeWorldPosition(coordinate, spacing, probe.state);
-    vec3 segment = (vec3(coordinate) + toNeighbour) * spacing - from;
-    float length = max(length(segment), 1e-6);
-    VoxelHit blocker = traceVoxelsHierarchical(from, segment / length, length);
-    if (blocker.hit && blocker.distance < length - 0.5 * volume.voxelSize.x) atomicOr(blockedNeighbours, 1u << thread);
+    distanceAlong[thread] = dot(probeDistanceSh(probe, update.distances.x), basis);
   }
   barrier();
   if (thread != 0u) return;
-  visibility[probeIndex] = blockedNeighbours;
 
   uint state = probe.state;
   uint nextDirection = probeNextDirection(state);
@@ -80,7 +64,10 @@ void main() {
     return;
   }
 
+  float spacing = update.distances.x;
   float offsetStep = spacing / kProbeOffsetStepsPerSpacing;
+  ivec3 coordinate = probeWorldCoordinate(probeIndex % uint(update.dimensions.w), update.originProbe.xyz,
+                                          update.dimensions.xyz);
   vec3 offset = vec3(unpackProbeOffset(probeOffsetCode(state))) * offsetStep;  // zero for an invalid probe
   vec3 direction = normalize(vec3(probeNeighbourOffset(uint(nearest))));
   // How far the offset can go along the direction before one of its components reaches the bound.

@@ -6,11 +6,10 @@ namespace ssvgi::gi {
 FinalGather::FinalGather(gpu::Device& device) : pipeline_(device, shaders::final_gather_comp) {}
 
 void FinalGather::record(gpu::CommandList& commands, const GatherInputs& inputs, const GatherTargets& targets,
-                         const ProbeVolume& probes) {
+                         const VoxelScene& scene, const gpu::Buffer& probes) {
   auto scope = commands.scope("ssvgi: FinalGather");
-  const gpu::Bindings bindings = inputs.bindings(targets)
-                                     .buffer(shader::kBindGatherProbes, probes.probes())
-                                     .buffer(shader::kBindGatherProbeVisibility, probes.visibility())
+  const gpu::Bindings bindings = inputs.bindings(targets, scene.bindings())
+                                     .buffer(shader::kBindGatherProbes, probes)
                                      .image(shader::kBindGatherTileIrradiance, targets.tileIrradiance());
   commands.dispatch(pipeline_, bindings, glm::uvec3(targets.tiles(), 1));  // one thread per tile
 }

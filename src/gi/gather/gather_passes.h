@@ -4,7 +4,7 @@
 #include "gather_targets.h"
 #include "gpu/command_list.h"
 #include "shared/gi_frame.h"
-#include "gi/probes/probe_volume.h"
+#include "gi/voxels/voxel_scene.h"
 
 namespace ssvgi::gi {
 
@@ -16,8 +16,8 @@ struct GatherInputs {
   VkImageView normal;
 
   // The bindings every gather pass starts from: GiFrame, GatherConstants, the depth and the normal.
-  gpu::Bindings bindings(const GatherTargets& targets) const {
-    return gpu::Bindings()
+  gpu::Bindings bindings(const GatherTargets& targets, gpu::Bindings base = {}) const {
+    return base
         .buffer(shader::kBindGiFrame, frame)
         .buffer(shader::kBindGatherConstants, targets.constants())
         .externalSampled(shader::kBindGatherDepth, depth, pointSampler)
@@ -29,8 +29,9 @@ struct GatherInputs {
 class FinalGather {
  public:
   explicit FinalGather(gpu::Device& device);
+  // `probes`: Probe[kProbeLevels · probes per level], level-major (ProbeVolume::probes()).
   void record(gpu::CommandList& commands, const GatherInputs& inputs, const GatherTargets& targets,
-              const ProbeVolume& probes);
+              const VoxelScene& scene, const gpu::Buffer& probes);
 
  private:
   gpu::ComputePipeline pipeline_;

@@ -7,8 +7,7 @@ ProbeRelocate::ProbeRelocate(gpu::Device& device) : pipeline_(device, shaders::p
 
 void ProbeRelocate::record(gpu::CommandList& commands, const VoxelScene& scene, const ProbeVolume& probes) {
   auto scope = commands.scope("ssvgi: ProbeRelocate");
-  const gpu::Bindings bindings =
-      probes.listedProbeBindings(scene.bindings()).buffer(shader::kBindProbeVisibility, probes.visibility());
+  const gpu::Bindings bindings = probes.listedProbeBindings(scene.bindings());
   commands.dispatchIndirect(pipeline_, bindings, probes.list(), 0);  // one workgroup per listed probe
 }
 

@@ -14,12 +14,6 @@ glm::uvec3 gridOf(const Settings& settings) {
   return glm::uvec3(settings.probeGrid[0], settings.probeGrid[1], settings.probeGrid[2]);
 }
 
-// Bytes of a buffer of one uint per probe of every level.
-VkDeviceSize probeWords(const Settings& settings) {
-  return VkDeviceSize(shader::kProbeLevels) * settings.probeGrid[0] * settings.probeGrid[1] * settings.probeGrid[2] *
-         sizeof(uint32_t);
-}
-
 }  // namespace
 
 ProbeVolume::ProbeVolume(gpu::Device& device, const Settings& settings, uint32_t framesInFlight)
@@ -36,8 +30,10 @@ ProbeVolume::ProbeVolume(gpu::Device& device, const Settings& settings, uint32_t
                                                  settings.probeGrid[2] * shader::kProbeStrata * sizeof(uint32_t)
                                            : sizeof(uint32_t),
                   VK_BUFFER_USAGE_STORAGE_BUFFER_BIT),
-      changes_(device, "ssvgi probe change statistics", probeWords(settings), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT),
-      visibility_(device, "ssvgi probe visibility", probeWords(settings), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT) {
+      changes_(device, "ssvgi probe change statistics",
+               VkDeviceSize(shader::kProbeLevels) * settings.probeGrid[0] * settings.probeGrid[1] * settings.probeGrid[2] *
+                   sizeof(uint32_t),
+               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT) {
   const glm::uvec3 blocks = gridOf(settings) / shader::kProbeBlockSize;
   for (uint32_t i = 0; i < framesInFlight; ++i) {
     updates_.emplace_back(device, "ssvgi probe update", sizeof(shader::ProbeUpdate), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,

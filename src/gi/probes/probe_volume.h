@@ -28,8 +28,6 @@ class ProbeVolume {
   const gpu::Buffer& reservoirs() const { return reservoirs_; }
   // Per probe, how far its updates usually stray from its history (shared/probe_interface.h, "Less lag").
   const gpu::Buffer& changes() const { return changes_; }
-  // Per probe, which of the segments to its 26 neighbours voxels block (shared/probe_interface.h).
-  const gpu::Buffer& visibility() const { return visibility_; }
   const gpu::Buffer& update() const { return updates_[currentFrame_]; }  // this frame's ProbeUpdate
   // `bindings` plus what a pass over the listed probes binds: this frame's update, the probes, the list.
   gpu::Bindings listedProbeBindings(gpu::Bindings bindings) const {
@@ -50,7 +48,6 @@ class ProbeVolume {
   gpu::Buffer list_;
   gpu::Buffer reservoirs_;
   gpu::Buffer changes_;
-  gpu::Buffer visibility_;
   std::vector<gpu::Buffer> updates_;
   std::vector<gpu::Buffer> blocks_;
   size_t currentFrame_ = 0;
