@@ -69,9 +69,9 @@ struct Settings {
   // and trace their rays through them; the estimate stays unbiased. Level 0 only, for memory: 8 × 4 bytes per probe
   // (1.77 MB at high tier), paid for by 8-bit distance and normal-dot SH (docs/ARCHITECTURE.md, "Probe memory").
   // Off: every probe traces the next raysPerProbe of the 1024 fixed directions, as levels 1 and 2 always do.
-  // Off by default for now: the first design keeps the mean but does not yet reduce flicker (dark room: 0.75× the
-  // frame-to-frame variation without, docs/QUALITY.md) and its temporal reuse adds lag (the Cornell colour-bleed test
-  // after 32 frames fails with it on).
+  // Off by default for now: this design keeps the mean but does not reduce flicker — in the dark room it raises the
+  // probes' frame-to-frame variation, 0.0032 against 0.0026 without (docs/QUALITY.md) — and its temporal reuse adds
+  // lag (the Cornell colour-bleed test after 32 frames fails with it on).
   bool probeReservoirs = false;                   // needs raysPerProbe ≥ 16 (per stratum ≥ 1 new candidate + its
                                                   // reservoir's ray)
   uint32_t probeReservoirHistoryCap = 48;         // cap of a reservoir's M (candidates it stands for), 1..252: with 3

@@ -40,7 +40,8 @@ SSVGI_CONSTANT(float, kTemporalBlend, 1.0f / 16.0f);
 // History whose geometry weight (summed over its bilinear taps) falls below this is rejected.
 SSVGI_CONSTANT(float, kTemporalMinimumHistoryWeight, 0.25f);
 
-// Binding slots of the gather passes (after GiFrame, kBindGiFrame; the voxel scene is not bound).
+// Binding slots of the gather passes (after GiFrame, kBindGiFrame, and the voxel scene's shared slots, which
+// FinalGather binds for its visibility test).
 SSVGI_CONSTANT(uint, kBindGatherConstants, kBindFirstPassSlot);            // GatherConstants (uniform)
 SSVGI_CONSTANT(uint, kBindGatherDepth, kBindFirstPassSlot + 1u);           // the host's current depth (sampled)
 SSVGI_CONSTANT(uint, kBindGatherNormal, kBindFirstPassSlot + 2u);          // the host's current world normal (sampled)

@@ -15,7 +15,8 @@ struct GatherInputs {
   VkImageView depth;
   VkImageView normal;
 
-  // The bindings every gather pass starts from: GiFrame, GatherConstants, the depth and the normal.
+  // The bindings every gather pass starts from: GiFrame, GatherConstants, the depth and the normal, added to `base`
+  // (the voxel scene's, for FinalGather's visibility test).
   gpu::Bindings bindings(const GatherTargets& targets, gpu::Bindings base = {}) const {
     return base
         .buffer(shader::kBindGiFrame, frame)
