@@ -226,6 +226,49 @@ TEST_F(VoxelScene, injectingAFloorOccupiesItsVoxelLayerWithItsColourAndNothingIn
   expectPoolConsistent(state, smallSettings());
 }
 
+TEST_F(VoxelScene, aFloorOnAVoxelBoundaryIsHeldByTheLayerBelowIt) {
+  // The floor's top at y = 0, the boundary between voxel layers −1 and 0: its points are held a hair behind the
+  // surface, so the floor lies in layer −1 alone, whole, and never spreads into layer 0 by rounding. (From 3.5 m up
+  // the voxel volume reaches down to y = −4 m; the camera sees the floor within 0.94 m of (0.5, 0.5).)
+  create(smallSettings());
+  const TestBox floorOnBoundary{{-1000.0f, -1.0f, -1000.0f}, {1000.0f, 0.0f, 1000.0f}, kFloor.radiance};
+  const HostFrame frame(device(), lookingDown({0.5f, 3.5f, 0.5f}), {floorOnBoundary});
+  run(frame, 24);
+  const GpuState state = readState();
+  const auto occupied = occupiedVoxels(state);
+  for (const auto& [coordinate, voxel] : occupied)
+    EXPECT_EQ(std::get<1>(coordinate), -1) << "voxel " << std::get<0>(coordinate) << "," << std::get<1>(coordinate)
+                                           << "," << std::get<2>(coordinate);
+  for (int x = 0; x <= 3; ++x)
+    for (int z = 0; z <= 3; ++z) EXPECT_TRUE(occupied.count({x, -1, z})) << "voxel " << x << ",-1," << z << " missing";
+  expectPoolConsistent(state, smallSettings());
+}
+
+TEST_F(VoxelScene, aFloorSeenAtAGrazingAngleKeepsEveryVoxelOfIt) {
+  // The camera 0.5 m above the floor, looking 5.7° down: the floor's voxels ahead are seen at 6° to 21°. Most random
+  // points of such a voxel lie above the floor's top (y = 0.1 in a layer 0.25 m high) and see the floor further on,
+  // which must not count as seeing through the voxel: after 48 frames (12 × invalidFramesToClear) the floor's layer is
+  // whole from 1.5 m to 4 m ahead, and nothing above it is occupied.
+  create(smallSettings());
+  renderer::Camera camera;
+  camera.position = {0.5f, 0.6f, 0.5f};
+  camera.target = {0.5f, 0.1f, -4.5f};
+  camera.verticalFov = glm::radians(30.0f);
+  camera.nearPlane = 0.1f;
+  const HostFrame frame(device(), camera, {kFloor});
+  run(frame, 48);
+  const GpuState state = readState();
+  const auto occupied = occupiedVoxels(state);
+  for (const auto& [coordinate, voxel] : occupied)
+    EXPECT_EQ(std::get<1>(coordinate), 0) << "voxel " << std::get<0>(coordinate) << "," << std::get<1>(coordinate)
+                                          << "," << std::get<2>(coordinate) << " is not in the floor's layer";
+  uint32_t missing = 0;
+  for (int x = 0; x <= 3; ++x)
+    for (int z = -16; z <= -6; ++z) missing += occupied.count({x, 0, z}) == 0;
+  EXPECT_EQ(missing, 0u) << "of 44 voxels of the floor ahead";
+  expectPoolConsistent(state, smallSettings());
+}
+
 // Pool index of the live brick at a world brick coordinate, if any.
 std::optional<uint32_t> liveBrickAt(const GpuState& state, glm::ivec3 coordinate) {
   for (uint32_t b = 0; b < state.pool.bumpCount; ++b)
