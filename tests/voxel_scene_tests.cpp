@@ -269,6 +269,35 @@ TEST_F(VoxelScene, aFloorSeenAtAGrazingAngleKeepsEveryVoxelOfIt) {
   expectPoolConsistent(state, smallSettings());
 }
 
+TEST_F(VoxelScene, aFloorSeenAtAGrazingAngleTakesANewColourWithinAFewFrames) {
+  // The grazing view above: few random points of a voxel land on the voxel's own pixels, but pixels of its surface
+  // within a voxel of it count too, so when the light on the floor changes, every voxel ahead has the new colour
+  // within 10 frames. (Measured 2026-12-01: without those pixels, 19 of the 44 still held the old colour after 6
+  // frames; with them 3 after 6 frames, 1 after 8.)
+  create(smallSettings());
+  renderer::Camera camera;
+  camera.position = {0.5f, 0.6f, 0.5f};
+  camera.target = {0.5f, 0.1f, -4.5f};
+  camera.verticalFov = glm::radians(30.0f);
+  camera.nearPlane = 0.1f;
+  run(HostFrame(device(), camera, {kFloor}), 48);
+  TestBox relit = kFloor;
+  relit.radiance = {0.125f, 0.5f, 0.25f};
+  run(HostFrame(device(), camera, {relit}), 10);
+  const auto occupied = occupiedVoxels(readState());
+  uint32_t stale = 0, found = 0;
+  for (int x = 0; x <= 3; ++x)
+    for (int z = -16; z <= -6; ++z) {
+      const auto voxel = occupied.find({x, 0, z});
+      if (voxel == occupied.end()) continue;
+      ++found;
+      const glm::vec3 radiance = shader::unpackR11G11B10F(voxel->second.radiance);
+      stale += std::abs(radiance.y - relit.radiance.y) > relit.radiance.y / 64.0f;
+    }
+  EXPECT_EQ(found, 44u);
+  EXPECT_EQ(stale, 0u) << "voxels of the floor ahead still holding the old colour";
+}
+
 // Pool index of the live brick at a world brick coordinate, if any.
 std::optional<uint32_t> liveBrickAt(const GpuState& state, glm::ivec3 coordinate) {
   for (uint32_t b = 0; b < state.pool.bumpCount; ++b)
