@@ -244,17 +244,24 @@ TEST_F(VoxelScene, aFloorOnAVoxelBoundaryIsHeldByTheLayerBelowIt) {
   expectPoolConsistent(state, smallSettings());
 }
 
+// 0.5 m above kFloor's top, looking 5.7° down: the floor 1.5 m to 4 m ahead (voxels x 0..3, z −16..−6, 44 in all)
+// is seen at 6° to 21°.
+renderer::Camera grazingFloorCamera() {
+  renderer::Camera camera;
+  camera.position = {0.5f, 0.6f, 0.5f};
+  camera.target = {0.5f, 0.1f, -4.5f};
+  camera.verticalFov = glm::radians(30.0f);
+  camera.nearPlane = 0.1f;
+  return camera;
+}
+
 TEST_F(VoxelScene, aFloorSeenAtAGrazingAngleKeepsEveryVoxelOfIt) {
   // The camera 0.5 m above the floor, looking 5.7° down: the floor's voxels ahead are seen at 6° to 21°. Most random
   // points of such a voxel lie above the floor's top (y = 0.1 in a layer 0.25 m high) and see the floor further on,
   // which must not count as seeing through the voxel: after 48 frames (12 × invalidFramesToClear) the floor's layer is
   // whole from 1.5 m to 4 m ahead, and nothing above it is occupied.
   create(smallSettings());
-  renderer::Camera camera;
-  camera.position = {0.5f, 0.6f, 0.5f};
-  camera.target = {0.5f, 0.1f, -4.5f};
-  camera.verticalFov = glm::radians(30.0f);
-  camera.nearPlane = 0.1f;
+  const renderer::Camera camera = grazingFloorCamera();
   const HostFrame frame(device(), camera, {kFloor});
   run(frame, 48);
   const GpuState state = readState();
@@ -275,11 +282,7 @@ TEST_F(VoxelScene, aFloorSeenAtAGrazingAngleTakesANewColourWithinAFewFrames) {
   // within 10 frames. (Measured 2026-12-01: without those pixels, 19 of the 44 still held the old colour after 6
   // frames; with them 3 after 6 frames, 1 after 8.)
   create(smallSettings());
-  renderer::Camera camera;
-  camera.position = {0.5f, 0.6f, 0.5f};
-  camera.target = {0.5f, 0.1f, -4.5f};
-  camera.verticalFov = glm::radians(30.0f);
-  camera.nearPlane = 0.1f;
+  const renderer::Camera camera = grazingFloorCamera();
   run(HostFrame(device(), camera, {kFloor}), 48);
   TestBox relit = kFloor;
   relit.radiance = {0.125f, 0.5f, 0.25f};
