@@ -63,8 +63,9 @@ TEST_F(Scenario, convergedDarkRoomChangesUnderOnePercentFromFrameToFrame) {
 TEST_F(Scenario, cornellLightSwitchedOnArrivesSoonerWithChangeDetection) {
   // The ceiling light of the Cornell box switched on after 64 frames lit by the panel alone: the indirect light
   // doubles. Change detection (SPEC §6.2) lets the probes take the first bounce at once instead of 1/33 of it per
-  // update; the bounces after it come through the lit-frame loop a frame at a time either way. Measured 2026-12-01 on
-  // lavapipe, 48 frames after the switch: 63 % of the way with it, 35 % without.
+  // update, and the bounces after it, which come through the lit-frame loop in small steps, with a short history while
+  // they keep coming (two updates in a row straying the same way). Measured 2026-12-01 on lavapipe, 48 frames after
+  // the switch: 92 % of the way with it, 35 % without, 63 % with the single-update rule alone; 80 % lies between.
   const bench::ScenarioView view = builtinView("cornell");
   bench::LagOptions options;
   options.framesAfterSwitch = 48;
@@ -82,6 +83,7 @@ TEST_F(Scenario, cornellLightSwitchedOnArrivesSoonerWithChangeDetection) {
   const double plain = progressAfter(0.0f);
   std::printf("lag: %.0f %% of the way after %u frames with change detection, %.0f %% without\n", 100.0 * detected,
               options.framesAfterSwitch, 100.0 * plain);
+  EXPECT_GT(detected, 0.8);
   EXPECT_GT(detected, 1.5 * plain);
   EXPECT_LT(detected, 1.05) << "and does not overshoot";
 }

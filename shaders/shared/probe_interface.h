@@ -251,7 +251,7 @@ SSVGI_CONSTANT(float, kProbeReservoirTargetFloor, 0.0625f);
 SSVGI_INLINE float probeSampleLuminance(vec3 radiance) { return dot(radiance, vec3(0.2126f, 0.7152f, 0.0722f)); }
 
 // ---------------------------------------------------------------------------------------------------------------------
-// Less lag (SPEC §6.2): each probe keeps, beside its SH, two half floats in its word of the change buffer: the mean
+// Less lag (SPEC §6.2): each probe keeps, beside its SH, in its word of the change buffer (packProbeChange): the mean
 // luminance of its updates' uniform rays but the brightest eighth (the trimmed mean T, blended as its SH), and the mean
 // square of how far an update's T strays from that history H, d = (T − H) / (T + H). An update with d² beyond
 // Settings::probeChangeThreshold² times that is a change, not noise: the probe's history count shrinks in proportion,
@@ -264,6 +264,38 @@ SSVGI_CONSTANT(uint, kProbeChangeTrimFraction, 8u);
 SSVGI_CONSTANT(float, kProbeChangeVarianceFloor, 0.0025f);
 // Below this history count the blend weight 1/(m+1) is large anyway, and the variance has too few updates.
 SSVGI_CONSTANT(uint, kProbeChangeMinimumHistory, 4u);
+// Light that keeps coming: after a switch the first bounce arrives at once, the later ones through the lit-frame loop
+// of SPEC §3, in steps too small for one update to tell from noise, and the history would trail them by about half
+// its length. Two updates in a row that stray the same way by more than kProbeDriftDeviations standard deviations
+// (a chance of about 1 in 110 for noise) start a recovery: for kProbeChangeRecoveryUpdates updates the history count
+// stays at most kProbeChangeRecoveryHistory, so the probe follows the light while it grows.
+SSVGI_CONSTANT(float, kProbeDriftDeviations, 1.5f);
+SSVGI_CONSTANT(uint, kProbeChangeRecoveryUpdates, 15u);
+SSVGI_CONSTANT(uint, kProbeChangeRecoveryHistory, 1u);
+
+// A probe's word of the change buffer: bits 0–15 the trimmed mean H (half float); bits 16–23 the rms of d, √(mean
+// d²), in 8-bit fixed point over [0, 1] (|d| ≤ 1); bits 24–27 the updates left of a recovery; bits 28–29 which way
+// the last update strayed (0 not by kProbeDriftDeviations, 1 up, 2 down).
+struct ProbeChange {
+  float mean;
+  float variance;
+  uint recoveryUpdates;
+  uint lastStray;
+};
+SSVGI_INLINE uint packProbeChange(ProbeChange change) {
+  uint deviation = uint(sqrt(clamp(change.variance, 0.0f, 1.0f)) * 255.0f + 0.5f);
+  return SSVGI_HALF_BITS(min(change.mean, 65504.0f)) | (deviation << 16u) | (min(change.recoveryUpdates, 15u) << 24u) |
+         (change.lastStray << 28u);
+}
+SSVGI_INLINE ProbeChange unpackProbeChange(uint word) {
+  float deviation = float((word >> 16u) & 0xffu) / 255.0f;
+  ProbeChange change;
+  change.mean = SSVGI_HALF_FLOAT(word & 0xffffu);
+  change.variance = deviation * deviation;
+  change.recoveryUpdates = (word >> 24u) & 0xfu;
+  change.lastStray = word >> 28u;
+  return change;
+}
 // The mean radiance over the sphere of an SH2, as luminance: band 0 over 4π·Y00.
 SSVGI_INLINE float probeMeanLuminance(Sh2Rgb radiance) {
   return probeSampleLuminance(vec3(radiance.r.x, radiance.g.x, radiance.b.x)) / (4.0f * kPi * kSh2Band0Basis);

@@ -287,24 +287,35 @@ void main() {
   Sh2Rgb history = historyCount > 0u ? probeRadianceSh(stored) : Sh2Rgb(vec4(0.0), vec4(0.0), vec4(0.0));
   // Less lag (SPEC §6.2; shared/probe_interface.h): an update whose trimmed mean strays from its history's by more
   // than its usual noise shortens the history in proportion. Its deviation is then not learnt as noise, so that a
-  // change does not teach the probe to expect changes.
+  // change does not teach the probe to expect changes. Light that keeps growing (or fading) — two updates in a row
+  // straying the same way — holds the history short for a while.
   uint storedCount = historyCount;
   float threshold = update.sampleClamp.y;
   float trimmedMean = trimmedLuminance[0];
-  vec2 change = storedCount > 0u ? unpackHalf2x16(changes[probeIndex]) : vec2(trimmedMean, 0.0);
-  float deviation = (trimmedMean - change.x) / max(trimmedMean + change.x, 1e-20);
+  ProbeChange change =
+      storedCount > 0u ? unpackProbeChange(changes[probeIndex]) : ProbeChange(trimmedMean, 0.0, 0u, 0u);
+  float deviation = (trimmedMean - change.mean) / max(trimmedMean + change.mean, 1e-20);
   float squaredDeviation = deviation * deviation;
+  uint stray = 0u;
   if (threshold > 0.0 && storedCount >= kProbeChangeMinimumHistory) {
-    float expected = threshold * threshold * max(change.y, kProbeChangeVarianceFloor);
+    float noise = max(change.variance, kProbeChangeVarianceFloor);
+    float expected = threshold * threshold * noise;
+    if (squaredDeviation > kProbeDriftDeviations * kProbeDriftDeviations * noise) stray = deviation > 0.0 ? 1u : 2u;
+    if (stray != 0u && stray == change.lastStray) change.recoveryUpdates = kProbeChangeRecoveryUpdates;
     if (squaredDeviation > expected) {
       historyCount = uint(float(storedCount) * expected / squaredDeviation);
-      squaredDeviation = change.y;
+      squaredDeviation = change.variance;
     }
   }
+  change.lastStray = stray;
+  if (change.recoveryUpdates > 0u) {
+    historyCount = min(historyCount, kProbeChangeRecoveryHistory);
+    --change.recoveryUpdates;
+  }
   // Both as the SH blend: the mean over the updates so far, then a window of about the history cap.
-  change.y = mix(change.y, squaredDeviation, 1.0 / float(storedCount + 1u));
-  change.x = mix(change.x, trimmedMean, 1.0 / float(historyCount + 1u));
-  changes[probeIndex] = packHalf2x16(min(change, vec2(65504.0)));
+  change.variance = mix(change.variance, squaredDeviation, 1.0 / float(storedCount + 1u));
+  change.mean = mix(change.mean, trimmedMean, 1.0 / float(historyCount + 1u));
+  changes[probeIndex] = packProbeChange(change);
   float alpha = 1.0 / float(historyCount + 1u);
   float radianceAlpha = alpha;
   Sh2Rgb startRadiance;
