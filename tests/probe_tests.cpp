@@ -285,6 +285,20 @@ std::vector<TestBrick> closedBox(glm::vec3 wallRadiance) {
   return bricks;
 }
 
+// The change-detection tests' start: a context with change detection on or off (the plain blend), its probe settled
+// in a closed box of walls of the given radiance, its history at the cap.
+class ProbeChangeDetection : public ProbeCache {
+ protected:
+  Settings settleInClosedBox(bool detection, float wallRadiance) {
+    Settings settings = probeTestSettings();
+    if (!detection) settings.probeChangeThreshold = 0.0f;
+    create(settings);
+    writeScene(closedBox(glm::vec3(wallRadiance)));
+    runUpdates(40);
+    return settings;
+  }
+};
+
 // The tests that run with and without level 0's reservoirs (Settings::probeReservoirs): the parameter.
 class ProbeCacheReservoirs : public ProbeCache, public ::testing::WithParamInterface<bool> {
  protected:
@@ -409,15 +423,11 @@ TEST_P(ProbeCacheReservoirs, theHistoryCountGrowsByOnePerUpdateToItsCapAndAlphaI
 // trimmed mean of the next update is 4× its history's (d = 0.6) against a usual deviation of nothing (the floor,
 // 5 %): the history shrinks to nothing and the probe takes the new light at once. Without change detection one update
 // moves it by 1/33 of the step, and four updates by 1 − (32/33)^4 = 11.6 %.
-TEST_F(ProbeCache, aProbeWhoseSurroundingsBrightenFollowsWithinAnUpdateAndWithoutChangeDetectionOnlyByItsBlend) {
+TEST_F(ProbeChangeDetection, aProbeWhoseSurroundingsBrightenFollowsWithinAnUpdateAndWithoutItOnlyByItsBlend) {
   constexpr float kBefore = 0.25f, kAfter = 1.0f;
   for (const bool detection : {true, false}) {
     SCOPED_TRACE(detection ? "change detection on" : "change detection off");
-    Settings settings = probeTestSettings();
-    if (!detection) settings.probeChangeThreshold = 0.0f;
-    create(settings);
-    writeScene(closedBox(glm::vec3(kBefore)));
-    runUpdates(40);
+    const Settings settings = settleInClosedBox(detection, kBefore);
     ASSERT_EQ(historyCount(probeAt(readProbes(), 0, glm::vec3(kProbe))), settings.probeHistoryCap);
     writeScene(closedBox(glm::vec3(kAfter)));
     runUpdates(1);
@@ -444,16 +454,12 @@ TEST_F(ProbeCache, aProbeWhoseSurroundingsBrightenFollowsWithinAnUpdateAndWithou
 // sees the walls, so every trimmed mean is their radiance), the rules give after 12 updates 0.92 of the walls'
 // radiance, the single-update rule alone 0.69 and the plain blend 0.42 (the GPU: 0.69 with the drift rule switched
 // off in the shader, 2026-12-01); the bounds lie between.
-TEST_F(ProbeCache, aProbeWhoseSurroundingsBrightenStepByStepKeepsUpWithThem) {
+TEST_F(ProbeChangeDetection, aProbeWhoseSurroundingsBrightenStepByStepKeepsUpWithThem) {
   constexpr float kStart = 0.25f, kGrowth = 1.1f;
   constexpr uint32_t kSteps = 12;
   for (const bool detection : {true, false}) {
     SCOPED_TRACE(detection ? "change detection on" : "change detection off");
-    Settings settings = probeTestSettings();
-    if (!detection) settings.probeChangeThreshold = 0.0f;
-    create(settings);
-    writeScene(closedBox(glm::vec3(kStart)));
-    runUpdates(40);
+    settleInClosedBox(detection, kStart);
     float walls = kStart;
     for (uint32_t step = 0; step < kSteps; ++step) {
       walls *= kGrowth;
@@ -475,7 +481,7 @@ TEST_F(ProbeCache, aProbeWhoseSurroundingsBrightenStepByStepKeepsUpWithThem) {
 // sphere, so an update's 32 rays find it about every sixth update, and the update's mean is then 7× the walls'. The
 // trimmed mean leaves out the brightest eighth of the rays and does not see it, so the history count stays at its cap
 // while the history itself moves with those hits.
-TEST_F(ProbeCache, aProbeThatARareBrightVoxelMakesNoisyKeepsItsHistory) {
+TEST_F(ProbeChangeDetection, aProbeThatARareBrightVoxelMakesNoisyKeepsItsHistory) {
   Settings settings = probeTestSettings();
   create(settings);
   std::vector<TestBrick> box = closedBox(glm::vec3(0.05f));
