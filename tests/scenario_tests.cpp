@@ -65,7 +65,7 @@ TEST_F(Scenario, cornellLightSwitchedOnArrivesSoonerWithChangeDetection) {
   // doubles. Change detection (SPEC §6.2) lets the probes take the first bounce at once instead of 1/33 of it per
   // update, and the bounces after it, which come through the lit-frame loop in small steps, with a short history while
   // they keep coming (two updates in a row straying the same way). Measured 2026-12-01 on lavapipe, 48 frames after
-  // the switch: 92 % of the way with it, 35 % without, 63 % with the single-update rule alone; 80 % lies between.
+  // the switch: 93 % of the way with it, 35 % without, 63 % with the single-update rule alone; 80 % lies between.
   const bench::ScenarioView view = builtinView("cornell");
   bench::LagOptions options;
   options.framesAfterSwitch = 48;

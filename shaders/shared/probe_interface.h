@@ -274,16 +274,17 @@ SSVGI_CONSTANT(uint, kProbeChangeRecoveryUpdates, 15u);
 SSVGI_CONSTANT(uint, kProbeChangeRecoveryHistory, 1u);
 
 // A probe's word of the change buffer: bits 0–15 the trimmed mean H (half float); bits 16–23 the rms of d, √(mean
-// d²), in 8-bit fixed point over [0, 1] (|d| ≤ 1); bits 24–27 the updates left of a recovery; bits 28–29 which way
-// the last update strayed (0 not by kProbeDriftDeviations, 1 up, 2 down).
+// d²), in 8-bit fixed point over [0, 1] (|d| ≤ 1), rounded with `dither` as packProbeUnitSh rounds (the variance
+// blends with α down to 1/(m+1), below one step); bits 24–27 the updates left of a recovery; bits 28–29 which way the
+// last update strayed (0 not by kProbeDriftDeviations, 1 up, 2 down).
 struct ProbeChange {
   float mean;
   float variance;
   uint recoveryUpdates;
   uint lastStray;
 };
-SSVGI_INLINE uint packProbeChange(ProbeChange change) {
-  uint deviation = uint(sqrt(clamp(change.variance, 0.0f, 1.0f)) * 255.0f + 0.5f);
+SSVGI_INLINE uint packProbeChange(ProbeChange change, float dither) {
+  uint deviation = min(uint(floor(sqrt(clamp(change.variance, 0.0f, 1.0f)) * 255.0f + dither)), 255u);
   return SSVGI_HALF_BITS(min(change.mean, 65504.0f)) | (deviation << 16u) | (min(change.recoveryUpdates, 15u) << 24u) |
          (change.lastStray << 28u);
 }

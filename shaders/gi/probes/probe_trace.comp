@@ -315,7 +315,8 @@ void main() {
   // Both as the SH blend: the mean over the updates so far, then a window of about the history cap.
   change.variance = mix(change.variance, squaredDeviation, 1.0 / float(storedCount + 1u));
   change.mean = mix(change.mean, trimmedMean, 1.0 / float(historyCount + 1u));
-  changes[probeIndex] = packProbeChange(change);
+  float dither = hashToUnitCube(uvec3(probeIndex, update.reservoirs.z, kProbeStrata)).x;
+  changes[probeIndex] = packProbeChange(change, dither);
   float alpha = 1.0 / float(historyCount + 1u);
   float radianceAlpha = alpha;
   Sh2Rgb startRadiance;
@@ -329,7 +330,6 @@ void main() {
   float range = update.distances.z;
   vec4 distanceHistory = historyCount > 0u ? probeDistanceSh(stored, update.distances.x) : vec4(0.0);
   vec4 normalDotHistory = historyCount > 0u ? probeNormalDotSh(stored) : vec4(0.0);
-  float dither = hashToUnitCube(uvec3(probeIndex, update.reservoirs.z, kProbeStrata)).x;
   uint distanceSh = packProbeUnitSh(mix(distanceHistory, partialSums[3][0], alpha) / range, dither);
   uint normalDotSh = packProbeUnitSh(mix(normalDotHistory, partialSums[4][0], alpha), dither);
   // With reservoirs each stratum's candidates walk its 128-direction set, c per update: the counter runs modulo
