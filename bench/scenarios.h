@@ -22,6 +22,7 @@ struct ScenarioRendering {
   uint32_t width = 640;
   uint32_t height = 360;
   Settings gi = settingsForTier(QualityTier::High);  // with the scene's detail scale applied (renderer::scaledToScene)
+  uint32_t lightViewSize = 0;                        // renderer::RendererSettings::lightViewSize
 };
 
 // A scene and the still view a scenario watches it from.

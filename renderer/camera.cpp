@@ -18,4 +18,14 @@ glm::mat4 reversedZInfiniteProjection(float verticalFov, float aspect, float nea
   return projection;
 }
 
+void setFrameView(shader::FrameConstants& frame, const Camera& camera, uint32_t width, uint32_t height) {
+  const float aspect = float(width) / float(height);
+  frame.viewProjection = reversedZInfiniteProjection(camera.verticalFov, aspect, camera.nearPlane) * viewMatrix(camera);
+  frame.inverseViewProjection = glm::inverse(frame.viewProjection);
+  frame.previousViewProjection = frame.viewProjection;
+  frame.cameraPositionAndNear = glm::vec4(camera.position, camera.nearPlane);
+  frame.cameraForward = glm::vec4(glm::normalize(camera.target - camera.position), 0.0f);
+  frame.viewportSize = glm::vec4(width, height, 1.0f / float(width), 1.0f / float(height));
+}
+
 }  // namespace ssvgi::renderer

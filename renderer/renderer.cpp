@@ -37,16 +37,8 @@ shader::GpuLight toGpuLight(const LocalLight& light) {
 
 shader::FrameConstants makeFrameConstants(const Scene& scene, const AnimatedState& state, uint32_t width,
                                           uint32_t height, float exposure) {
-  const float aspect = float(width) / float(height);
-  const glm::mat4 viewProjection =
-      reversedZInfiniteProjection(state.camera.verticalFov, aspect, state.camera.nearPlane) * viewMatrix(state.camera);
   shader::FrameConstants frame{};
-  frame.viewProjection = viewProjection;
-  frame.inverseViewProjection = glm::inverse(viewProjection);
-  frame.previousViewProjection = viewProjection;
-  frame.cameraPositionAndNear = glm::vec4(state.camera.position, state.camera.nearPlane);
-  frame.cameraForward = glm::vec4(glm::normalize(state.camera.target - state.camera.position), 0.0f);
-  frame.viewportSize = glm::vec4(width, height, 1.0f / float(width), 1.0f / float(height));
+  setFrameView(frame, state.camera, width, height);
   frame.sunDirectionAndEnabled = glm::vec4(glm::normalize(state.sun.direction), state.sun.enabled ? 1.0f : 0.0f);
   frame.sunIlluminance = glm::vec4(state.sun.illuminance, 0.0f);
   frame.lightCountAndExposure = glm::vec4(float(scene.lights.size()), exposure, 0.0f, 0.0f);
@@ -95,6 +87,8 @@ Renderer::Renderer(gpu::Device& device, const Scene& scene, const RendererSettin
     auto context = ssvgi::Context::create(desc);
     if (!context.ok()) throw gpu::GpuError("ssvgi: " + context.error().message);
     gi_ = std::move(context.value());
+    if (settings.lightViewSize > 0 && !scene.lights.empty())
+      lightViews_.emplace(device, scene, settings.lightViewSize);
   }
 }
 
@@ -109,7 +103,8 @@ ssvgi::View toView(const glm::mat4& viewProjection, glm::vec3 position, uint32_t
 }
 }  // namespace
 
-void Renderer::recordGi(gpu::CommandList& commands, const shader::FrameConstants& frame) {
+void Renderer::recordGi(gpu::CommandList& commands, const shader::FrameConstants& frame,
+                        std::vector<ssvgi::ExtraView> extraViews) {
   // ssvgi samples the host's images: they must be shader-readable, their writes visible, before it records.
   const GBuffer& gbuffer = currentGBuffer();
   const GBuffer& litGBuffer = gbuffers_[(frameIndex_ + 1) & 1u];
@@ -136,6 +131,7 @@ void Renderer::recordGi(gpu::CommandList& commands, const shader::FrameConstants
   desc.litNormal.view = litGBuffer.normal.view();
   const shader::Sh2Rgb sky = projectSkyToSh2(frame.sky);  // what probe rays that leave the voxel volume see
   std::memcpy(desc.skyRadianceSh.data(), &sky, sizeof(sky));
+  desc.extraViews = std::move(extraViews);
   if (const ssvgi::Error error = gi_->dispatch(desc, commands.handle())) throw gpu::GpuError("ssvgi: " + error.message);
   giView_ = desc.camera;
 }
@@ -166,7 +162,13 @@ void Renderer::render(const AnimatedState& state) {
     gbufferPass_.record(commands, gpuScene_, frameConstants_, gbuffer);
     directLighting_.record(commands, frameConstants_, lights_, shadows_, gbuffer, pointSampler_.handle(),
                            directIrradiance_, viewDistance_);
-    if (gi_) recordGi(commands, frame);
+    if (gi_) {
+      std::vector<ssvgi::ExtraView> extraViews;
+      if (lightViews_)
+        extraViews = lightViews_->record(commands, frameIndex_, frame, gpuScene_, lights_, shadows_,
+                                         pointSampler_.handle());
+      recordGi(commands, frame, std::move(extraViews));
+    }
     VkImageView indirect = indirectIrradiance_.view();
     if (giLighting)
       indirect = gi_->output().view;  // left by dispatch() ready for compute reads (ssvgi::OutputImage)

@@ -3,6 +3,7 @@
 #include "gpu/profiler.h"
 #include "gpu_scene.h"
 #include "image_io.h"
+#include "light_views.h"
 #include "screen_passes.h"
 #include "shadow_pass.h"
 
@@ -35,6 +36,9 @@ struct RendererSettings {
   ShadowSettings shadows;
   std::optional<ssvgi::Settings> gi;  // run the GI library with these settings (SPEC §3 integration)
   bool giLighting = true;  // composite its indirect light; false: it runs for its debug views only, no ambient at all
+  // Pixels per side of the views of the local lights given to the GI as extra views (SPEC §6.3; LightViews). 0: none,
+  // the default: in cornell they make the error larger, not smaller (docs/QUALITY.md, "Views beyond the camera").
+  uint32_t lightViewSize = 0;
 };
 
 // The host renderer (headless): shadows, G-buffer, direct light, the GI library, composite and tonemap for one scene,
@@ -73,7 +77,8 @@ class Renderer {
 
  private:
   const GBuffer& currentGBuffer() const { return gbuffers_[frameIndex_ & 1u]; }
-  void recordGi(gpu::CommandList& commands, const shader::FrameConstants& frame);
+  void recordGi(gpu::CommandList& commands, const shader::FrameConstants& frame,
+                std::vector<ssvgi::ExtraView> extraViews);
 
   gpu::Device& device_;
   const Scene& scene_;
@@ -98,6 +103,7 @@ class Renderer {
   std::array<gpu::Image, 2> finalRadiance_;
   gpu::Image tonemapped_;
   std::unique_ptr<ssvgi::Context> gi_;
+  std::optional<LightViews> lightViews_;  // with the GI, in scenes with local lights
   ssvgi::View giView_;  // the camera of the frame rendered last: next frame's lit-frame camera
   gpu::Image debugRadiance_;
   std::vector<gpu::PassTiming> timings_;

@@ -124,8 +124,11 @@ class VoxelScene : public testing::GpuTest {
   }
 
   // One frame: the current frame is also the lit frame (a static view re-lit by the same image).
-  void dispatch(const HostFrame& current, const HostFrame* lit) {
+  void dispatch(const HostFrame& current, const HostFrame* lit, const std::vector<ExtraView>& extraViews = {},
+                const std::array<float, 12>& skyRadianceSh = {}) {
     FrameDesc frame;
+    frame.extraViews = extraViews;
+    frame.skyRadianceSh = skyRadianceSh;
     frame.frameIndex = frameIndex_++;
     frame.camera = current.view;
     frame.depth.view = current.depth.view();
@@ -299,6 +302,80 @@ TEST_F(VoxelScene, aFloorSeenAtAGrazingAngleTakesANewColourWithinAFewFrames) {
     }
   EXPECT_EQ(found, 44u);
   EXPECT_EQ(stale, 0u) << "voxels of the floor ahead still holding the old colour";
+}
+
+// A host frame as an extra view (SPEC §6.3); with `albedo` (a frame whose colour is the surfaces' albedo), one lit
+// by direct light only, to which ssvgi adds its probes' light.
+ExtraView extraView(const HostFrame& frame, const HostFrame* albedo = nullptr) {
+  ExtraView view;
+  view.camera = frame.view;
+  view.color.view = frame.color.view();
+  view.depth.view = frame.depth.view();
+  view.normal.view = frame.normal.view();
+  if (albedo) view.albedo.view = albedo->color.view();
+  return view;
+}
+
+TEST_F(VoxelScene, anExtraViewFillsTheVoxelsTheCameraNeverSeesAndTheLitFrameWinsWhereBothSee) {
+  // The camera sees the floor within tan(15°) · 5.9 m ≈ 1.58 m of (0.5, 0.5); an extra view from the same point with
+  // a 60° field sees it within 3.4 m, in another colour.
+  create(smallSettings());
+  const HostFrame camera(device(), lookingDown({0.5f, 6.0f, 0.5f}), {kFloor});
+  TestBox otherColour = kFloor;
+  otherColour.radiance = {0.125f, 0.5f, 0.25f};
+  const HostFrame wide(device(), lookingDown({0.5f, 6.0f, 0.5f}, 60.0f), {otherColour});
+  for (uint32_t frame = 0; frame < 24; ++frame) dispatch(camera, &camera, {extraView(wide)});
+  const GpuState state = readState();
+  const auto occupied = occupiedVoxels(state);
+  uint32_t outerVoxels = 0;
+  for (const auto& [coordinate, voxel] : occupied) {
+    const auto [x, y, z] = coordinate;
+    ASSERT_EQ(y, 0) << "voxel " << x << "," << y << "," << z << " is not in the floor's layer";
+    // Voxel centres 2.4 m to 3.1 m from (0.5, 0.5) along an axis: only the extra view sees them.
+    const float offset = std::max(std::abs((float(x) + 0.5f) * kVoxel - 0.5f), std::abs((float(z) + 0.5f) * kVoxel - 0.5f));
+    const bool cameraSees = offset < 1.2f, onlyExtraSees = offset > 2.4f && offset < 3.1f;
+    if (!cameraSees && !onlyExtraSees) continue;
+    const glm::vec3 expected = cameraSees ? kFloor.radiance : otherColour.radiance;
+    const glm::vec3 radiance = shader::unpackR11G11B10F(voxel.radiance);
+    EXPECT_NEAR(radiance.y, expected.y, expected.y / 64.0f) << "voxel " << x << ",0," << z;
+    EXPECT_NEAR(radiance.z, expected.z, expected.z / 32.0f) << "voxel " << x << ",0," << z;
+    outerVoxels += onlyExtraSees;
+  }
+  // Every voxel of the ring: centres 10.5 or 11.5 voxels from (0.5, 0.5) along the farther axis, 24² − 20² of them.
+  EXPECT_EQ(outerVoxels, 176u) << "the extra view's voxels beyond the camera's view are missing";
+  expectPoolConsistent(state, smallSettings());
+}
+
+TEST_F(VoxelScene, anExtraViewLitByDirectLightOnlyTakesTheProbesLightReflectedByItsAlbedo) {
+  // A black floor (no direct light) under a uniform sky of radiance L, seen only by an extra view that gives its
+  // albedo a: the probes above it see L over their upper hemisphere, so E(up) = π·L at the floor, whatever the floor
+  // below them reflects (SH2 reconstructs E of a hemisphere step at its axis exactly: π/2·(L+F) + π/2·(L−F)), and the
+  // floor's voxels must hold a/π · π·L = a·L. The camera, with no lit frame, only places and traces the probes.
+  create(smallSettings());
+  constexpr float kSky = 1.0f, kAlbedo = 0.5f;
+  std::array<float, 12> sky{};
+  for (int channel = 0; channel < 3; ++channel) sky[channel * 4] = kSky / 0.282095f;  // L00 = L · √(4π)
+  const TestBox black{kFloor.min, kFloor.max, glm::vec3(0.0f)};
+  const TestBox albedo{kFloor.min, kFloor.max, glm::vec3(kAlbedo)};
+  // From 3 m the 90° view sees the floor within 2.9 m, in pixels of 9 cm: every voxel of it holds a pixel's point.
+  const HostFrame floorView(device(), lookingDown({0.5f, 3.0f, 0.5f}, 90.0f), {black});
+  const HostFrame floorAlbedo(device(), lookingDown({0.5f, 3.0f, 0.5f}, 90.0f), {albedo});
+  const HostFrame camera(device(), lookingDown({0.5f, 3.0f, 0.5f}, 60.0f), {black});
+  // 40 updates of the finest level (one level a frame): its probes have averaged all 1024 directions of their set.
+  for (uint32_t frame = 0; frame < 120; ++frame) dispatch(camera, nullptr, {extraView(floorView, &floorAlbedo)}, sky);
+  const auto occupied = occupiedVoxels(readState());
+  uint32_t checked = 0;
+  for (int x = 0; x <= 3; ++x)  // voxel centres within 0.4 m of (0.5, 0.5), amid probes the camera sees
+    for (int z = 0; z <= 3; ++z) {
+      const auto voxel = occupied.find({x, 0, z});
+      ASSERT_NE(voxel, occupied.end()) << "voxel " << x << ",0," << z << " missing";
+      // 5 %: the sky seen below the horizon where the floor has no voxels (beyond 2.9 m: +3 % on E(up), worked out
+      // from the SH2 projection), the probes' remaining noise and R11G11B10F's 1.6 %.
+      const glm::vec3 radiance = shader::unpackR11G11B10F(voxel->second.radiance);
+      EXPECT_NEAR(radiance.y, kAlbedo * kSky, 0.05f * kAlbedo * kSky) << "voxel " << x << ",0," << z;
+      ++checked;
+    }
+  EXPECT_EQ(checked, 16u);
 }
 
 // Pool index of the live brick at a world brick coordinate, if any.

@@ -402,7 +402,7 @@ class VoxelSceneTest : public testing::GpuTest {
     GpuTest::SetUp();
     scene_ = std::make_unique<gi::VoxelScene>(device(), smallVolumeSettings(), 1);
     bool scrolled = false;
-    cpu_ = std::make_unique<CpuVoxelScene>(scene_->place(kCameraPosition, 0, false, scrolled));
+    cpu_ = std::make_unique<CpuVoxelScene>(scene_->place(kCameraPosition, 0, scrolled));
   }
 
   // Writes the CPU scene into the VoxelScene's buffers, with every grid word set to `gridFill`.

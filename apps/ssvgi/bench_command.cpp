@@ -39,6 +39,7 @@ int runBench(const BenchOptions& options) {
   settings.width = resolved.width;
   settings.height = resolved.height;
   settings.gi = giSettings(options.giOptions, resolved.scene);
+  settings.lightViewSize = options.giOptions.lightViewSize;
   renderer::Renderer renderer(device, resolved.scene, settings);
   const std::string label = "bench " + resolved.scene.name;
   for (uint32_t frame = 0; frame < options.frames; ++frame) {

@@ -38,7 +38,8 @@ void addScenarioOptions(CLI::App& command, ScenarioOptions& options, const std::
 int runScenario(const std::string& name, const ScenarioOptions& options, const ScenarioMeasurement& measure) {
   const ResolvedScene resolved = resolveScene(options.scene);
   gpu::Device device(gpu::DeviceDesc{options.scene.device, options.scene.validation});
-  const bench::ScenarioRendering rendering{resolved.width, resolved.height, giSettings(options.gi, resolved.scene)};
+  const bench::ScenarioRendering rendering{resolved.width, resolved.height, giSettings(options.gi, resolved.scene),
+                                           options.gi.lightViewSize};
 
   const auto start = std::chrono::steady_clock::now();
   const nlohmann::json figures = measure(device, resolved, rendering);

@@ -209,6 +209,10 @@ void addGiOptions(CLI::App& command, GiOptions& options) {
   command.add_option("--gi-set", options.overrides,
                      "Override one GI setting after the tier and the scene's detail scale, as NAME=VALUE (X,Y,Z for "
                      "volumeBricks and probeGrid); may be repeated. Names: " + names);
+  command.add_option("--light-views", options.lightViewSize,
+                     "Give ssvgi the views of the scene's local lights as extra views (SPEC §6.3), this many pixels "
+                     "per side; 0: none")
+      ->capture_default_str();
 }
 
 ssvgi::Settings giSettings(const GiOptions& options, const renderer::Scene& scene) {

@@ -45,6 +45,7 @@ ssvgi::Settings giSettingsForTier(const std::string& tier);
 struct GiOptions {
   std::string tier = "high";
   std::vector<std::string> overrides;  // NAME=VALUE, a field of ssvgi::Settings; X,Y,Z for the three-axis ones
+  uint32_t lightViewSize = 0;          // renderer::RendererSettings::lightViewSize
 };
 
 void addGiOptions(CLI::App& command, GiOptions& options);

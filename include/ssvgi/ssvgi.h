@@ -116,6 +116,21 @@ struct SampledImage {
   VkImageView view = VK_NULL_HANDLE;
 };
 
+// A view beyond the camera (SPEC §6.3) — a light's reflective shadow map, a cubemap face, a second camera — rendered by
+// the host this frame. Its surfaces are injected into the voxels before the lit frame, so that voxels the camera has
+// never seen hold their light too; where both see a surface, the lit frame's light is the one that stays.
+struct ExtraView {
+  View camera;            // perspective, reversed-Z (SPEC §2), at most ContextDesc::maxWidth × maxHeight
+  SampledImage color;     // the radiance leaving its surfaces, linear HDR
+  SampledImage depth;     // D32 reversed-Z
+  SampledImage normal;    // unit world normal in rgb
+  // Optional. Given, `color` holds direct and emitted light only (what a light's reflective shadow map knows) and
+  // ssvgi adds albedo/π · E from its probes, so that these voxels also carry the bounces after the first. Without it,
+  // `color` must hold all of the view's light, as the lit frame does.
+  SampledImage albedo;
+};
+constexpr uint32_t kMaxExtraViews = 8;  // per frame; a host with more cycles through them over frames
+
 struct FrameDesc {
   uint32_t frameIndex = 0;
   View camera;                // the frame being rendered
@@ -132,6 +147,7 @@ struct FrameDesc {
   // The sky's radiance as SH2 (SPEC §2), W/(sr·m²): coefficients 0–3 red, 4–7 green, 8–11 blue, each in the order
   // Y00, Y1,-1, Y1,0, Y1,1. Probe rays that leave the voxel volume see it (clamped at 0). All zero: a black sky.
   std::array<float, 12> skyRadianceSh{};
+  std::vector<ExtraView> extraViews;  // at most kMaxExtraViews; their images as the lit frame's (SampledImage)
 };
 
 struct ResourceMemory {
@@ -155,8 +171,8 @@ struct Stats {
   uint32_t bricksDroppedTotal = 0;
   uint32_t bricksAllocatedLastFrame = 0;
   uint32_t bricksReleasedLastFrame = 0;
-  uint32_t bricksVisibleLastFrame = 0;  // bricks updated by injection
-  uint32_t voxelsValid = 0;            // counted before the last frame's injection
+  uint32_t bricksVisibleLastFrame = 0;  // bricks updated by injection, summed over the camera and the extra views
+  uint32_t voxelsValid = 0;            // counted before the last frame's lit-frame injection (after its extra views')
   uint32_t probeLevelUpdatedLastFrame = 0;  // the clipmap level the last frame updated (frame index % 3)
   uint32_t probesUpdatedLastFrame = 0;      // probes it traced: in view, near voxels, within the budget
   std::vector<PassTime> passes;        // the last completed frame's GPU times

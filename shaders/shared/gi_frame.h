@@ -10,6 +10,14 @@ SSVGI_SHARED_BEGIN
 SSVGI_CONSTANT(uint, kBindGiFrame, 5u);  // GiFrame (uniform), beside the voxel scene's shared slots
 SSVGI_CONSTANT(uint, kMaxHiZLevels, 16u);
 
+// The views the voxels are injected from (SPEC §3, §6.3). The voxel passes run once per view with that view's GiFrame,
+// in which the "current" and the "lit" camera are both the view's (for the camera, they are this frame's and the
+// lit frame's).
+SSVGI_CONSTANT(uint, kViewCamera, 0u);           // the host's camera and its latest lit frame
+SSVGI_CONSTANT(uint, kViewExtraLit, 1u);         // an extra view whose colour holds all of its light
+SSVGI_CONSTANT(uint, kViewExtraDirectOnly, 2u);  // an extra view lit by direct and emitted light only: injection adds
+                                                 // albedo/π · E of the probes
+
 struct GiFrame {
   mat4 viewProjection;             // current camera, reversed-Z
   mat4 inverseViewProjection;
@@ -18,7 +26,8 @@ struct GiFrame {
   vec4 cameraPosition;             // xyz: current camera position
   vec4 litCameraPosition;          // xyz: lit frame's camera position
   uvec4 sizes;                     // x, y: current depth size; z, w: lit frame size
-  uvec4 frame;                     // x: frame index; y: BrickAllocate pixel stride; z: Hi-Z level count; w: unused
+  uvec4 frame;                     // x: frame index; y: BrickAllocate pixel stride; z: Hi-Z level count;
+                                   // w: the view's kind (kView…)
   vec4 frustumPlanes[6];           // current camera, world space, normals pointing inwards: dot(n, p) + w >= 0 inside
   uvec4 hizLevels[kMaxHiZLevels];  // per Hi-Z level: x: first float in the pyramid buffer; y: width; z: height
 };

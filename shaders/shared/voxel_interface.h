@@ -29,6 +29,13 @@ SSVGI_CONSTANT(uint, kBindOccupancyGrid, 4u);   // bit volumes of levels 2–4 (
 SSVGI_CONSTANT(uint, kBindPoolState, 6u);       // BrickPoolState + free list (brick_pool.glsl; allocating passes only)
 SSVGI_CONSTANT(uint, kBindChangedCells, 7u);    // IndirectList of brick cells whose occupancy may have changed
 SSVGI_CONSTANT(uint, kBindFirstPassSlot, 8u);
+// SceneVoxelization's own slots lie past the gather's (shared/gather_interface.h), whose constants and probes it also
+// binds: the light of the probes completes views lit by direct light only (SPEC §6.3).
+SSVGI_CONSTANT(uint, kBindInjectionColor, kBindFirstPassSlot + 8u);   // the view's radiance (sampled)
+SSVGI_CONSTANT(uint, kBindInjectionDepth, kBindFirstPassSlot + 9u);   // its depth, D32 reversed-Z (sampled)
+SSVGI_CONSTANT(uint, kBindInjectionNormal, kBindFirstPassSlot + 10u); // its world normal (sampled)
+SSVGI_CONSTANT(uint, kBindInjectionAlbedo, kBindFirstPassSlot + 11u); // its albedo (sampled; read for kViewExtraDirectOnly)
+SSVGI_CONSTANT(uint, kBindInjectionBricks, kBindFirstPassSlot + 12u); // IndirectList of the bricks to inject
 
 // Per-frame description of the volume (uniform buffer).
 struct VoxelVolume {
@@ -36,15 +43,16 @@ struct VoxelVolume {
   ivec4 dimensionsBricks;   // xyz: volume size in bricks (multiples of 4); w: brick pool capacity
   vec4 voxelSize;           // x: voxel size (m); y: brick size (m); z: 1 / brick size; w: unused
   uvec4 gridWordOffsets;    // x, y, z: first uint of occupancy levels 2, 3, 4 in the grid bit buffer; w: total words
-  uvec4 settings;           // x: frames a voxel may be seen through before it is cleared; y: frames an empty brick
-                            // is kept; z: 1 when a lit frame is available for injection; w: unused
+  uvec4 settings;           // x: frames a voxel may be seen through before it is cleared; y: injections an empty
+                            // brick is kept; z, w: unused
 };
 SSVGI_CHECK_SIZE(VoxelVolume, 80);
 
 // A brick of the pool.
 struct Brick {
   ivec4 coordinate;   // xyz: world brick coordinate; w: 1 while the brick is live, 0 when free
-  uvec4 occupancy;    // xy: 64-bit voxel occupancy mask (bit = x + 4y + 16z); z: frames the mask has been empty; w: 0
+  uvec4 occupancy;    // xy: 64-bit voxel occupancy mask (bit = x + 4y + 16z); z: injections the mask has been empty;
+                      // w: 1 + the frame index at which the brick's cell was last listed as changed
 };
 SSVGI_CHECK_SIZE(Brick, 32);
 
@@ -57,8 +65,9 @@ struct BrickPoolState {
   uint droppedThisFrame;
   uint allocatedThisFrame;
   uint releasedThisFrame;
-  uint visibleThisFrame;    // bricks listed by BrickCulling for injection
-  uint voxelsValid;         // occupied voxels of all live bricks, counted by BrickCulling (before this frame's injection)
+  uint visibleThisFrame;    // bricks listed by BrickCulling for injection, summed over the views
+  uint voxelsValid;         // occupied voxels of all live bricks, counted by the camera's BrickCulling (after the
+                            // extra views' injection, before the lit frame's)
 };
 SSVGI_CHECK_SIZE(BrickPoolState, 32);
 

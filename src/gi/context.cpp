@@ -211,10 +211,15 @@ class ContextImplementation final : public Context {
           statsReadback(device, "ssvgi stats readback", sizeof(shader::BrickPoolState),
                         VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::MemoryUsage::HostReadback),
           probeListReadback(device, "ssvgi probe list readback", sizeof(shader::IndirectList),
-                            VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::MemoryUsage::HostReadback) {}
+                            VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::MemoryUsage::HostReadback) {
+      for (uint32_t i = 0; i < kMaxExtraViews; ++i)
+        extraViewConstants.emplace_back(device, "ssvgi extra view constants", sizeof(shader::GiFrame),
+                                        VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryUsage::HostUpload);
+    }
     gpu::DescriptorArena descriptors;
     gpu::Profiler profiler;
     gpu::Buffer frameConstants;
+    std::vector<gpu::Buffer> extraViewConstants;  // GiFrame of each extra view (FrameDesc::extraViews)
     gpu::Buffer statsReadback;
     gpu::Buffer probeListReadback;  // the probe list's header: how many probes were traced
     uint32_t probeLevel = 0;        // the probe level the frame updated
@@ -252,23 +257,58 @@ class ContextImplementation final : public Context {
       if (!frame.litColor.view || !frame.litDepth.view || !frame.litNormal.view)
         return invalid("FrameDesc: hasLitFrame needs litColor, litDepth and litNormal views");
     }
+    if (frame.extraViews.size() > kMaxExtraViews)
+      return invalid("FrameDesc::extraViews: " + std::to_string(frame.extraViews.size()) + " views, at most " +
+                     std::to_string(kMaxExtraViews));
+    for (size_t i = 0; i < frame.extraViews.size(); ++i) {
+      const ExtraView& view = frame.extraViews[i];
+      const std::string name = "FrameDesc::extraViews[" + std::to_string(i) + "]";
+      if (Error error = validateView(view.camera, name.c_str(), desc_)) return error;
+      if (!view.color.view || !view.depth.view || !view.normal.view)
+        return invalid(name + ": color, depth and normal views are required");
+    }
     return {};
   }
 
-  shader::GiFrame frameConstants(const FrameDesc& desc, uint32_t& hizLevels) const {
+  // The GiFrame of a view the voxel passes run for: `current` is what BrickAllocate and BrickCulling see, `lit` what
+  // SceneVoxelization injects.
+  shader::GiFrame viewConstants(const View& current, const View& lit, uint32_t frameIndex, uint32_t kind,
+                                uint32_t& hizLevels) const {
     shader::GiFrame frame{};
-    frame.viewProjection = toMat4(desc.camera.viewProjection);
+    frame.viewProjection = toMat4(current.viewProjection);
     frame.inverseViewProjection = glm::inverse(frame.viewProjection);
-    frame.cameraPosition = glm::vec4(desc.camera.position[0], desc.camera.position[1], desc.camera.position[2], 1.0f);
-    const View& lit = desc.hasLitFrame ? desc.litCamera : desc.camera;
+    frame.cameraPosition = glm::vec4(current.position[0], current.position[1], current.position[2], 1.0f);
     frame.litViewProjection = toMat4(lit.viewProjection);
     frame.litInverseViewProjection = glm::inverse(frame.litViewProjection);
     frame.litCameraPosition = glm::vec4(lit.position[0], lit.position[1], lit.position[2], 1.0f);
-    frame.sizes = glm::uvec4(desc.camera.width, desc.camera.height, lit.width, lit.height);
-    hizLevels = hizLayout(desc.camera.width, desc.camera.height, frame.hizLevels);
-    frame.frame = glm::uvec4(desc.frameIndex, desc_.settings.allocationPixelStride, hizLevels, 0);
+    frame.sizes = glm::uvec4(current.width, current.height, lit.width, lit.height);
+    hizLevels = hizLayout(current.width, current.height, frame.hizLevels);
+    frame.frame = glm::uvec4(frameIndex, desc_.settings.allocationPixelStride, hizLevels, kind);
     frustumPlanes(frame.viewProjection, frame.frustumPlanes);
     return frame;
+  }
+
+  // A view the voxels are built from: its GiFrame, the depth and normal that allocate and cull bricks, and the images
+  // injected (none: the bricks are allocated and culled, nothing is injected).
+  struct VoxelView {
+    const gpu::Buffer& constants;
+    const shader::GiFrame& frame;
+    uint32_t hizLevels;
+    VkImageView depth;
+    VkImageView normal;
+    std::optional<gi::LitFrameImages> injected;
+  };
+
+  // Steps 1 and 3–5 of SPEC §4 for one view: HiZBuild, BrickAllocate, BrickCulling, SceneVoxelization.
+  void buildVoxelsFrom(gpu::CommandList& commands, const VoxelView& view, const gi::ProbeLight& probeLight) {
+    const gi::VoxelFrameInputs inputs{view.constants, pointSampler_.handle(), view.depth, view.normal,
+                                      hiz_, visibleBricks_};
+    hizBuild_.record(commands, inputs, view.frame, view.hizLevels);
+    brickAllocate_.record(commands, scene_, inputs, glm::uvec2(view.frame.sizes), desc_.settings.allocationPixelStride);
+    const shader::IndirectList empty{0, 1, 1, 0};
+    commands.updateBuffer(visibleBricks_, 0, &empty, sizeof(empty));
+    brickCulling_.record(commands, scene_, inputs);
+    if (view.injected) sceneVoxelization_.record(commands, scene_, inputs, *view.injected, probeLight);
   }
 
   void record(const FrameDesc& desc, VkCommandBuffer commandBuffer) {
@@ -276,11 +316,12 @@ class ContextImplementation final : public Context {
     PerFrame& slot = *perFrame_[slotIndex];
     slot.descriptors.reset();
     uint32_t hizLevels = 0;
-    const shader::GiFrame frame = frameConstants(desc, hizLevels);
+    const shader::GiFrame frame = viewConstants(desc.camera, desc.hasLitFrame ? desc.litCamera : desc.camera,
+                                                desc.frameIndex, shader::kViewCamera, hizLevels);
     std::memcpy(slot.frameConstants.mapped(), &frame, sizeof(frame));
     bool scrolled = false;
     const shader::VoxelVolume volume =
-        scene_.place(glm::vec3(frame.cameraPosition), desc.frameIndex, desc.hasLitFrame, scrolled);
+        scene_.place(glm::vec3(frame.cameraPosition), desc.frameIndex, scrolled);
     const uint32_t probeBlocksInView = probes_.prepare(desc.frameIndex, glm::vec3(frame.cameraPosition),
                                                        frame.frustumPlanes, desc.skyRadianceSh, volume);
     slot.probeLevel = uint32_t(probes_.current().originProbe.w);
@@ -312,20 +353,32 @@ class ContextImplementation final : public Context {
                             sizeof(zeroCounters));
       const shader::IndirectList empty{0, 1, 1, 0};
       commands.updateBuffer(scene_.changedCells(), 0, &empty, sizeof(empty));
-      commands.updateBuffer(visibleBricks_, 0, &empty, sizeof(empty));
       commands.updateBuffer(probes_.list(), 0, &empty, sizeof(empty));
     }
 
-    const gi::VoxelFrameInputs inputs{slot.frameConstants, pointSampler_.handle(), desc.depth.view, desc.normal.view,
-                                      hiz_, visibleBricks_};
-    hizBuild_.record(commands, inputs, frame, hizLevels);                               // 1. HiZBuild
-    if (scrolled) volumeScroll_.record(commands, scene_, inputs);                       // 2. VolumeScroll
-    brickAllocate_.record(commands, scene_, inputs, {desc.camera.width, desc.camera.height},
-                          desc_.settings.allocationPixelStride);                        // 3. BrickAllocate
-    brickCulling_.record(commands, scene_, inputs);                                     // 4. BrickCulling
-    if (desc.hasLitFrame)
-      sceneVoxelization_.record(commands, scene_, inputs,
-                                {desc.litColor.view, desc.litDepth.view, desc.litNormal.view});  // 5. SceneVoxelization
+    if (scrolled)                                                                       // 2. VolumeScroll
+      volumeScroll_.record(commands, scene_, {slot.frameConstants, pointSampler_.handle(), desc.depth.view,
+                                              desc.normal.view, hiz_, visibleBricks_});
+    // 1, 3–5 (HiZBuild, BrickAllocate, BrickCulling, SceneVoxelization) for each extra view (SPEC §6.3), then for the
+    // camera, so that the lit frame's light stays where both see a surface.
+    const gi::ProbeLight probeLight{gather_.constants(), probes_.probes()};
+    for (size_t i = 0; i < desc.extraViews.size(); ++i) {
+      const ExtraView& view = desc.extraViews[i];
+      uint32_t viewHizLevels = 0;
+      const uint32_t kind = view.albedo.view ? shader::kViewExtraDirectOnly : shader::kViewExtraLit;
+      const shader::GiFrame viewFrame = viewConstants(view.camera, view.camera, desc.frameIndex, kind, viewHizLevels);
+      std::memcpy(slot.extraViewConstants[i].mapped(), &viewFrame, sizeof(viewFrame));
+      const VkImageView albedo = view.albedo.view ? view.albedo.view : view.color.view;  // bound, not read
+      buildVoxelsFrom(commands,
+                      {slot.extraViewConstants[i], viewFrame, viewHizLevels, view.depth.view, view.normal.view,
+                       gi::LitFrameImages{view.color.view, view.depth.view, view.normal.view, albedo}},
+                      probeLight);
+    }
+    std::optional<gi::LitFrameImages> litFrame;
+    if (desc.hasLitFrame)  // its albedo is bound, not read
+      litFrame = gi::LitFrameImages{desc.litColor.view, desc.litDepth.view, desc.litNormal.view, desc.litColor.view};
+    buildVoxelsFrom(commands, {slot.frameConstants, frame, hizLevels, desc.depth.view, desc.normal.view, litFrame},
+                    probeLight);
     buildOctree_.record(commands, scene_);                                              // 6. BuildOctree
     probePlacement_.record(commands, scene_, probes_, slot.frameConstants, probeBlocksInView);  // 7. ProbePlacement
     probeTrace_.record(commands, scene_, probes_);                      // 8. UpdateReservoirs + ProbeTrace

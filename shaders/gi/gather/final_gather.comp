@@ -4,86 +4,13 @@
 // pixel of its tile, a different one each frame (gatherSampleOffset), with the talk's three leak remedies and a voxel
 // visibility test. The tile's normal and depth are that pixel's in the host's G-buffer, where Upsample reads them.
 #include "gi/gi_frame.glsl"
-#include "gi/voxels/voxel_trace.glsl"
-#include "shared/gather_interface.h"
+#include "gi/gather/probe_irradiance.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(binding = kBindGatherConstants) uniform GatherConstantsBlock { GatherConstants gather; };
 layout(binding = kBindGatherDepth) uniform sampler2D depthBuffer;
 layout(binding = kBindGatherNormal) uniform sampler2D normalBuffer;
-layout(binding = kBindGatherProbes) readonly buffer Probes { Probe probes[]; };
 layout(binding = kBindGatherTileIrradiance, rgba16f) writeonly uniform image2D tileIrradiance;
-
-// How far a point lies inside the cells of a level, in spacings; negative when some of its 8 probes are outside it.
-float insideMargin(uint level, vec3 position) {
-  vec3 probeUnits = position / gather.probeSpacings[level] - vec3(gather.probeOrigins[level].xyz);
-  vec3 margins = min(probeUnits, vec3(gather.probeDimensions.xyz - 1) - probeUnits);
-  return min(margins.x, min(margins.y, margins.z));
-}
-
-// The finest level holding the point, or near its boundary — with a probability growing toward it — the next coarser
-// one (the talk's "Probe Volume Interpolation: Noise + Light Gather Temporal Filter"). kProbeLevels: none holds it.
-uint chooseLevel(vec3 position, float noise) {
-  for (uint level = 0u; level < kProbeLevels; ++level) {
-    float margin = insideMargin(level, position);
-    if (margin < 0.0) continue;
-    bool coarserHoldsIt = level + 1u < kProbeLevels && insideMargin(level + 1u, position) >= 0.0;
-    if (coarserHoldsIt && noise * kGatherLevelBlendSpacings > margin) continue;
-    return level;
-  }
-  return kProbeLevels;
-}
-
-// Irradiance at a surface point from the 8 probes of a level around it: rgb, and a = 1 when any probe contributed.
-vec4 gatherLevel(uint level, vec3 position, vec3 normal) {
-  float spacing = gather.probeSpacings[level];
-  ivec3 origin = gather.probeOrigins[level].xyz;
-  ivec3 dimensions = gather.probeDimensions.xyz;
-  // "Normal Bias" (the talk): interpolate and test visibility from a point off the surface, so that the probes just
-  // behind a wall do not see the point on its front as unoccluded.
-  vec3 biased = position + normal * (kGatherNormalBiasSpacings * spacing);
-  vec3 grid = biased / spacing;
-  ivec3 base = ivec3(floor(grid));
-  vec3 fraction = grid - vec3(base);
-  vec3 irradiance = vec3(0.0);
-  float totalWeight = 0.0;
-  for (int corner = 0; corner < 8; ++corner) {
-    ivec3 offset = ivec3(corner & 1, (corner >> 1) & 1, corner >> 2);
-    ivec3 probe = base + offset;
-    if (any(lessThan(probe, origin)) || any(greaterThanEqual(probe, origin + dimensions))) continue;
-    Probe stored = probes[level * uint(gather.probeDimensions.w) + probeSlotIndex(probe, dimensions)];
-    // A probe never traced, inside geometry, just moved, or a slot that still holds a probe the level scrolled away
-    // from, knows nothing here.
-    if (!probeIsUsable(stored, probe)) continue;
-    vec3 trilinear = mix(vec3(1.0) - fraction, fraction, vec3(offset));
-    float weight = trilinear.x * trilinear.y * trilinear.z;
-    vec3 probePosition = probeWorldPosition(probe, spacing, stored.state);  // with its virtual offset
-    // "Normal Weight": probes behind the surface count less (from the true point, as DDGI does).
-    vec3 toProbe = probePosition - position;
-    float facing = 0.5 * (dot(toProbe, normal) / max(length(toProbe), 1e-4) + 1.0);
-    weight *= facing * facing + kGatherBackfacingProbeWeight;
-    // "Distance Weight": the probe's traced distance toward the point against the point's distance.
-    vec3 fromProbe = biased - probePosition;
-    float pointDistance = length(fromProbe);
-    if (pointDistance > 1e-4) {
-      float traced = dot(probeDistanceSh(stored, spacing), sh2Basis(fromProbe / pointDistance));
-      float visible = clamp(traced / pointDistance, 0.0, 1.0);
-      weight *= max(visible * visible * visible, kGatherOccludedProbeWeight);
-      // Beyond the talk's weights, which it says only ease leaks: a probe with a voxel between it and the point does
-      // not light it. The SH2 distance is far too coarse to see a wall a probe stands a few centimetres behind (the
-      // virtual offset may put it on either side), and through a closed door the lit room's probes would light the
-      // dark one (`ssvgi scenario leak`). A voxel within half a voxel of the biased point is the point's own surface.
-      VoxelHit blocker = traceVoxelsHierarchical(probePosition, fromProbe / pointDistance, pointDistance);
-      if (blocker.hit && blocker.distance < pointDistance - 0.5 * volume.voxelSize.x) continue;
-    }
-    Sh2Rgb radiance = probeRadianceSh(stored);
-    // SH2 rings below zero opposite bright light; negative irradiance is not light.
-    irradiance += weight * max(sh2Irradiance(radiance, normal), vec3(0.0));
-    totalWeight += weight;
-  }
-  return totalWeight > 0.0 ? vec4(irradiance / totalWeight, 1.0) : vec4(0.0);
-}
 
 void main() {
   uvec2 tile = gl_GlobalInvocationID.xy;
@@ -97,10 +24,6 @@ void main() {
   }
   vec3 normal = normalize(texelFetch(normalBuffer, pixel, 0).xyz);
   vec3 position = reconstructPosition(frame.inverseViewProjection, vec2(pixel), vec2(frame.sizes.xy), depth);
-  // Where a level's probes are stale or untraced, a coarser level (seeded earlier, SPEC §4.5) answers.
-  vec4 irradiance = vec4(0.0);
-  for (uint level = chooseLevel(position, hashToUnitCube(uvec3(tile, frameIndex)).x);
-       level < kProbeLevels && irradiance.a == 0.0; ++level)
-    irradiance = gatherLevel(level, position, normal);
-  imageStore(tileIrradiance, ivec2(tile), irradiance);
+  imageStore(tileIrradiance, ivec2(tile),
+             probeIrradiance(position, normal, hashToUnitCube(uvec3(tile, frameIndex)).x, true));
 }

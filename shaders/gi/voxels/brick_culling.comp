@@ -44,7 +44,8 @@ bool occludedByHiZ(vec3 lo, vec3 hi) {
 void main() {
   uint brick = gl_GlobalInvocationID.x;
   if (brick >= pool.bumpCount || bricks[brick].coordinate.w == 0) return;
-  atomicAdd(pool.voxelsValid, uint(bitCount(bricks[brick].occupancy.x) + bitCount(bricks[brick].occupancy.y)));
+  if (frame.frame.w == kViewCamera)  // counted once a frame
+    atomicAdd(pool.voxelsValid, uint(bitCount(bricks[brick].occupancy.x) + bitCount(bricks[brick].occupancy.y)));
   vec3 lo = vec3(bricks[brick].coordinate.xyz) * volume.voxelSize.y;
   vec3 hi = lo + vec3(volume.voxelSize.y);
   if (!boxInFrustum(lo, hi, frame.frustumPlanes) || occludedByHiZ(lo, hi)) return;

@@ -1,25 +1,39 @@
 #version 450
-// SceneVoxelization: injects the latest lit frame into the listed bricks, one thread per voxel, by gather (SPEC §4.3).
-// Each voxel picks a random point inside itself (new every frame), projects it into the lit frame and compares:
+// SceneVoxelization: injects a view into the listed bricks, one thread per voxel, by gather (SPEC §4.3). The view is
+// the latest lit frame, or one of the host's extra views (SPEC §6.3), injected before it. Each voxel picks a random
+// point inside itself (new every frame and view), projects it into the view and compares:
 //   Valid   the surface seen at that pixel lies inside this voxel: store its colour and normal, reset the counter;
-//   Invalid the point is clearly in front of the surface seen there (the camera looks through this voxel) and the
+//   Invalid the point is clearly in front of the surface seen there (the view looks through this voxel) and the
 //           voxel lies wholly off that surface's tangent plane: count a frame; past the threshold the voxel is
 //           cleared;
 //   Skip    behind the surface or off-screen: nothing is known, nothing changes.
-// A brick left empty for emptyFramesToRelease updates returns to the pool the same frame.
+// A brick left empty for emptyFramesToRelease injections returns to the pool the same frame.
 #include "gi/gi_frame.glsl"
 #include "gi/voxels/brick_pool.glsl"
+#include "gi/gather/probe_irradiance.glsl"
 #include "shared/sampling.h"
 
 layout(local_size_x = 64) in;
 
-layout(binding = 8) uniform sampler2D litColor;
-layout(binding = 9) uniform sampler2D litDepth;
-layout(binding = 10) uniform sampler2D litNormal;
-layout(binding = 11) readonly buffer VisibleBricks {
+layout(binding = kBindInjectionColor) uniform sampler2D litColor;
+layout(binding = kBindInjectionDepth) uniform sampler2D litDepth;
+layout(binding = kBindInjectionNormal) uniform sampler2D litNormal;
+layout(binding = kBindInjectionAlbedo) uniform sampler2D litAlbedo;
+layout(binding = kBindInjectionBricks) readonly buffer VisibleBricks {
   IndirectList visible;
   uint visibleBricks[];
 };
+
+// The radiance a voxel takes from the view's pixel: the view's colour, and for a view lit by direct light only the
+// light the probes gather at that surface, reflected by its albedo (as the host composites the lit frame, SPEC §3).
+// The probes' visibility trace is left out: this pass writes the voxels it would trace.
+vec3 injectedRadiance(ivec2 texel, vec3 surface, vec3 normal) {
+  vec3 radiance = texelFetch(litColor, texel, 0).rgb;
+  if (frame.frame.w != kViewExtraDirectOnly) return radiance;
+  float noise = hashToUnitCube(uvec3(texel, frame.frame.x)).x;
+  vec3 albedo = texelFetch(litAlbedo, texel, 0).rgb;
+  return radiance + albedo * (1.0 / kPi) * probeIrradiance(surface, normal, noise, false).rgb;
+}
 
 shared uint occupancyLow;
 shared uint occupancyHigh;
@@ -36,6 +50,7 @@ void main() {
   uint bit = voxelBit(voxelInBrick);
   bool occupied = voxelOccupied(brick, voxelInBrick);
   Voxel voxel = voxels[brick * kVoxelsPerBrick + voxelIndex];
+  uvec4 brickOccupancy = bricks[brick].occupancy;
 
   if (voxelIndex == 0u) {
     occupancyLow = 0u;
@@ -43,49 +58,47 @@ void main() {
   }
   barrier();
 
-  if (volume.settings.z != 0u) {
-    vec3 voxelMin = vec3(worldVoxel) * voxelSize;
-    vec3 samplePoint = voxelMin + hashToUnitCube(uvec3(ivec3(worldVoxel)) ^ uvec3(0u, 0u, frame.frame.x * 0x9e3779b9u)) * voxelSize;
-    vec4 clip = frame.litViewProjection * vec4(samplePoint, 1.0);
-    vec2 litSize = vec2(frame.sizes.zw);
-    vec2 pixel = giNdcToPixel(clip.xy / clip.w, litSize);
-    if (clip.w > 0.0 && all(greaterThanEqual(pixel, vec2(0.0))) && all(lessThan(pixel, litSize))) {
-      ivec2 texel = ivec2(pixel);
-      float depth = texelFetch(litDepth, texel, 0).r;
-      vec3 surface = depth > 0.0 ? reconstructPosition(frame.litInverseViewProjection, vec2(texel), litSize, depth)
-                                 : vec3(0.0);
-      vec3 normal = depth > 0.0 ? normalize(texelFetch(litNormal, texel, 0).xyz) : vec3(0.0);
-      float sampleDistance = distance(samplePoint, frame.litCameraPosition.xyz);
-      // "Clearly in front": by more than half a voxel, so that depth quantisation and a surface point just outside
-      // this voxel do not count against it.
-      float clearMargin = voxelSize * 0.5;
-      bool inFront = sampleDistance < distance(surface, frame.litCameraPosition.xyz) - clearMargin;
-      vec3 held = heldSurfacePoint(surface, normal);
-      // Seeing through one point of a voxel proves only that point empty. A voxel that the surface seen there passes
-      // through (its tangent plane cuts the voxel's box) may hold that surface elsewhere: at a grazing view most of
-      // the points of a voxel on a wall lie in front of the wall and see it further on, and would clear the voxel
-      // (holes in walls, and light through them). Only a voxel wholly in front of that plane is seen through.
-      float halfExtent = 0.5 * voxelSize * dot(abs(normal), vec3(1.0));
-      bool cutBySurfacePlane = abs(dot(voxelMin + 0.5 * voxelSize - held, normal)) < halfExtent;
-      bool holdsSurface =
-          depth > 0.0 && all(greaterThanEqual(held, voxelMin)) && all(lessThan(held, voxelMin + voxelSize));
-      // An occupied voxel also takes the colour of a pixel of its own surface (the seen surface's plane cuts it, the
-      // normals agree) up to a voxel away: few random points of a voxel on a wall seen at a grazing angle land on its
-      // own pixels, and its radiance would lag a change of light by many frames.
-      bool refreshesColour = depth > 0.0 && occupied && cutBySurfacePlane &&
-                             distance(held, clamp(held, voxelMin, voxelMin + voxelSize)) <= voxelSize &&
-                             dot(unpackOctahedralNormal(voxel.normalAndLastHit & 0xffffu), normal) > 0.9;
-      if (holdsSurface || refreshesColour) {
-        voxel.radiance = packR11G11B10F(texelFetch(litColor, texel, 0).rgb);
-        voxel.normalAndLastHit = holdsSurface ? packOctahedralNormal(normal) : voxel.normalAndLastHit & 0xffffu;
-        occupied = true;
-      } else if (occupied && (depth <= 0.0 || (inFront && !cutBySurfacePlane))) {
-        uint lastHit = min((voxel.normalAndLastHit >> 16u) + 1u, kMaxLastHit);
-        voxel.normalAndLastHit = (voxel.normalAndLastHit & 0xffffu) | (lastHit << 16u);
-        if (lastHit >= volume.settings.x) occupied = false;
-      }
-      voxels[brick * kVoxelsPerBrick + voxelIndex] = occupied ? voxel : Voxel(0u, 0u);
+  vec3 voxelMin = vec3(worldVoxel) * voxelSize;
+  vec3 samplePoint = voxelMin + hashToUnitCube(uvec3(ivec3(worldVoxel)) ^ uvec3(0u, 0u, frame.frame.x * 0x9e3779b9u)) * voxelSize;
+  vec4 clip = frame.litViewProjection * vec4(samplePoint, 1.0);
+  vec2 litSize = vec2(frame.sizes.zw);
+  vec2 pixel = giNdcToPixel(clip.xy / clip.w, litSize);
+  if (clip.w > 0.0 && all(greaterThanEqual(pixel, vec2(0.0))) && all(lessThan(pixel, litSize))) {
+    ivec2 texel = ivec2(pixel);
+    float depth = texelFetch(litDepth, texel, 0).r;
+    vec3 surface = depth > 0.0 ? reconstructPosition(frame.litInverseViewProjection, vec2(texel), litSize, depth)
+                               : vec3(0.0);
+    vec3 normal = depth > 0.0 ? normalize(texelFetch(litNormal, texel, 0).xyz) : vec3(0.0);
+    float sampleDistance = distance(samplePoint, frame.litCameraPosition.xyz);
+    // "Clearly in front": by more than half a voxel, so that depth quantisation and a surface point just outside
+    // this voxel do not count against it.
+    float clearMargin = voxelSize * 0.5;
+    bool inFront = sampleDistance < distance(surface, frame.litCameraPosition.xyz) - clearMargin;
+    vec3 held = heldSurfacePoint(surface, normal);
+    // Seeing through one point of a voxel proves only that point empty. A voxel that the surface seen there passes
+    // through (its tangent plane cuts the voxel's box) may hold that surface elsewhere: at a grazing view most of
+    // the points of a voxel on a wall lie in front of the wall and see it further on, and would clear the voxel
+    // (holes in walls, and light through them). Only a voxel wholly in front of that plane is seen through.
+    float halfExtent = 0.5 * voxelSize * dot(abs(normal), vec3(1.0));
+    bool cutBySurfacePlane = abs(dot(voxelMin + 0.5 * voxelSize - held, normal)) < halfExtent;
+    bool holdsSurface =
+        depth > 0.0 && all(greaterThanEqual(held, voxelMin)) && all(lessThan(held, voxelMin + voxelSize));
+    // An occupied voxel also takes the colour of a pixel of its own surface (the seen surface's plane cuts it, the
+    // normals agree) up to a voxel away: few random points of a voxel on a wall seen at a grazing angle land on its
+    // own pixels, and its radiance would lag a change of light by many frames.
+    bool refreshesColour = depth > 0.0 && occupied && cutBySurfacePlane &&
+                           distance(held, clamp(held, voxelMin, voxelMin + voxelSize)) <= voxelSize &&
+                           dot(unpackOctahedralNormal(voxel.normalAndLastHit & 0xffffu), normal) > 0.9;
+    if (holdsSurface || refreshesColour) {
+      voxel.radiance = packR11G11B10F(injectedRadiance(texel, surface, normal));
+      voxel.normalAndLastHit = holdsSurface ? packOctahedralNormal(normal) : voxel.normalAndLastHit & 0xffffu;
+      occupied = true;
+    } else if (occupied && (depth <= 0.0 || (inFront && !cutBySurfacePlane))) {
+      uint lastHit = min((voxel.normalAndLastHit >> 16u) + 1u, kMaxLastHit);
+      voxel.normalAndLastHit = (voxel.normalAndLastHit & 0xffffu) | (lastHit << 16u);
+      if (lastHit >= volume.settings.x) occupied = false;
     }
+    voxels[brick * kVoxelsPerBrick + voxelIndex] = occupied ? voxel : Voxel(0u, 0u);
   }
 
   if (occupied) {
@@ -96,12 +109,17 @@ void main() {
 
   if (voxelIndex == 0u) {
     uvec2 mask = uvec2(occupancyLow, occupancyHigh);
-    uint emptyFrames = mask == uvec2(0u) ? bricks[brick].occupancy.z + 1u : 0u;
-    bricks[brick].occupancy = uvec4(mask, emptyFrames, 0u);
+    bool empty = mask == uvec2(0u);
+    uint emptyFrames = empty ? brickOccupancy.z + 1u : 0u;
     uint cell = brickCellIndex(worldBrick, volumeDimensions());
+    // BuildOctree's brick level records whether a brick's mask is empty: only a change of that needs the cell listed,
+    // and once a frame is enough (BuildOctree runs after every view's injection).
+    uint listedStamp = frame.frame.x + 1u;
+    bool listed = empty != (brickOccupancy.xy == uvec2(0u)) && brickOccupancy.w != listedStamp;
+    bricks[brick].occupancy = uvec4(mask, emptyFrames, listed ? listedStamp : brickOccupancy.w);
     if (emptyFrames >= volume.settings.y) {
       releaseBrick(brick, cell);
-    } else {
+    } else if (listed) {
       markCellChanged(cell);
     }
   }

@@ -58,17 +58,23 @@ class BrickCulling {
   gpu::ComputePipeline pipeline_;
 };
 
-// SceneVoxelization: the lit frame injected into the listed bricks.
+// SceneVoxelization: a view (the lit frame or an extra view) injected into the listed bricks.
 struct LitFrameImages {
   VkImageView color;
   VkImageView depth;
   VkImageView normal;
+  VkImageView albedo;  // read only for a view lit by direct light only (GiFrame kind kViewExtraDirectOnly)
+};
+// What the injection of a view lit by direct light only samples for the light after the first bounce.
+struct ProbeLight {
+  const gpu::Buffer& gatherConstants;  // GatherConstants of this frame (the probe levels' placement)
+  const gpu::Buffer& probes;           // Probe[kProbeLevels · probes per level]
 };
 class SceneVoxelization {
  public:
   explicit SceneVoxelization(gpu::Device& device);
   void record(gpu::CommandList& commands, const VoxelScene& scene, const VoxelFrameInputs& inputs,
-              const LitFrameImages& lit);
+              const LitFrameImages& lit, const ProbeLight& probeLight);
 
  private:
   gpu::ComputePipeline pipeline_;

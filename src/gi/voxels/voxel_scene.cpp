@@ -58,7 +58,7 @@ uint32_t VoxelScene::cellCount() const {
   return settings_.volumeBricks[0] * settings_.volumeBricks[1] * settings_.volumeBricks[2];
 }
 
-shader::VoxelVolume VoxelScene::place(glm::vec3 cameraPosition, uint32_t frameIndex, bool hasLitFrame, bool& scrolled) {
+shader::VoxelVolume VoxelScene::place(glm::vec3 cameraPosition, uint32_t frameIndex, bool& scrolled) {
   const glm::ivec3 dimensions = glm::ivec3(current_.dimensionsBricks);
   const float brickSize = current_.voxelSize.y;
   const int step = shader::kScrollStepBricks;
@@ -69,7 +69,6 @@ shader::VoxelVolume VoxelScene::place(glm::vec3 cameraPosition, uint32_t frameIn
   scrolled = !placed_ || origin != glm::ivec3(current_.originBrick);
   placed_ = true;
   current_.originBrick = glm::ivec4(origin, int(frameIndex));
-  current_.settings.z = hasLitFrame ? 1u : 0u;
   currentVolume_ = frameIndex % volumes_.size();
   std::memcpy(volumes_[currentVolume_].mapped(), &current_, sizeof(current_));
   return current_;

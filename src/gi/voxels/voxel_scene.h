@@ -16,7 +16,7 @@ class VoxelScene {
 
   // Where the volume stands this frame: centred on the camera, its origin moving in kScrollStepBricks steps.
   // Returns the volume description to upload; `scrolled` tells whether the origin moved since the last call.
-  shader::VoxelVolume place(glm::vec3 cameraPosition, uint32_t frameIndex, bool hasLitFrame, bool& scrolled);
+  shader::VoxelVolume place(glm::vec3 cameraPosition, uint32_t frameIndex, bool& scrolled);
 
   // This frame's VoxelVolume uniform buffer: one per frame in flight, so the host may write the next frame's while the
   // GPU still reads the last.

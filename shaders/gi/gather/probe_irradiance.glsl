@@ -1,0 +1,97 @@
+#ifndef SSVGI_PROBE_IRRADIANCE_GLSL
+#define SSVGI_PROBE_IRRADIANCE_GLSL
+// Irradiance at a surface point from the probe volume (SPEC §4.6; the talk's "Probe Volume sampling with custom
+// weights"): the level choice with noise at level boundaries, and the 8-probe weights with the talk's three leak
+// remedies. FinalGather samples it for the screen; SceneVoxelization for the voxels of views lit by direct light only
+// (SPEC §6.3), so that they carry the multi-bounce loop as the lit frame's voxels do.
+#include "gi/voxels/voxel_trace.glsl"
+#include "shared/gather_interface.h"
+
+layout(binding = kBindGatherConstants) uniform GatherConstantsBlock { GatherConstants gather; };
+layout(binding = kBindGatherProbes) readonly buffer Probes { Probe probes[]; };
+
+// How far a point lies inside the cells of a level, in spacings; negative when some of its 8 probes are outside it.
+float insideMargin(uint level, vec3 position) {
+  vec3 probeUnits = position / gather.probeSpacings[level] - vec3(gather.probeOrigins[level].xyz);
+  vec3 margins = min(probeUnits, vec3(gather.probeDimensions.xyz - 1) - probeUnits);
+  return min(margins.x, min(margins.y, margins.z));
+}
+
+// The finest level holding the point, or near its boundary — with a probability growing toward it — the next coarser
+// one (the talk's "Probe Volume Interpolation: Noise + Light Gather Temporal Filter"). kProbeLevels: none holds it.
+uint chooseLevel(vec3 position, float noise) {
+  for (uint level = 0u; level < kProbeLevels; ++level) {
+    float margin = insideMargin(level, position);
+    if (margin < 0.0) continue;
+    bool coarserHoldsIt = level + 1u < kProbeLevels && insideMargin(level + 1u, position) >= 0.0;
+    if (coarserHoldsIt && noise * kGatherLevelBlendSpacings > margin) continue;
+    return level;
+  }
+  return kProbeLevels;
+}
+
+// Irradiance at a surface point from the 8 probes of a level around it: rgb, and a = 1 when any probe contributed.
+// `testVisibility`: leave out a probe with a voxel between it and the point (a voxel trace per probe). Only a pass that
+// does not write the voxels may trace them.
+vec4 gatherLevel(uint level, vec3 position, vec3 normal, bool testVisibility) {
+  float spacing = gather.probeSpacings[level];
+  ivec3 origin = gather.probeOrigins[level].xyz;
+  ivec3 dimensions = gather.probeDimensions.xyz;
+  // "Normal Bias" (the talk): interpolate and test visibility from a point off the surface, so that the probes just
+  // behind a wall do not see the point on its front as unoccluded.
+  vec3 biased = position + normal * (kGatherNormalBiasSpacings * spacing);
+  vec3 grid = biased / spacing;
+  ivec3 base = ivec3(floor(grid));
+  vec3 fraction = grid - vec3(base);
+  vec3 irradiance = vec3(0.0);
+  float totalWeight = 0.0;
+  for (int corner = 0; corner < 8; ++corner) {
+    ivec3 offset = ivec3(corner & 1, (corner >> 1) & 1, corner >> 2);
+    ivec3 probe = base + offset;
+    if (any(lessThan(probe, origin)) || any(greaterThanEqual(probe, origin + dimensions))) continue;
+    Probe stored = probes[level * uint(gather.probeDimensions.w) + probeSlotIndex(probe, dimensions)];
+    // A probe never traced, inside geometry, just moved, or a slot that still holds a probe the level scrolled away
+    // from, knows nothing here.
+    if (!probeIsUsable(stored, probe)) continue;
+    vec3 trilinear = mix(vec3(1.0) - fraction, fraction, vec3(offset));
+    float weight = trilinear.x * trilinear.y * trilinear.z;
+    vec3 probePosition = probeWorldPosition(probe, spacing, stored.state);  // with its virtual offset
+    // "Normal Weight": probes behind the surface count less (from the true point, as DDGI does).
+    vec3 toProbe = probePosition - position;
+    float facing = 0.5 * (dot(toProbe, normal) / max(length(toProbe), 1e-4) + 1.0);
+    weight *= facing * facing + kGatherBackfacingProbeWeight;
+    // "Distance Weight": the probe's traced distance toward the point against the point's distance.
+    vec3 fromProbe = biased - probePosition;
+    float pointDistance = length(fromProbe);
+    if (pointDistance > 1e-4) {
+      float traced = dot(probeDistanceSh(stored, spacing), sh2Basis(fromProbe / pointDistance));
+      float visible = clamp(traced / pointDistance, 0.0, 1.0);
+      weight *= max(visible * visible * visible, kGatherOccludedProbeWeight);
+      // Beyond the talk's weights, which it says only ease leaks: a probe with a voxel between it and the point does
+      // not light it. The SH2 distance is far too coarse to see a wall a probe stands a few centimetres behind (the
+      // virtual offset may put it on either side), and through a closed door the lit room's probes would light the
+      // dark one (`ssvgi scenario leak`). A voxel within half a voxel of the biased point is the point's own surface.
+      if (testVisibility) {
+        VoxelHit blocker = traceVoxelsHierarchical(probePosition, fromProbe / pointDistance, pointDistance);
+        if (blocker.hit && blocker.distance < pointDistance - 0.5 * volume.voxelSize.x) continue;
+      }
+    }
+    Sh2Rgb radiance = probeRadianceSh(stored);
+    // SH2 rings below zero opposite bright light; negative irradiance is not light.
+    irradiance += weight * max(sh2Irradiance(radiance, normal), vec3(0.0));
+    totalWeight += weight;
+  }
+  return totalWeight > 0.0 ? vec4(irradiance / totalWeight, 1.0) : vec4(0.0);
+}
+
+// Irradiance at a surface point from the finest level that holds it (near a level's boundary, by `noise` in [0, 1), the
+// next coarser one); where a level's probes are stale or untraced, a coarser level (seeded earlier, SPEC §4.5)
+// answers. rgb: E; a: 1 when some probe contributed.
+vec4 probeIrradiance(vec3 position, vec3 normal, float noise, bool testVisibility) {
+  vec4 irradiance = vec4(0.0);
+  for (uint level = chooseLevel(position, noise); level < kProbeLevels && irradiance.a == 0.0; ++level)
+    irradiance = gatherLevel(level, position, normal, testVisibility);
+  return irradiance;
+}
+
+#endif
