@@ -5,6 +5,7 @@
 // as JSON (toJson) and tests/scenario_tests.cpp holds them to SPEC's thresholds. Every function takes the device, so
 // that the tests share theirs.
 #include "gpu/device.h"
+#include "renderer.h"
 #include "scene.h"
 #include "ssvgi/ssvgi.h"
 
@@ -22,7 +23,7 @@ struct ScenarioRendering {
   uint32_t width = 640;
   uint32_t height = 360;
   Settings gi = settingsForTier(QualityTier::High);  // with the scene's detail scale applied (renderer::scaledToScene)
-  uint32_t lightViewSize = 0;                        // renderer::RendererSettings::lightViewSize
+  uint32_t lightViewSize = renderer::RendererSettings{}.lightViewSize;
 };
 
 // A scene and the still view a scenario watches it from.

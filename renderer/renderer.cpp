@@ -5,6 +5,7 @@
 
 #include <glm/gtc/packing.hpp>
 
+#include <algorithm>
 #include <cstring>
 
 namespace ssvgi::renderer {
@@ -87,8 +88,9 @@ Renderer::Renderer(gpu::Device& device, const Scene& scene, const RendererSettin
     auto context = ssvgi::Context::create(desc);
     if (!context.ok()) throw gpu::GpuError("ssvgi: " + context.error().message);
     gi_ = std::move(context.value());
-    if (settings.lightViewSize > 0 && !scene.lights.empty())
-      lightViews_.emplace(device, scene, settings.lightViewSize);
+    // ssvgi takes views up to the frame's size (its Hi-Z pyramid is sized for that).
+    const uint32_t lightViewSize = std::min({settings.lightViewSize, settings.width, settings.height});
+    if (lightViewSize > 0 && !scene.lights.empty()) lightViews_.emplace(device, scene, lightViewSize);
   }
 }
 

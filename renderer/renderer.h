@@ -36,9 +36,9 @@ struct RendererSettings {
   ShadowSettings shadows;
   std::optional<ssvgi::Settings> gi;  // run the GI library with these settings (SPEC §3 integration)
   bool giLighting = true;  // composite its indirect light; false: it runs for its debug views only, no ambient at all
-  // Pixels per side of the views of the local lights given to the GI as extra views (SPEC §6.3; LightViews). 0: none,
-  // the default: in cornell they make the error larger, not smaller (docs/QUALITY.md, "Views beyond the camera").
-  uint32_t lightViewSize = 0;
+  // Pixels per side of the views of the local lights given to the GI as extra views (SPEC §6.3; LightViews), at most
+  // the frame's smaller side. 0: none.
+  uint32_t lightViewSize = 64;
 };
 
 // The host renderer (headless): shadows, G-buffer, direct light, the GI library, composite and tonemap for one scene,

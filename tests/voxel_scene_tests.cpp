@@ -220,8 +220,13 @@ TEST_F(VoxelScene, injectingAFloorOccupiesItsVoxelLayerWithItsColourAndNothingIn
     EXPECT_NEAR(radiance.x, kFloor.radiance.x, kFloor.radiance.x / 64.0f);
     EXPECT_NEAR(radiance.y, kFloor.radiance.y, kFloor.radiance.y / 64.0f);
     EXPECT_NEAR(radiance.z, kFloor.radiance.z, kFloor.radiance.z / 32.0f);
-    EXPECT_GT(shader::unpackOctahedralNormal(voxel.normalAndLastHit & 0xffffu).y, 0.99f);
-    EXPECT_LT(voxel.normalAndLastHit >> 16, smallSettings().invalidFramesToClear);  // still valid
+    EXPECT_GT(shader::unpackOctahedralNormal(voxel.surfaceAndLastHit & 0xffffu).y, 0.99f);
+    EXPECT_LT(voxel.surfaceAndLastHit >> shader::kVoxelLastHitShift, smallSettings().invalidFramesToClear);  // valid
+    // The floor's top (y = 0.1) lies 0.1 voxels below the centre of its layer (y in [0, 0.25)): the voxel's plane.
+    // 0.01: the plane's 8-bit step (0.007 voxels) and the depth's float error.
+    const uint32_t planeCode = (voxel.surfaceAndLastHit >> shader::kVoxelPlaneShift) & 0xffu;
+    ASSERT_NE(planeCode, 0u);
+    EXPECT_NEAR(shader::unpackVoxelPlane(planeCode), -0.1f, 0.01f);
   }
   // The camera sees the floor within tan(15°) · 5.9 m ≈ 1.58 m of (0.5, 0.5); every voxel well inside is found.
   for (int x = -3; x <= 4; ++x)

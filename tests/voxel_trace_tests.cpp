@@ -119,6 +119,12 @@ class CpuVoxelScene {
     voxels_[brick * shader::kVoxelsPerBrick + bit] = {shader::packR11G11B10F(radiance),
                                                       shader::packOctahedralNormal(normal)};
   }
+  // Where the voxel's surface lies: its plane, `offsetVoxels` from the voxel's centre along its normal.
+  void setSurfacePlane(uint32_t brick, uint32_t bit, float offsetVoxels) {
+    shader::Voxel& voxel = voxels_[brick * shader::kVoxelsPerBrick + bit];
+    voxel.surfaceAndLastHit = (voxel.surfaceAndLastHit & 0xffffu) |
+                              (shader::packVoxelPlane(offsetVoxels) << shader::kVoxelPlaneShift);
+  }
   void clearMask(uint32_t brick) { bricks_[brick].occupancy = glm::uvec4(0); }
   bool hasBrick(glm::ivec3 localBrick) const { return lookup_[cellOf(localBrick)] != shader::kInvalidBrick; }
 
@@ -371,7 +377,7 @@ bool isHit(const VoxelTraceHit& hit) { return hit.voxel.x != shader::kInvalidBri
 // Radiance of a hit as the trace must report it: the stored value, black when the ray meets the voxel from behind.
 glm::vec3 expectedRadiance(const CpuVoxelScene& scene, const VoxelTraceHit& hit, glm::vec3 direction) {
   const shader::Voxel& voxel = scene.voxels()[hit.voxel.x * shader::kVoxelsPerBrick + hit.voxel.y];
-  const glm::vec3 normal = shader::unpackOctahedralNormal(voxel.normalAndLastHit & 0xffffu);
+  const glm::vec3 normal = shader::unpackOctahedralNormal(voxel.surfaceAndLastHit & 0xffffu);
   return glm::dot(normal, direction) > 0.0f ? glm::vec3(0.0f) : shader::unpackR11G11B10F(voxel.radiance);
 }
 
@@ -590,7 +596,7 @@ TEST_F(VoxelTrace, bothTracesMatchACpuReferenceDda) {
       ASSERT_NEAR(hit.radianceAndDistance.w, expected.distance, 1e-4) << "ray " << i;
       const glm::vec3 direction(rays[i].direction);
       const shader::Voxel& voxel = cpu_->voxels()[hit.voxel.x * shader::kVoxelsPerBrick + hit.voxel.y];
-      EXPECT_LT(glm::distance(glm::vec3(hit.normal), shader::unpackOctahedralNormal(voxel.normalAndLastHit & 0xffffu)),
+      EXPECT_LT(glm::distance(glm::vec3(hit.normal), shader::unpackOctahedralNormal(voxel.surfaceAndLastHit & 0xffffu)),
                 1e-5f)
           << "ray " << i;
       if (std::abs(glm::dot(glm::vec3(hit.normal), direction)) > 1e-4f) {  // not grazing: the side is unambiguous
@@ -654,6 +660,42 @@ TEST_F(VoxelTrace, aHitOnAVoxelsBackFaceIsBlackButStillAHit) {
     EXPECT_NEAR(fromFront.radianceAndDistance.w, approach, 1e-5f);
     EXPECT_EQ(cpu_->voxelOf(fromFront.voxel.x, fromFront.voxel.y).x, brick.x * 4 + 3);
     EXPECT_EQ(glm::vec3(fromFront.radianceAndDistance), shader::unpackR11G11B10F(shader::packR11G11B10F(radiance)));
+  }
+}
+
+TEST_F(VoxelTrace, aRayPassingInFrontOfAVoxelsSurfacePlaneGoesOnAndOneCrossingItHits) {
+  // A thin floor: the bottom layer of one brick, whose voxels face +Y with their surface 0.4 voxels below their
+  // centres (0.1 of a voxel above the layer's bottom). Rays along X through the layer 0.8 voxels up pass in front of
+  // that surface all the way; 0.05 voxels up they run behind it; a ray down from above crosses it.
+  const glm::vec3 radiance(1.0f, 0.5f, 0.25f);
+  const glm::ivec3 brick(6, 7, 8);
+  uint64_t bottomLayer = 0;
+  for (uint32_t z = 0; z < 4; ++z)
+    for (uint32_t x = 0; x < 4; ++x) bottomLayer |= uint64_t(1) << (x + 16 * z);
+  const uint32_t index = cpu_->addBrick(brick, bottomLayer, radiance, glm::vec3(0.0f, 1.0f, 0.0f));
+  for (uint32_t bit = 0; bit < shader::kVoxelsPerBrick; ++bit) cpu_->setSurfacePlane(index, bit, -0.4f);
+  upload();
+  buildOctree(cpu_->allocatedCells());
+
+  const float voxel = cpu_->voxelSize();
+  const glm::vec3 brickMin = cpu_->minimumCorner() + glm::vec3(brick) * cpu_->volume().voxelSize.y;
+  const float approach = 2.3f;
+  const glm::vec3 alongX(1.0f, 0.0f, 0.0f), down(0.0f, -1.0f, 0.0f);
+  const std::vector<VoxelTraceRay> rays{
+      {glm::vec4(brickMin + glm::vec3(-approach, 0.8f * voxel, 1.5f * voxel), 10.0f), glm::vec4(alongX, 0.0f)},
+      {glm::vec4(brickMin + glm::vec3(-approach, 0.05f * voxel, 1.5f * voxel), 10.0f), glm::vec4(alongX, 0.0f)},
+      {glm::vec4(brickMin + glm::vec3(2.5f * voxel, approach, 1.5f * voxel), 10.0f), glm::vec4(down, 0.0f)},
+  };
+  for (gi::TraceRays* tracer : {hierarchical_.get(), flat_.get()}) {
+    SCOPED_TRACE(tracer->method() == gi::TraceMethod::Flat ? "flat" : "hierarchical");
+    const TraceRun run = trace(*tracer, rays);
+    EXPECT_FALSE(isHit(run.hits[0])) << "the ray in front of the surface stopped at a voxel";
+    ASSERT_TRUE(isHit(run.hits[1]));
+    EXPECT_NEAR(run.hits[1].radianceAndDistance.w, approach, 1e-5f);  // the first voxel it enters
+    EXPECT_EQ(cpu_->voxelOf(run.hits[1].voxel.x, run.hits[1].voxel.y), glm::ivec3(brick) * 4 + glm::ivec3(0, 0, 1));
+    ASSERT_TRUE(isHit(run.hits[2]));
+    EXPECT_NEAR(run.hits[2].radianceAndDistance.w, approach - voxel, 1e-5f);  // where it enters the voxel's box
+    EXPECT_EQ(glm::vec3(run.hits[2].radianceAndDistance), shader::unpackR11G11B10F(shader::packR11G11B10F(radiance)));
   }
 }
 

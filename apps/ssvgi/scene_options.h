@@ -1,6 +1,7 @@
 #pragma once
 // The scene, view, light, sky and device options shared by the commands that render a scene (render, and the
 // reference path tracer to come), so that both see exactly the same scene for the same arguments.
+#include "renderer.h"
 #include "scene.h"
 #include "ssvgi/ssvgi.h"
 
@@ -45,7 +46,7 @@ ssvgi::Settings giSettingsForTier(const std::string& tier);
 struct GiOptions {
   std::string tier = "high";
   std::vector<std::string> overrides;  // NAME=VALUE, a field of ssvgi::Settings; X,Y,Z for the three-axis ones
-  uint32_t lightViewSize = 0;          // renderer::RendererSettings::lightViewSize
+  uint32_t lightViewSize = renderer::RendererSettings{}.lightViewSize;
 };
 
 void addGiOptions(CLI::App& command, GiOptions& options);

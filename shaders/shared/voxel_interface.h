@@ -83,12 +83,28 @@ struct IndirectList {
 SSVGI_CHECK_SIZE(IndirectList, 16);
 SSVGI_CONSTANT(uint, kIndirectListHeaderWords, 4u);
 
-// A voxel: radiance as R11G11B10F and octahedral normal (2 × 8 bit) + frames since the last valid injection (16 bit).
+// A voxel: radiance as R11G11B10F; its surface: octahedral normal (2 × 8 bit, bits 0–15) and where the surface's
+// plane lies in the voxel (8 bit, bits 16–23, packVoxelPlane); frames since the last valid injection (8 bit, 24–31).
+// SPEC §4.1 gives the counter 16 bits; it counts to invalidFramesToClear (about 8), and the plane makes a thin or
+// off-grid surface stop rays where it is rather than at the voxel's box (voxel_trace.glsl, voxelHitAt).
 struct Voxel {
   uint radiance;
-  uint normalAndLastHit;
+  uint surfaceAndLastHit;
 };
 SSVGI_CHECK_SIZE(Voxel, 8);
+
+// The surface's plane in a voxel: its signed distance from the voxel's centre along the normal, in voxels (at most
+// √3/2, the centre-to-corner distance), in 8 bits. Code 0: no plane is known, a ray meets the voxel's box wherever it
+// enters it.
+SSVGI_CONSTANT(uint, kVoxelPlaneShift, 16u);
+SSVGI_CONSTANT(uint, kVoxelLastHitShift, 24u);
+SSVGI_CONSTANT(uint, kVoxelMaxLastHit, 0xffu);
+SSVGI_CONSTANT(float, kVoxelPlaneRange, 0.875f);
+SSVGI_INLINE uint packVoxelPlane(float offsetVoxels) {
+  float unit = clamp(offsetVoxels / kVoxelPlaneRange, -1.0f, 1.0f) * 0.5f + 0.5f;
+  return 1u + uint(unit * 254.0f + 0.5f);
+}
+SSVGI_INLINE float unpackVoxelPlane(uint code) { return (float(code - 1u) / 254.0f * 2.0f - 1.0f) * kVoxelPlaneRange; }
 
 // The volume's origin moves in steps of this many bricks (the cell size of the coarsest level), so that every cell of
 // every level lies wholly inside or wholly outside the volume and toroidal slots never alias.

@@ -38,7 +38,6 @@ vec3 injectedRadiance(ivec2 texel, vec3 surface, vec3 normal) {
 shared uint occupancyLow;
 shared uint occupancyHigh;
 
-const uint kMaxLastHit = 0xffffu;
 
 void main() {
   uint brick = visibleBricks[gl_WorkGroupID.x];
@@ -88,14 +87,16 @@ void main() {
     // own pixels, and its radiance would lag a change of light by many frames.
     bool refreshesColour = depth > 0.0 && occupied && cutBySurfacePlane &&
                            distance(held, clamp(held, voxelMin, voxelMin + voxelSize)) <= voxelSize &&
-                           dot(unpackOctahedralNormal(voxel.normalAndLastHit & 0xffffu), normal) > 0.9;
+                           dot(unpackOctahedralNormal(voxel.surfaceAndLastHit & 0xffffu), normal) > 0.9;
     if (holdsSurface || refreshesColour) {
       voxel.radiance = packR11G11B10F(injectedRadiance(texel, surface, normal));
-      voxel.normalAndLastHit = holdsSurface ? packOctahedralNormal(normal) : voxel.normalAndLastHit & 0xffffu;
+      float planeOffset = dot(surface - (voxelMin + 0.5 * voxelSize), normal) / voxelSize;
+      voxel.surfaceAndLastHit = holdsSurface ? packOctahedralNormal(normal) | (packVoxelPlane(planeOffset) << kVoxelPlaneShift)
+                                            : voxel.surfaceAndLastHit & ((1u << kVoxelLastHitShift) - 1u);
       occupied = true;
     } else if (occupied && (depth <= 0.0 || (inFront && !cutBySurfacePlane))) {
-      uint lastHit = min((voxel.normalAndLastHit >> 16u) + 1u, kMaxLastHit);
-      voxel.normalAndLastHit = (voxel.normalAndLastHit & 0xffffu) | (lastHit << 16u);
+      uint lastHit = min((voxel.surfaceAndLastHit >> kVoxelLastHitShift) + 1u, kVoxelMaxLastHit);
+      voxel.surfaceAndLastHit = (voxel.surfaceAndLastHit & ((1u << kVoxelLastHitShift) - 1u)) | (lastHit << kVoxelLastHitShift);
       if (lastHit >= volume.settings.x) occupied = false;
     }
     voxels[brick * kVoxelsPerBrick + voxelIndex] = occupied ? voxel : Voxel(0u, 0u);

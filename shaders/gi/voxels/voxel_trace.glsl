@@ -234,13 +234,39 @@ VoxelHit voxelMiss(float maxDistance, uint reads) {
   return VoxelHit(false, maxDistance, kInvalidBrick, 0u, vec3(0.0), vec3(0.0), reads);
 }
 
+// How far in front of a voxel's surface plane (in voxels) a ray still meets it: the plane's 8-bit quantisation (0.007)
+// and the depth buffer's error, with room to spare.
+const float kVoxelPlaneTolerance = 0.05;
+
+// Where the ray leaves the voxel it is in, or ends inside it.
+float voxelExitDistance(VoxelWalk walk) {
+  vec3 exits;
+  for (int axis = 0; axis < 3; ++axis)
+    exits[axis] = crossingDistance(walk, axis, exitPlane(walk.voxel[axis], kVoxelLevel, walk.step[axis]));
+  return min(exits[firstCrossingAxis(exits)], walk.maxDistance);
+}
+
+// The ray at the occupied voxel the walk is in: a hit when it meets the voxel's surface — it is on or behind the
+// surface's plane where it enters the voxel or where it leaves it — and a miss when it passes through the part of the
+// voxel in front of that plane. A surface that fills a voxel only in part (a 2 cm light panel in a 12.5 cm voxel, a
+// box top 5 cm under a voxel boundary) then stops rays where it is, not at the voxel's box, which would bring it nearer
+// to the probes and make it larger in their view (docs/QUALITY.md, "Where the Cornell error comes from").
 VoxelHit voxelHitAt(VoxelWalk walk, CachedBrick cached, vec3 direction, uint reads) {
   uint voxelIndex = voxelBit(uvec3(voxelInBrick(walk.voxel)));
   Voxel voxel = voxels[cached.index * kVoxelsPerBrick + voxelIndex];
-  vec3 normal = unpackOctahedralNormal(voxel.normalAndLastHit & 0xffffu);
+  reads += 1u;
+  vec3 normal = unpackOctahedralNormal(voxel.surfaceAndLastHit & 0xffffu);
+  uint planeCode = (voxel.surfaceAndLastHit >> kVoxelPlaneShift) & 0xffu;
+  if (planeCode != 0u) {
+    vec3 centre = vec3(walk.voxel) + 0.5;
+    float plane = unpackVoxelPlane(planeCode);
+    float entering = dot(walk.origin + walk.voxelsPerMetre * walk.distance - centre, normal) - plane;
+    float leaving = dot(walk.origin + walk.voxelsPerMetre * voxelExitDistance(walk) - centre, normal) - plane;
+    if (min(entering, leaving) > kVoxelPlaneTolerance) return voxelMiss(walk.maxDistance, reads);
+  }
   // A ray that meets the surface from behind sees no light, so thin walls do not pass light (SPEC §4.4).
   vec3 radiance = dot(normal, direction) > 0.0 ? vec3(0.0) : unpackR11G11B10F(voxel.radiance);
-  return VoxelHit(true, walk.distance, cached.index, voxelIndex, radiance, normal, reads + 1u);
+  return VoxelHit(true, walk.distance, cached.index, voxelIndex, radiance, normal, reads);
 }
 
 // The flat voxel DDA: every voxel along the ray in turn, reading each brick's lookup and mask once.
@@ -255,7 +281,11 @@ VoxelHit traceVoxelsFlat(vec3 origin, vec3 direction, float maxDistance) {
   uint reads = 0u;
   for (;;) {
     loadBrick(cached, walk.voxel >> kBrickLevel, reads);
-    if (voxelBitSet(cached.mask, voxelInBrick(walk.voxel))) return voxelHitAt(walk, cached, direction, reads);
+    if (voxelBitSet(cached.mask, voxelInBrick(walk.voxel))) {
+      VoxelHit hit = voxelHitAt(walk, cached, direction, reads);
+      if (hit.hit) return hit;
+      reads = hit.reads;
+    }
     int axis = firstCrossingAxis(nextCrossing);
     if (nextCrossing[axis] > maxDistance) break;
     walk.distance = nextCrossing[axis];
@@ -283,10 +313,14 @@ VoxelHit traceVoxelsHierarchical(vec3 origin, vec3 direction, float maxDistance)
   uint knownOccupiedLevels = 0u;  // bit L: the walk came down from its current level-L cell
   for (;;) {
     if (cellOccupied(walk, level, cached, grid, reads)) {
-      if (level == kVoxelLevel) return voxelHitAt(walk, cached, direction, reads);
-      knownOccupiedLevels |= 1u << uint(level);
-      --level;
-      continue;
+      if (level != kVoxelLevel) {
+        knownOccupiedLevels |= 1u << uint(level);
+        --level;
+        continue;
+      }
+      VoxelHit hit = voxelHitAt(walk, cached, direction, reads);
+      if (hit.hit) return hit;
+      reads = hit.reads;  // in front of the voxel's surface all the way through: on, as past an empty voxel
     }
     ivec3 previous = walk.voxel;
     if (!stepOverCell(walk, level)) break;
