@@ -192,14 +192,20 @@ std::optional<ssvgi::Stats> Renderer::giStats() {
   return gi_->stats();
 }
 
-Renderer::DebugImage Renderer::giDebugView(ssvgi::DebugView view) {
+Renderer::DebugImage Renderer::giDebugView(ssvgi::DebugView view, const std::optional<Camera>& camera) {
   if (!gi_) throw gpu::GpuError("debug views need the GI library to run");
   if (!debugRadiance_)
     debugRadiance_ = storageImage(device_, "ssvgi debug view", VK_FORMAT_R32G32B32A32_SFLOAT, settings_.width,
                                   settings_.height);
   device_.submitAndWait([&](VkCommandBuffer commandBuffer) {
     gpu::CommandList commands(device_, commandBuffer, descriptors_);
-    if (const ssvgi::Error error = gi_->debugView(view, giView_, debugRadiance_.handle(), debugRadiance_.view(),
+    ssvgi::View debugCamera = giView_;
+    if (camera) {
+      shader::FrameConstants frame{};
+      setFrameView(frame, *camera, settings_.width, settings_.height);
+      debugCamera = toView(frame.viewProjection, camera->position, settings_.width, settings_.height);
+    }
+    if (const ssvgi::Error error = gi_->debugView(view, debugCamera, debugRadiance_.handle(), debugRadiance_.view(),
                                                   commandBuffer))
       throw gpu::GpuError("ssvgi: " + error.message);
     // ssvgi left the image in GENERAL, written by a compute shader: tell the tracker before the tonemap reads it.

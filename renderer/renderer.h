@@ -59,7 +59,8 @@ class Renderer {
     FloatImage radiance;
     std::vector<uint8_t> tonemapped;
   };
-  DebugImage giDebugView(ssvgi::DebugView view);
+  // `camera`: where the debug view is seen from (default: the last frame's camera), at the frame's size.
+  DebugImage giDebugView(ssvgi::DebugView view, const std::optional<Camera>& camera = std::nullopt);
 
   const std::vector<gpu::PassTiming>& passTimings() const { return timings_; }
   const Bounds& sceneBounds() const { return bounds_; }

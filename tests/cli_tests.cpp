@@ -98,6 +98,22 @@ TEST(Cli, renderAppliesTheTierTheScenesDetailScaleAndGiOverridesInThatOrder) {
   EXPECT_EQ(settings["volumeBricks"], nlohmann::json({24, 16, 24}));
 }
 
+TEST(Cli, debugViewsAreSeenFromTheDebugCamera) {
+  // The Cornell box's voxels from its own camera, and from a camera at the same place looking away from the box, out
+  // of its open side into the empty volume: there every ray leaves the volume (black).
+  const fs::path own = freshDirectory("debug-own"), away = freshDirectory("debug-away");
+  const std::string render = "render --scene cornell --size 32x32 --frames 4 --debug voxels --validation --out ";
+  const CliRun ownRun = runCli(render + own.string());
+  ASSERT_EQ(ownRun.exitCode, 0) << ownRun.output;
+  const CliRun awayRun = runCli(render + away.string() + " --debug-camera 0,1,3.4,0,1,10,40");
+  ASSERT_EQ(awayRun.exitCode, 0) << awayRun.output;
+  float ownMax = 0.0f, awayMax = 0.0f;
+  for (float v : renderer::readExr(own / "debug_voxels.exr").pixels) ownMax = std::max(ownMax, v);
+  for (float v : renderer::readExr(away / "debug_voxels.exr").pixels) awayMax = std::max(awayMax, v);
+  EXPECT_GT(ownMax, 0.0f);
+  EXPECT_EQ(awayMax, 0.0f);
+}
+
 TEST(Cli, rendersTheSharedCornellBoxGltfFromItsOwnCamera) {
   const fs::path out = freshDirectory("gltf");
   const CliRun run = runCli("render --scene " SSVGI_SHARED_DIR "/scenes/cornell-box/CornellBox-Original.gltf --gi off "
@@ -345,6 +361,8 @@ INSTANTIATE_TEST_SUITE_P(
                       BadInvocation{"unknownScene", "render --scene no-such-scene", "not a built-in scene"},
                       BadInvocation{"malformedSize", "render --scene cornell --size 64by48", "--size 64by48"},
                       BadInvocation{"shortCamera", "render --scene cornell --camera 1,2,3", "--camera"},
+                      BadInvocation{"shortDebugCamera", "render --scene cornell --debug voxels --debug-camera 1,2,3",
+                                    "--debug-camera"},
                       BadInvocation{"unknownSky", "render --scene cornell --sky purple", "--sky purple"},
                       BadInvocation{"shortSun", "render --scene cornell --sun 10,20", "--sun"},
                       BadInvocation{"missingDevice", "render --scene cornell --device 42", "--device 42"},

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,7 @@ struct RenderOptions {
   GiOptions giOptions;
   float exposure = 1.0f;
   std::vector<std::string> debugViews;  // names of kDebugViews
+  std::string debugCamera;              // PX,PY,PZ,TX,TY,TZ,VFOV_DEG; empty: the rendering camera
   std::string out = "out";
 };
 
@@ -69,6 +71,8 @@ nlohmann::json statsJson(const gpu::Device& device, const RenderOptions& options
 
 int runRender(const RenderOptions& options) {
   const ResolvedScene resolved = resolveScene(options.scene);
+  std::optional<renderer::Camera> debugCamera;
+  if (!options.debugCamera.empty()) debugCamera = parseCamera(options.debugCamera, "--debug-camera", resolved.camera);
 
   gpu::Device device(gpu::DeviceDesc{options.scene.device, options.scene.validation});
   renderer::RendererSettings settings;
@@ -93,7 +97,7 @@ int runRender(const RenderOptions& options) {
                                      renderer.viewDistance(), renderer.tonemapped()},
                       statsJson(device, options, resolved, settings, renderer));
   for (const std::string& name : options.debugViews) {
-    const auto debug = renderer.giDebugView(kDebugViews.at(name));
+    const auto debug = renderer.giDebugView(kDebugViews.at(name), debugCamera);
     writeDebugImage(options.out, "debug_" + name, debug.radiance, debug.tonemapped);
   }
 
@@ -125,6 +129,9 @@ CommandRunner addRenderCommand(CLI::App& app) {
                       "by their SH; magenta invalid, yellow just offset), as DIR/debug_NAME.png and .exr; may be "
                       "repeated")
       ->check(CLI::IsMember(std::vector<std::string>{"voxels", "bricks", "probes"}));
+  command->add_option("--debug-camera", options->debugCamera,
+                      "The debug views' camera, PX,PY,PZ,TX,TY,TZ,VFOV_DEG (default: the rendering camera): ssvgi's "
+                      "voxels and probes seen from elsewhere, e.g. the surfaces the rendering camera never sees");
   command->add_option("--out", options->out, "Output directory")->capture_default_str();
   return [options] { return runRender(*options); };
 }

@@ -75,6 +75,17 @@ void addSceneOptions(CLI::App& command, SceneOptions& options) {
   command.add_flag("--validation", options.validation, "Enable the Vulkan validation layers");
 }
 
+renderer::Camera parseCamera(const std::string& text, const std::string& option, renderer::Camera camera) {
+  const auto v = parseNumbers(text, 7, option);
+  camera.position = {v[0], v[1], v[2]};
+  camera.target = {v[3], v[4], v[5]};
+  if (v[6] <= 0.0f || v[6] >= 180.0f) throw std::runtime_error(option + ": the field of view must be in (0, 180) degrees");
+  camera.verticalFov = glm::radians(v[6]);
+  if (glm::length(camera.target - camera.position) <= 0.0f)
+    throw std::runtime_error(option + ": position and target must differ");
+  return camera;
+}
+
 ResolvedScene resolveScene(const SceneOptions& options) {
   ResolvedScene resolved;
   resolved.scene = loadScene(options);
@@ -90,15 +101,7 @@ ResolvedScene resolveScene(const SceneOptions& options) {
   resolved.height = height;
 
   resolved.camera = scene.cameras.empty() ? renderer::Camera{} : scene.cameras.front();
-  if (!options.camera.empty()) {
-    const auto v = parseNumbers(options.camera, 7, "--camera");
-    resolved.camera.position = {v[0], v[1], v[2]};
-    resolved.camera.target = {v[3], v[4], v[5]};
-    if (v[6] <= 0.0f || v[6] >= 180.0f) throw std::runtime_error("--camera: the field of view must be in (0, 180) degrees");
-    resolved.camera.verticalFov = glm::radians(v[6]);
-    if (glm::length(resolved.camera.target - resolved.camera.position) <= 0.0f)
-      throw std::runtime_error("--camera: position and target must differ");
-  }
+  if (!options.camera.empty()) resolved.camera = parseCamera(options.camera, "--camera", resolved.camera);
   if (!options.cameraPath || !options.camera.empty()) scene.cameraPath.clear();
 
   if (options.sun == "off") {

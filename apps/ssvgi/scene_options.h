@@ -39,6 +39,10 @@ struct ResolvedScene {
 };
 ResolvedScene resolveScene(const SceneOptions& options);
 
+// `camera` placed by a view given as PX,PY,PZ,TX,TY,TZ,VFOV_DEG (the --camera syntax); throws std::runtime_error with
+// one line naming `option` when the text is not such a view.
+renderer::Camera parseCamera(const std::string& text, const std::string& option, renderer::Camera camera);
+
 // The GI settings of a --tier value (low, medium, high; the option's check has already refused anything else).
 ssvgi::Settings giSettingsForTier(const std::string& tier);
 
