@@ -383,6 +383,34 @@ TEST_F(VoxelScene, anExtraViewLitByDirectLightOnlyTakesTheProbesLightReflectedBy
   EXPECT_EQ(checked, 16u);
 }
 
+TEST_F(VoxelScene, badExtraViewsAreRefusedWithTheFieldNamed) {
+  create(smallSettings());
+  const HostFrame frame(device(), lookingDown({0.5f, 6.0f, 0.5f}), {kFloor});
+  auto dispatchWith = [&](const std::vector<ExtraView>& views) {
+    FrameDesc desc;
+    desc.camera = frame.view;
+    desc.depth.view = frame.depth.view();
+    desc.normal.view = frame.normal.view();
+    desc.extraViews = views;
+    Error error;
+    device().submitAndWait([&](VkCommandBuffer commandBuffer) { error = context_->dispatch(desc, commandBuffer); });
+    return error;
+  };
+  const Error tooMany = dispatchWith(std::vector<ExtraView>(kMaxExtraViews + 1, extraView(frame)));
+  EXPECT_EQ(tooMany.status, Status::InvalidDescription);
+  EXPECT_NE(tooMany.message.find("FrameDesc::extraViews: 9 views, at most 8"), std::string::npos) << tooMany.message;
+  ExtraView noDepth = extraView(frame);
+  noDepth.depth.view = VK_NULL_HANDLE;
+  const Error missing = dispatchWith({extraView(frame), noDepth});
+  EXPECT_EQ(missing.status, Status::InvalidDescription);
+  EXPECT_NE(missing.message.find("FrameDesc::extraViews[1]"), std::string::npos) << missing.message;
+  ExtraView tooLarge = extraView(frame);
+  tooLarge.camera.width = kSize + 1;
+  const Error large = dispatchWith({tooLarge});
+  EXPECT_NE(large.message.find("exceeds ContextDesc::maxWidth/maxHeight"), std::string::npos) << large.message;
+  EXPECT_FALSE(dispatchWith({extraView(frame)})) << "a valid extra view";
+}
+
 // Pool index of the live brick at a world brick coordinate, if any.
 std::optional<uint32_t> liveBrickAt(const GpuState& state, glm::ivec3 coordinate) {
   for (uint32_t b = 0; b < state.pool.bumpCount; ++b)
