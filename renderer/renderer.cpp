@@ -152,7 +152,7 @@ void Renderer::render(const AnimatedState& state) {
   for (const LocalLight& light : scene_.lights) lights.push_back(toGpuLight(light));
   shadows_.prepare(scene_, bounds_, state.sun, frame, lights);
   std::memcpy(frameConstants_.mapped(), &frame, sizeof(frame));
-  std::memcpy(lights_.mapped(), lights.data(), lights.size() * sizeof(shader::GpuLight));
+  if (!lights.empty()) std::memcpy(lights_.mapped(), lights.data(), lights.size() * sizeof(shader::GpuLight));
 
   device_.submitAndWait([&](VkCommandBuffer commandBuffer) {
     gpu::CommandList commands(device_, commandBuffer, descriptors_, &profiler_);
