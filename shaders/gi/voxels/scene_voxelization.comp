@@ -38,7 +38,6 @@ vec3 injectedRadiance(ivec2 texel, vec3 surface, vec3 normal) {
 shared uint occupancyLow;
 shared uint occupancyHigh;
 
-
 void main() {
   uint brick = visibleBricks[gl_WorkGroupID.x];
   uint voxelIndex = gl_LocalInvocationID.x;
@@ -90,9 +89,11 @@ void main() {
                            dot(unpackOctahedralNormal(voxel.surfaceAndLastHit & 0xffffu), normal) > 0.9;
     if (holdsSurface || refreshesColour) {
       voxel.radiance = packR11G11B10F(injectedRadiance(texel, surface, normal));
+      // A valid sample sets the voxel's surface (normal and plane); a refresh keeps it. Either resets the counter.
       float planeOffset = dot(surface - (voxelMin + 0.5 * voxelSize), normal) / voxelSize;
-      voxel.surfaceAndLastHit = holdsSurface ? packOctahedralNormal(normal) | (packVoxelPlane(planeOffset) << kVoxelPlaneShift)
-                                            : voxel.surfaceAndLastHit & ((1u << kVoxelLastHitShift) - 1u);
+      uint surfaceBits = holdsSurface ? packOctahedralNormal(normal) | (packVoxelPlane(planeOffset) << kVoxelPlaneShift)
+                                      : voxel.surfaceAndLastHit;
+      voxel.surfaceAndLastHit = surfaceBits & ((1u << kVoxelLastHitShift) - 1u);
       occupied = true;
     } else if (occupied && (depth <= 0.0 || (inFront && !cutBySurfacePlane))) {
       uint lastHit = min((voxel.surfaceAndLastHit >> kVoxelLastHitShift) + 1u, kVoxelMaxLastHit);
