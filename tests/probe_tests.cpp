@@ -71,6 +71,39 @@ TEST(ProbeDirections, theThirtyTwoSlicesOfTheDirectionSetProjectConstantRadiance
         << normal.x << " " << normal.y << " " << normal.z;
 }
 
+TEST(ProbeDirections, theStrataMeanBasisAndDeviationOfAnSh2FunctionMatchNumericIntegration) {
+  // Midpoint rule on a 256×256 grid of each stratum's (z, φ) cell, where dω = dz·dφ: its error is far below the
+  // tolerance for these smooth integrands. A constant f has no deviation from its mean.
+  const std::array<glm::vec4, 3> functions{glm::vec4(1.0f, 0.0f, 0.0f, 0.0f), glm::vec4(0.7f, -0.3f, 0.5f, 0.9f),
+                                           glm::vec4(-0.2f, 1.1f, -0.8f, 0.4f)};
+  constexpr int kSteps = 256;
+  for (uint32_t stratum = 0; stratum < shader::kProbeStrata; ++stratum) {
+    const glm::vec4 bounds = shader::probeStratumBounds(stratum);
+    const float cell = (bounds.y - bounds.x) * (bounds.w - bounds.z) / float(kSteps * kSteps);
+    glm::dvec4 basisSum(0.0);
+    std::array<glm::dvec4, 3> deviations{};
+    const glm::vec4 meanBasis = shader::probeStratumMeanBasis(stratum);
+    for (int i = 0; i < kSteps; ++i)
+      for (int j = 0; j < kSteps; ++j) {
+        const float z = bounds.x + (float(i) + 0.5f) * (bounds.y - bounds.x) / kSteps;
+        const float phi = bounds.z + (float(j) + 0.5f) * (bounds.w - bounds.z) / kSteps;
+        const float radius = std::sqrt(1.0f - z * z);
+        const glm::vec4 basis = shader::sh2Basis({radius * std::cos(phi), radius * std::sin(phi), z});
+        basisSum += glm::dvec4(basis) * double(cell);
+        for (size_t f = 0; f < functions.size(); ++f)
+          deviations[f] += glm::dvec4(glm::dot(functions[f], basis) * (basis - meanBasis)) * double(cell);
+      }
+    SCOPED_TRACE("stratum " + std::to_string(stratum));
+    EXPECT_NEAR(shader::kProbeStratumSolidAngle, (bounds.y - bounds.x) * (bounds.w - bounds.z), 1e-6f);
+    for (int k = 0; k < 4; ++k) EXPECT_NEAR(meanBasis[k], basisSum[k] / shader::kProbeStratumSolidAngle, 1e-5);
+    for (size_t f = 0; f < functions.size(); ++f) {
+      const glm::vec4 analytic = shader::probeStratumDeviation(stratum, functions[f]);
+      for (int k = 0; k < 4; ++k)
+        EXPECT_NEAR(analytic[k], deviations[f][k], 1e-5) << "function " << f << " coefficient " << k;
+    }
+  }
+}
+
 TEST(ProbeDirections, aSlotRecognisesItsProbeAfterWrappingAndAStaleOneDoesNot) {
   const glm::ivec3 dimensions(16, 8, 16), origin(-21, -3, 5);
   for (uint32_t slot = 0; slot < uint32_t(dimensions.x * dimensions.y * dimensions.z); ++slot) {
@@ -410,11 +443,16 @@ TEST_P(ProbeCacheReservoirs, theHistoryCountGrowsByOnePerUpdateToItsCapAndAlphaI
                                        : update * settings.raysPerProbe % shader::kProbeRayDirectionCount);
     EXPECT_NEAR(sphereMean(radianceSh(probe).r), wallA, 2e-3f * wallA);
   }
-  // The walls change to B once m is at its cap: one update moves the probe by α = 1/(cap+1) of the step.
+  // The walls change to B once m is at its cap: one update moves the probe by α = 1/(cap+1) of the step. With
+  // reservoirs the update's estimate itself has only moved part of the way: each stratum's reservoir stands for
+  // min(M cap, c·m) candidates of A besides this update's c candidates of B (probe_trace.comp).
   writeScene(closedBox(glm::vec3(wallB)));
   runUpdates(1);
   const shader::Probe probe = probeAt(readProbes(), 0, glm::vec3(kProbe));
-  const float expected = wallA + (wallB - wallA) / float(settings.probeHistoryCap + 1);
+  const float candidates = float(settings.raysPerProbe / shader::kProbeStrata - 1);
+  const float reused = std::min(float(settings.probeReservoirHistoryCap), candidates * float(settings.probeHistoryCap));
+  const float estimateStep = settings.probeReservoirs ? candidates / (candidates + reused) : 1.0f;
+  const float expected = wallA + estimateStep * (wallB - wallA) / float(settings.probeHistoryCap + 1);
   EXPECT_NEAR(sphereMean(radianceSh(probe).r), expected, 2e-3f * expected);
   EXPECT_EQ(historyCount(probe), settings.probeHistoryCap);
 }
@@ -791,12 +829,11 @@ DarkRoomProbes measureDarkRoomProbes(bool reservoirs, uint32_t warmUpdates, uint
 
 class ProbeStability : public testing::GpuTest {};
 
-// NOT MET YET, so disabled (run it with --gtest_also_run_disabled_tests): on 2026-11-22 (lavapipe, 2 cores) the first
-// reservoir design measured variation 0.0026 off and 0.0035 on (0.75×, worse, not ≥ 2× better), means −0.14 % apart
-// (docs/QUALITY.md, "Probe stability"). Likely cause: the reused reservoir is re-weighted by its sample's radiance
-// this frame, and the sun patch's edge voxels, re-injected from a random point each frame, flip between lit and
-// unlit, so the reused weight jumps with them; and the 3 candidates per stratum carry the band-1 part alone.
-TEST_F(ProbeStability, DISABLED_inTheDarkRoomReservoirsHalveTheFrameToFrameVariationOfProbeIrradianceAndKeepItsMean) {
+// SPEC §4.5's stability, as the issue asks: reservoirs on at least halve the probes' frame-to-frame variation in the
+// dark room and keep their mean within 3 %. Measured 2026-12-02 (lavapipe, 2 cores): off 0.0033, on 0.0011 (2.9×),
+// mean +1.2 % (docs/QUALITY.md, "Probe stability"). The whole run is deterministic on one driver; the margin is for
+// another's rounding. 1.5 M rays.
+TEST_F(ProbeStability, inTheDarkRoomReservoirsHalveTheFrameToFrameVariationOfProbeIrradianceAndKeepItsMean) {
   constexpr uint32_t kWarmUpdates = 40, kMeasuredUpdates = 16;
   const DarkRoomProbes off = measureDarkRoomProbes(false, kWarmUpdates, kMeasuredUpdates);
   const DarkRoomProbes on = measureDarkRoomProbes(true, kWarmUpdates, kMeasuredUpdates);

@@ -217,42 +217,73 @@ SSVGI_INLINE vec3 probeStratumDirection(uint stratum, uint index) {
   return uniformSphereDirection((cell + halton23(index)) / vec2(float(kProbeStrataZ), float(kProbeStrataAzimuth)));
 }
 
-// The mean of the SH2 basis over a stratum, (1/Ω_s)∫_s Y dω, analytically: the basis is linear in the direction, so it
-// is the basis of the stratum's mean direction vector. z is uniform over [z0, z1]; the radius √(1−z²) averages
-// (F(z1) − F(z0)) / (z1 − z0) with F(z) = (z√(1−z²) + asin z) / 2; cos φ and sin φ average over the azimuth cell.
-SSVGI_INLINE vec4 probeStratumMeanBasis(uint stratum) {
+// A stratum's bounds in the coordinates uniformSphereDirection maps area-preservingly: x, y the interval of z (z0 < z1),
+// z, w that of the azimuth φ. dω = dz·dφ over it.
+SSVGI_INLINE vec4 probeStratumBounds(uint stratum) {
   uvec2 cell = probeStratumCell(stratum);
   float z1 = 1.0f - 2.0f * float(cell.x) / float(kProbeStrataZ);
-  float z0 = z1 - 2.0f / float(kProbeStrataZ);
-  float f1 = 0.5f * (z1 * sqrt(max(0.0f, 1.0f - z1 * z1)) + asin(z1));
-  float f0 = 0.5f * (z0 * sqrt(max(0.0f, 1.0f - z0 * z0)) + asin(z0));
-  float meanRadius = (f1 - f0) / (z1 - z0);
   float azimuthWidth = 2.0f * kPi / float(kProbeStrataAzimuth);
-  float phi0 = azimuthWidth * float(cell.y), phi1 = phi0 + azimuthWidth;
-  float meanCos = (sin(phi1) - sin(phi0)) / azimuthWidth, meanSin = (cos(phi0) - cos(phi1)) / azimuthWidth;
-  return sh2Basis(vec3(meanRadius * meanCos, meanRadius * meanSin, 0.5f * (z0 + z1)));
+  return vec4(z1 - 2.0f / float(kProbeStrataZ), z1, azimuthWidth * float(cell.y), azimuthWidth * float(cell.y + 1u));
 }
 
-// A reservoir in one uint: bits 0–15 its unbiased contribution weight W (half float, sr), bits 16–22 the index of its
-// sample in the stratum's direction set, bits 24–31 M (candidates seen, at most 255). All zero: empty.
-SSVGI_INLINE uint packProbeReservoir(float weight, uint sampleIndex, uint count) {
-  return SSVGI_HALF_BITS(weight) | (sampleIndex << 16u) | (count << 24u);
+// ∫ √(1−z²) dz = (z√(1−z²) + asin z) / 2: the radius of the direction, integrated over z.
+SSVGI_INLINE float probeStratumRadiusIntegral(float z) { return 0.5f * (z * sqrt(max(0.0f, 1.0f - z * z)) + asin(z)); }
+
+// ∫_s ω dω over a stratum, analytically, with ω = (√(1−z²)·cos φ, √(1−z²)·sin φ, z).
+SSVGI_INLINE vec3 probeStratumDirectionIntegral(uint stratum) {
+  vec4 bounds = probeStratumBounds(stratum);
+  float radius = probeStratumRadiusIntegral(bounds.y) - probeStratumRadiusIntegral(bounds.x);
+  return vec3(radius * (sin(bounds.w) - sin(bounds.z)), radius * (cos(bounds.z) - cos(bounds.w)),
+              0.5f * (bounds.y * bounds.y - bounds.x * bounds.x) * (bounds.w - bounds.z));
 }
-SSVGI_INLINE float probeReservoirWeight(uint reservoir) { return SSVGI_HALF_FLOAT(reservoir & 0xffffu); }
+
+// The mean of the SH2 basis over a stratum, Ȳ_s = (1/Ω_s)∫_s Y dω: the basis is linear in the direction, so it is the
+// basis of the stratum's mean direction vector.
+SSVGI_INLINE vec4 probeStratumMeanBasis(uint stratum) {
+  return sh2Basis(probeStratumDirectionIntegral(stratum) / kProbeStratumSolidAngle);
+}
+
+// ∫_s f·(Y − Ȳ_s) dω for an SH2 function f (coefficients in SH order), analytically: the part of f's projection onto
+// the basis that lies in the stratum beyond what its mean over the stratum gives. f = a + b·ω, and ∫_s (Y − Ȳ_s) = 0,
+// so only b counts: band 1 gets Y1 · (C·b) with C = ∫_s ω ωᵀ dω − (∫_s ω)(∫_s ω)ᵀ / Ω_s, whose entries integrate
+// z², 1−z² and z√(1−z²) over z (the last to −(1−z²)^{3/2}/3) times cos², sin², cos·sin, cos and sin over φ.
+SSVGI_INLINE vec4 probeStratumDeviation(uint stratum, vec4 coefficients) {
+  vec4 bounds = probeStratumBounds(stratum);
+  float z0 = bounds.x, z1 = bounds.y, phi0 = bounds.z, phi1 = bounds.w;
+  float zSquared = (z1 * z1 * z1 - z0 * z0 * z0) / 3.0f;
+  float radiusSquared = (z1 - z0) - zSquared;
+  float r0 = max(0.0f, 1.0f - z0 * z0), r1 = max(0.0f, 1.0f - z1 * z1);
+  float zRadius = (r0 * sqrt(r0) - r1 * sqrt(r1)) / 3.0f;
+  float width = phi1 - phi0;
+  float cosSquared = 0.5f * width + 0.25f * (sin(2.0f * phi1) - sin(2.0f * phi0));
+  float sinSquared = width - cosSquared;
+  float cosSin = 0.5f * (sin(phi1) * sin(phi1) - sin(phi0) * sin(phi0));
+  vec3 mean = probeStratumDirectionIntegral(stratum);
+  mat3 second = mat3(radiusSquared * cosSquared, radiusSquared * cosSin, zRadius * (sin(phi1) - sin(phi0)),
+                     radiusSquared * cosSin, radiusSquared * sinSquared, zRadius * (cos(phi0) - cos(phi1)),
+                     zRadius * (sin(phi1) - sin(phi0)), zRadius * (cos(phi0) - cos(phi1)), zSquared * width);
+  mat3 covariance = second - outerProduct(mean, mean) / kProbeStratumSolidAngle;
+  vec3 slope = kSh2Band1Basis * vec3(coefficients.w, coefficients.y, coefficients.z);  // b, in x, y, z
+  vec3 band1 = kSh2Band1Basis * (covariance * slope);
+  return vec4(0.0f, band1.y, band1.z, band1.x);
+}
+
+// A reservoir in one uint: bits 0–15 the mean weight w̄ = Σw/M of the candidates it stands for (half float: a
+// luminance times steradians), bits 16–22 the index of its sample in the stratum's direction set, bits 24–31 M
+// (candidates seen, at most 255). All zero: empty.
+SSVGI_INLINE uint packProbeReservoir(float meanWeight, uint sampleIndex, uint count) {
+  return SSVGI_HALF_BITS(meanWeight) | (sampleIndex << 16u) | (count << 24u);
+}
+SSVGI_INLINE float probeReservoirMeanWeight(uint reservoir) { return SSVGI_HALF_FLOAT(reservoir & 0xffffu); }
 SSVGI_INLINE uint probeReservoirSample(uint reservoir) { return (reservoir >> 16u) & 0x7fu; }
 SSVGI_INLINE uint probeReservoirCount(uint reservoir) { return reservoir >> 24u; }
 
-// The reservoirs' target p̂: luminance (Rec. 709), the talk's "p(x) = sample luminance", plus a floor of this fraction
-// of the probe's mean luminance so far. The floor keeps p̂ > 0 on the whole stratum, so that a reservoir can hold any
-// direction — the support condition of unbiased resampling with reuse (Lin et al. 2022, "Generalized Resampled
-// Importance Sampling"): without it a direction dark when the reservoir formed and lit now would be missed by the
-// reused part until it decays.
-SSVGI_CONSTANT(float, kProbeReservoirTargetFloor, 0.0625f);
+// The reservoirs' target p̂: luminance (Rec. 709), the talk's "p(x) = sample luminance".
 SSVGI_INLINE float probeSampleLuminance(vec3 radiance) { return dot(radiance, vec3(0.2126f, 0.7152f, 0.0722f)); }
 
 // ---------------------------------------------------------------------------------------------------------------------
 // Less lag (SPEC §6.2): each probe keeps, beside its SH, in its word of the change buffer (packProbeChange): the mean
-// luminance of its updates' uniform rays but the brightest eighth (the trimmed mean T, blended as its SH), and the mean
+// luminance of its updates' rays but the brightest eighth (the trimmed mean T, blended as its SH), and the mean
 // square of how far an update's T strays from that history H, d = (T − H) / (T + H). An update with d² beyond
 // Settings::probeChangeThreshold² times that is a change, not noise: the probe's history count shrinks in proportion,
 // so that a light switched on is followed within a few updates. Trimmed, because a probe's noise is mostly a few bright

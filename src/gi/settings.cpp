@@ -5,8 +5,8 @@ namespace ssvgi {
 // SPEC §4.7: the tiers differ in the voxel range, the probe budget and the rays per probe; the pool shrinks with the
 // range. Medium and low keep 32×16×32 probes per level (level 0 then covers 32×16×32 m, level 2 128×64×128 m, past
 // their voxel ranges, as high's does). Low traces 16 rays per update, so its history cap doubles to keep a window of
-// all 1024 directions. Level 0's reservoirs (SPEC §4.5 "Stability") are off in every tier
-// until they reduce flicker (ssvgi.h); low's M cap is set for when they are on.
+// all 1024 directions. Level 0's reservoirs (SPEC §4.5 "Stability") are off in every tier,
+// for their lag (ssvgi.h); low's M cap is set for when they are on.
 Settings settingsForTier(QualityTier tier) {
   Settings settings;
   switch (tier) {

@@ -16,23 +16,33 @@
 // for 4096 probes (≈ 1.5 MB) that SPEC §5's 30 MB cannot spare, or trace them again.
 //
 // The reservoir update (weighted reservoir sampling with temporal reuse, Bitterli et al. 2020): the stored reservoir
-// (y, W, M) re-weighted with its sample's current target, w = p̂(y)·W·min(M, cap), then each candidate x with
-// w = p̂(x)/p(x), p = 1/Ω_s; the kept sample is drawn in proportion to w; W = Σw / (M·p̂(y')). The estimate of the
-// stratum's SH integral I_s = ∫_s L·Y dω (per colour channel) is then
-//     Î_s = L(y')·W·Ȳ_s + (Ω_s/c)·Σ_i L(x_i)·(Y(x_i) − Ȳ_s),   Ȳ_s = (1/Ω_s)∫_s Y dω,
-// why it is unbiased: I_s = Ȳ_s·∫_s L + ∫_s L·(Y − Ȳ_s) exactly; E[L(y')·W] = ∫_s L, the defining property of the
-// unbiased contribution weight (p̂ > 0 wherever L ≠ 0, kept by the floor of kProbeReservoirTargetFloor, and the
-// reused reservoir's p̂ and L evaluated this frame through its re-traced ray); and the c uniform candidates estimate
-// the second integral by plain stratified Monte Carlo. The reused part carries the stratum's total radiance, the
-// part that flickers when few rays find a small bright source; its luminance is Σw/M, a mean over up to cap
-// candidates of several updates, not over this update's few rays. Under constant radiance L·W = L·Ω_s exactly and
-// the estimate equals plain stratified sampling, so a uniform sky converges to the analytic SH either way.
+// (y, w̄, M) — w̄ the mean weight of the candidates it stands for — counts as min(M, cap) candidates of weight w̄, then
+// each candidate x adds w = p̂(x)/p(x), p = 1/Ω_s, p̂ its luminance (the talk: "p(x) = sample luminance"); the kept
+// sample y' is drawn in proportion to w, and W = Σw / (M·p̂(y')) is its unbiased contribution weight. The estimate of
+// the stratum's SH integral I_s = ∫_s L·Y dω (per colour channel) is then
+//     Î_s = L(y')·W·Ȳ_s + (Ω_s/c)·Σ_i (L(x_i) − H(x_i))·(Y(x_i) − Ȳ_s) + ∫_s H·(Y − Ȳ_s) dω,   Ȳ_s = (1/Ω_s)∫_s Y dω,
+// where H is the probe's radiance SH before this update (zero for a probe that starts afresh). I_s = Ȳ_s·∫_s L +
+// ∫_s L·(Y − Ȳ_s) exactly. The first part comes from the reservoir: L(y')·W is a mean over up to cap candidates of
+// several updates, not over this update's few rays, and it carries the stratum's total radiance — the part that
+// flickers when few rays find a small bright source. Its expectation is ∫_s L where the light holds still (the
+// defining property of W; p̂ = 0 only where L = 0, where there is nothing to miss); where it changes, the reused
+// candidates' weights are from the updates that drew them, so the reservoir lags, by no more than the probe's history
+// (the bound on M below). The old weights are not re-weighted by the re-traced ray's radiance this frame, as ReSTIR
+// does with an exact target: a voxel's radiance is itself an estimate, and a sample kept because it was bright when
+// drawn is, this frame, on average less bright, so re-weighting by it biased every reservoir low (−8 % in cornell)
+// and passed that one voxel's noise on to the whole stratum. The re-traced ray still gives L(y')/p̂(y'), the colour,
+// and a kept sample that has gone dark empties its reservoir (what it stood for is gone). The second part, by the
+// c uniform candidates, is stratified Monte Carlo with H as control variate, whose own integral is exact
+// (probeStratumDeviation); H is fixed before the candidates are drawn, so it changes only the variance. It is left
+// with the way the light varies across the stratum — band 1, which E(n) along the axes mostly depends on — and
+// without the control variate 3 candidates per stratum do worse there than the plain 32 rays (docs/QUALITY.md,
+// "Probe stability"). Under constant radiance L·W = L·Ω_s exactly, H converges to the constant, and the estimate is
+// the plain stratified one, so a uniform sky converges to the analytic SH either way.
 //
 // The luminance clamp (Settings::probeSampleClamp; the talk: "limit the current frame's brightness by the history's
-// maximum"): a candidate's radiance is scaled down to at most clamp × the brightest direction the probe's reservoirs
-// hold (their re-traced rays, this frame). In a static scene the reservoirs hold the brightest directions, so the
-// clamp never acts and the estimate stays unbiased; it only cuts a sudden outlier, which then enters a reservoir and
-// raises the maximum by the next update.
+// maximum"): a candidate's radiance enters the estimate scaled down to at most clamp × the brightest direction the
+// probe's reservoirs hold (their re-traced rays, this frame), and the reservoir in full: a bright direction found for
+// the first time raises the maximum by the next update, so the clamp only cuts a sudden outlier's first update.
 #include "gi/voxels/voxel_trace.glsl"
 #include "shared/probe_interface.h"
 
@@ -52,11 +62,15 @@ layout(binding = kBindProbeChanges) buffer Changes { uint changes[]; };
 // Per thread: its sample times the basis, for the five SH2 of a probe (radiance R, G, B, distance, normal-dot).
 const uint kSh2PerProbe = 5u;
 shared vec4 partialSums[kSh2PerProbe][kProbeTraceGroupSize];
-// With reservoirs: each ray's radiance (candidates clamped), for the reservoir update of its stratum.
+// With reservoirs: each ray's radiance, for the reservoir update of its stratum, and the factor the clamp scales it by
+// in the estimate (1: not clamped).
 shared vec3 rayRadiance[kProbeTraceGroupSize];
-// The luminance of each uniform ray but the brightest eighth, summed by the reduction: the update's trimmed mean,
-// which "Less lag" watches (shared/probe_interface.h).
+shared float clampScale[kProbeTraceGroupSize];
+// The luminance of each ray but the brightest eighth, over their count: summed, the update's trimmed mean, which
+// "Less lag" watches (shared/probe_interface.h).
 shared float trimmedLuminance[kProbeTraceGroupSize];
+// The history count this update blends with (followChange), for every thread: the reservoirs forget as much.
+shared uint blendedHistoryCount;
 
 vec3 skyRadiance(vec3 direction) {
   vec4 basis = sh2Basis(direction);
@@ -117,30 +131,37 @@ uint candidateSample(uint firstDirection, uint candidate) {
 }
 
 // The reservoir update of one stratum and its estimate Î_s of the radiance SH (see the top of this file), as the
-// three channels' SH2. `reservoir` is the stored one (empty for a probe that starts afresh); `targetFloor` the floor
-// of p̂. Writes the updated reservoir.
-Sh2Rgb updateStratum(uint stratum, StratifiedRays rays, uint firstDirection, uint reservoir, float targetFloor,
-                     uint reservoirSlot, uint seed) {
+// three channels' SH2. `reservoir` is the stored one (empty for a probe that starts afresh); `reusableUpdates` how many
+// updates' candidates it may stand for; `history` the control variate H. Writes the updated reservoir.
+Sh2Rgb updateStratum(uint stratum, StratifiedRays rays, uint firstDirection, uint reservoir, uint reusableUpdates,
+                     Sh2Rgb history, uint reservoirSlot, uint seed) {
   uint firstRay = stratum * rays.raysPerStratum;
   uint reusedRay = firstRay + rays.candidates;
   vec3 random = hashToUnitCube(uvec3(seed, update.reservoirs.z, stratum));
   float solidAngle = kProbeStratumSolidAngle;
 
-  // Temporal reuse: the stored reservoir's sample, weighed with its target this frame (its ray was just re-traced).
-  // Capping M bounds how long history outweighs new candidates (ReSTIR's M-cap).
-  uint reusedCount = min(probeReservoirCount(reservoir), update.reservoirs.y);
-  float weightSum = 0.0;
+  // Temporal reuse: the stored reservoir, its sample re-traced this frame (never clamped). Capping M bounds how long
+  // old candidates outweigh new ones (ReSTIR's M-cap); so does the probe's history (`reusableUpdates`), so that when
+  // Less lag shortens it (a light switched on, a wall moved) the reservoir forgets too.
   uint kept = probeReservoirSample(reservoir);
   vec3 keptRadiance = rayRadiance[reusedRay];
-  float keptTarget = probeSampleLuminance(keptRadiance) + targetFloor;
-  if (reusedCount > 0u) weightSum = keptTarget * probeReservoirWeight(reservoir) * float(reusedCount);
+  float keptTarget = probeSampleLuminance(keptRadiance);
+  uint reusedCount = keptTarget > 0.0 ? min(min(probeReservoirCount(reservoir), update.reservoirs.y),
+                                            rays.candidates * reusableUpdates)
+                                      : 0u;
+  float weightSum = probeReservoirMeanWeight(reservoir) * float(reusedCount);
 
   vec4 meanBasis = probeStratumMeanBasis(stratum);
   Sh2Rgb deviation = Sh2Rgb(vec4(0.0), vec4(0.0), vec4(0.0));
   for (uint candidate = 0u; candidate < rays.candidates; ++candidate) {
     uint sampleIndex = candidateSample(firstDirection, candidate);
+    // The reservoir weighs the candidate as traced, the estimate takes it clamped: a bright direction found for the
+    // first time enters the reservoir in full, its re-traced ray raises the clamp's maximum by the next update, and
+    // the clamp only delays light that keeps being found (without this, a small emitter that few candidates see
+    // would stay clamped for good: a dark bias).
     vec3 radiance = rayRadiance[firstRay + candidate];
-    float target = probeSampleLuminance(radiance) + targetFloor;
+    float target = probeSampleLuminance(radiance);
+    radiance *= clampScale[firstRay + candidate];
     float weight = target * solidAngle;  // p̂(x) / p(x), p = 1/Ω_s
     weightSum += weight;
     if (weightSum > 0.0 && random[candidate] * weightSum < weight) {
@@ -148,18 +169,62 @@ Sh2Rgb updateStratum(uint stratum, StratifiedRays rays, uint firstDirection, uin
       keptRadiance = radiance;
       keptTarget = target;
     }
-    // The second integral, ∫_s L·(Y − Ȳ_s), by the candidates: weight Ω_s / c each.
-    vec4 basis = (sh2Basis(probeStratumDirection(stratum, sampleIndex)) - meanBasis) * (solidAngle / float(rays.candidates));
-    deviation.r += radiance.r * basis;
-    deviation.g += radiance.g * basis;
-    deviation.b += radiance.b * basis;
+    // The second integral, ∫_s L·(Y − Ȳ_s), by the candidates, weight Ω_s / c each, less the control variate's.
+    vec4 basis = sh2Basis(probeStratumDirection(stratum, sampleIndex));
+    vec3 residual = radiance - vec3(dot(history.r, basis), dot(history.g, basis), dot(history.b, basis));
+    vec4 weightedDeviation = (basis - meanBasis) * (solidAngle / float(rays.candidates));
+    deviation.r += residual.r * weightedDeviation;
+    deviation.g += residual.g * weightedDeviation;
+    deviation.b += residual.b * weightedDeviation;
   }
+  deviation.r += probeStratumDeviation(stratum, history.r);
+  deviation.g += probeStratumDeviation(stratum, history.g);
+  deviation.b += probeStratumDeviation(stratum, history.b);
   uint count = reusedCount + rays.candidates;
   float contributionWeight = weightSum > 0.0 ? weightSum / (float(count) * keptTarget) : 0.0;
-  reservoirs[reservoirSlot] = packProbeReservoir(min(contributionWeight, 65504.0), kept, count);
+  uint storedCandidates = weightSum > 0.0 ? count : 0u;  // nothing bright seen: empty
+  reservoirs[reservoirSlot] = packProbeReservoir(min(weightSum / float(count), 65504.0), kept, storedCandidates);
   // The first integral, Ȳ_s·∫_s L, by the reservoir: L(y')·W.
   vec3 total = keptRadiance * contributionWeight;
   return Sh2Rgb(total.r * meanBasis + deviation.r, total.g * meanBasis + deviation.g, total.b * meanBasis + deviation.b);
+}
+
+// This update's dither of the probe's 8-bit values (SH, change statistics).
+float probeDither(uint probeIndex) { return hashToUnitCube(uvec3(probeIndex, update.reservoirs.z, kProbeStrata)).x; }
+
+// Less lag (SPEC §6.2; shared/probe_interface.h): an update whose trimmed mean strays from its history's by more than
+// its usual noise shortens the history in proportion. Its deviation is then not learnt as noise, so that a change does
+// not teach the probe to expect changes. Light that keeps growing (or fading) — two updates in a row straying the same
+// way — holds the history short for a while. Updates the probe's change statistics; returns the history count this
+// update blends with.
+uint followChange(uint probeIndex, uint storedCount, float trimmedMean) {
+  uint historyCount = storedCount;
+  float threshold = update.sampleClamp.y;
+  ProbeChange change =
+      storedCount > 0u ? unpackProbeChange(changes[probeIndex]) : ProbeChange(trimmedMean, 0.0, 0u, 0u);
+  float deviation = (trimmedMean - change.mean) / max(trimmedMean + change.mean, 1e-20);
+  float squaredDeviation = deviation * deviation;
+  uint stray = 0u;
+  if (threshold > 0.0 && storedCount >= kProbeChangeMinimumHistory) {
+    float noise = max(change.variance, kProbeChangeVarianceFloor);
+    float expected = threshold * threshold * noise;
+    if (squaredDeviation > kProbeDriftDeviations * kProbeDriftDeviations * noise) stray = deviation > 0.0 ? 1u : 2u;
+    if (stray != 0u && stray == change.lastStray) change.recoveryUpdates = kProbeChangeRecoveryUpdates;
+    if (squaredDeviation > expected) {
+      historyCount = uint(float(storedCount) * expected / squaredDeviation);
+      squaredDeviation = change.variance;
+    }
+  }
+  change.lastStray = stray;
+  if (change.recoveryUpdates > 0u) {
+    historyCount = min(historyCount, kProbeChangeRecoveryHistory);
+    --change.recoveryUpdates;
+  }
+  // Both as the SH blend: the mean over the updates so far, then a window of about the history cap.
+  change.variance = mix(change.variance, squaredDeviation, 1.0 / float(storedCount + 1u));
+  change.mean = mix(change.mean, trimmedMean, 1.0 / float(historyCount + 1u));
+  changes[probeIndex] = packProbeChange(change, probeDither(probeIndex));
+  return historyCount;
 }
 
 void main() {
@@ -173,6 +238,8 @@ void main() {
   // is stale). An invalid probe keeps its history count but has no offset: it is traced from its grid position.
   bool ownsSlot = probePlacement(state) != kProbeStateNeverTraced && stored.tag == probeCoordinateTag(probe);
   uint historyCount = ownsSlot ? probeHistoryCount(state) : 0u;
+  // The probe's radiance so far: what this update blends into, and the reservoirs' control variate.
+  Sh2Rgb history = historyCount > 0u ? probeRadianceSh(stored) : Sh2Rgb(vec4(0.0), vec4(0.0), vec4(0.0));
   uint firstDirection = ownsSlot ? probeNextDirection(state) : 0u;
   uint offsetCode = ownsSlot ? probeOffsetCode(state) : 0u;
   uint placement = ownsSlot ? probePlacement(state) : kProbeStateActive;
@@ -224,44 +291,51 @@ void main() {
   }
   barrier();
 
-  // This ray's share of the trimmed mean: its rank among the uniform rays (ties broken by index) decides whether it is
-  // among the brightest eighth, which are left out.
-  bool uniformRay = ray < raysPerProbe && !(keepsReservoirs && reusesReservoir);
-  uint uniformRays = keepsReservoirs ? kProbeStrata * rays.candidates : raysPerProbe;
+  // This ray's share of the trimmed mean: its rank among the rays (ties broken by index) decides whether it is among
+  // the brightest eighth, which are left out. With reservoirs their re-traced rays count too: they keep looking where
+  // the light was found, so they change little from one update to the next unless the light does, and leaving them
+  // out would make the statistic noisier than without reservoirs (24 rays instead of 32), which the change detection
+  // would take for change.
   float luminance = probeSampleLuminance(rayRadiance[ray]);
   uint brighter = 0u;
   for (uint other = 0u; other < raysPerProbe; ++other) {
-    bool otherUniform = !(keepsReservoirs && other % rays.raysPerStratum == rays.candidates);
     float otherLuminance = probeSampleLuminance(rayRadiance[other]);
-    if (otherUniform && (otherLuminance > luminance || (otherLuminance == luminance && other < ray))) ++brighter;
+    if (otherLuminance > luminance || (otherLuminance == luminance && other < ray)) ++brighter;
   }
-  uint trimmedRays = uniformRays / kProbeChangeTrimFraction;
+  uint trimmedRays = raysPerProbe / kProbeChangeTrimFraction;
   trimmedLuminance[ray] =
-      uniformRay && brighter >= trimmedRays ? luminance / float(uniformRays - trimmedRays) : 0.0;
+      ray < raysPerProbe && brighter >= trimmedRays ? luminance / float(raysPerProbe - trimmedRays) : 0.0;
+  barrier();
+  if (ray == 0u) {
+    float trimmedMean = 0.0;
+    for (uint other = 0u; other < raysPerProbe; ++other) trimmedMean += trimmedLuminance[other];
+    blendedHistoryCount = followChange(probeIndex, historyCount, trimmedMean);
+  }
+  barrier();
+  uint storedCount = historyCount;
+  historyCount = blendedHistoryCount;
+  // The updates a reservoir may stand for: as many as the probe blends with, and none once Less lag has cut the
+  // history to less than half — a change, not noise: the reservoir and the history would otherwise each follow part
+  // of the way, one after the other (cornell's lag: 79 frames, against 51 with this and 47 without reservoirs).
+  uint reusableUpdates = 2u * historyCount < storedCount ? 0u : historyCount;
 
   if (keepsReservoirs) {
     // The clamp: the brightest direction the reservoirs hold, re-traced this frame (none for empty reservoirs).
     float clampFactor = update.sampleClamp.x;
+    clampScale[ray] = 1.0;
     if (clampFactor > 0.0 && ray < raysPerProbe && !reusesReservoir) {
       float historyMaximum = 0.0;
       for (uint s = 0u; s < kProbeStrata; ++s)
         historyMaximum = max(historyMaximum, probeSampleLuminance(rayRadiance[s * rays.raysPerStratum + rays.candidates]));
       float luminance = probeSampleLuminance(rayRadiance[ray]);
       float limit = clampFactor * historyMaximum;
-      if (historyMaximum > 0.0 && luminance > limit) rayRadiance[ray] *= limit / luminance;
+      if (historyMaximum > 0.0 && luminance > limit) clampScale[ray] = limit / luminance;
     }
     barrier();
     // The strata's radiance estimates replace the rays' uniform ones (distance and normal-dot stay the candidates').
     if (ray < raysPerProbe && ray % rays.raysPerStratum == 0u) {
-      float historyMeanLuminance =
-          historyCount > 0u ? probeSampleLuminance(vec3(unpackSh2Half(stored.radianceRed).x,
-                                                        unpackSh2Half(stored.radianceGreen).x,
-                                                        unpackSh2Half(stored.radianceBlue).x)) /
-                                  (4.0 * kPi * kSh2Band0Basis)
-                            : 0.0;
-      Sh2Rgb estimate = updateStratum(stratum, rays, firstDirection, reservoir,
-                                      kProbeReservoirTargetFloor * max(historyMeanLuminance, 0.0), reservoirSlot,
-                                      probeIndex);
+      Sh2Rgb estimate =
+          updateStratum(stratum, rays, firstDirection, reservoir, reusableUpdates, history, reservoirSlot, probeIndex);
       partialSums[0][ray] = estimate.r;
       partialSums[1][ray] = estimate.g;
       partialSums[2][ray] = estimate.b;
@@ -273,7 +347,6 @@ void main() {
   for (uint stride = kProbeTraceGroupSize / 2u; stride > 0u; stride /= 2u) {
     if (ray < stride) {
       for (uint sh = 0u; sh < kSh2PerProbe; ++sh) partialSums[sh][ray] += partialSums[sh][ray + stride];
-      trimmedLuminance[ray] += trimmedLuminance[ray + stride];
     }
     barrier();
   }
@@ -284,39 +357,6 @@ void main() {
   // level, half from this first trace — the coarser value counts as one earlier update, so its weight then decays as
   // 1/(m+1) like any update's; without a coarser value, and always for distance and normal-dot (which belong to this
   // probe's own position and spacing), it takes the first trace whole. A stale slot may hold anything: no history.
-  Sh2Rgb history = historyCount > 0u ? probeRadianceSh(stored) : Sh2Rgb(vec4(0.0), vec4(0.0), vec4(0.0));
-  // Less lag (SPEC §6.2; shared/probe_interface.h): an update whose trimmed mean strays from its history's by more
-  // than its usual noise shortens the history in proportion. Its deviation is then not learnt as noise, so that a
-  // change does not teach the probe to expect changes. Light that keeps growing (or fading) — two updates in a row
-  // straying the same way — holds the history short for a while.
-  uint storedCount = historyCount;
-  float threshold = update.sampleClamp.y;
-  float trimmedMean = trimmedLuminance[0];
-  ProbeChange change =
-      storedCount > 0u ? unpackProbeChange(changes[probeIndex]) : ProbeChange(trimmedMean, 0.0, 0u, 0u);
-  float deviation = (trimmedMean - change.mean) / max(trimmedMean + change.mean, 1e-20);
-  float squaredDeviation = deviation * deviation;
-  uint stray = 0u;
-  if (threshold > 0.0 && storedCount >= kProbeChangeMinimumHistory) {
-    float noise = max(change.variance, kProbeChangeVarianceFloor);
-    float expected = threshold * threshold * noise;
-    if (squaredDeviation > kProbeDriftDeviations * kProbeDriftDeviations * noise) stray = deviation > 0.0 ? 1u : 2u;
-    if (stray != 0u && stray == change.lastStray) change.recoveryUpdates = kProbeChangeRecoveryUpdates;
-    if (squaredDeviation > expected) {
-      historyCount = uint(float(storedCount) * expected / squaredDeviation);
-      squaredDeviation = change.variance;
-    }
-  }
-  change.lastStray = stray;
-  if (change.recoveryUpdates > 0u) {
-    historyCount = min(historyCount, kProbeChangeRecoveryHistory);
-    --change.recoveryUpdates;
-  }
-  // Both as the SH blend: the mean over the updates so far, then a window of about the history cap.
-  change.variance = mix(change.variance, squaredDeviation, 1.0 / float(storedCount + 1u));
-  change.mean = mix(change.mean, trimmedMean, 1.0 / float(historyCount + 1u));
-  float dither = hashToUnitCube(uvec3(probeIndex, update.reservoirs.z, kProbeStrata)).x;
-  changes[probeIndex] = packProbeChange(change, dither);
   float alpha = 1.0 / float(historyCount + 1u);
   float radianceAlpha = alpha;
   Sh2Rgb startRadiance;
@@ -330,6 +370,7 @@ void main() {
   float range = update.distances.z;
   vec4 distanceHistory = historyCount > 0u ? probeDistanceSh(stored, update.distances.x) : vec4(0.0);
   vec4 normalDotHistory = historyCount > 0u ? probeNormalDotSh(stored) : vec4(0.0);
+  float dither = probeDither(probeIndex);
   uint distanceSh = packProbeUnitSh(mix(distanceHistory, partialSums[3][0], alpha) / range, dither);
   uint normalDotSh = packProbeUnitSh(mix(normalDotHistory, partialSums[4][0], alpha), dither);
   // With reservoirs each stratum's candidates walk its 128-direction set, c per update: the counter runs modulo
