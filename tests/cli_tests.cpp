@@ -358,6 +358,9 @@ TEST_P(CliRejects, withOneClearLineAndANonZeroExitCode) {
 INSTANTIATE_TEST_SUITE_P(
     BadInput, CliRejects,
     ::testing::Values(BadInvocation{"missingGltf", "render --scene /nonexistent/missing.gltf", "missing.gltf"},
+                      BadInvocation{"benchPixelRaysNotAnEvenSquare",
+                                    "bench --scene cornell --size 16x16 --frames 1 --rays 10 --pixel-rays 9",
+                                    "--pixel-rays 9: rays per pixel must be even squares"},
                       BadInvocation{"unknownScene", "render --scene no-such-scene", "not a built-in scene"},
                       BadInvocation{"malformedSize", "render --scene cornell --size 64by48", "--size 64by48"},
                       BadInvocation{"shortCamera", "render --scene cornell --camera 1,2,3", "--camera"},

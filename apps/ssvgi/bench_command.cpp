@@ -4,6 +4,7 @@
 
 #include "gpu/device.h"
 #include "renderer.h"
+#include "sky.h"
 #include "trace_benchmark.h"
 
 #include <nlohmann/json.hpp>
@@ -22,6 +23,8 @@ struct BenchOptions {
   GiOptions giOptions;
   uint32_t rays = 1'000'000;
   uint32_t repetitions = 5;
+  std::vector<uint32_t> pixelRays{4, 16, 64};
+  uint32_t pixelStride = 8;
   std::string out;  // JSON file; stdout when empty
 };
 
@@ -33,6 +36,7 @@ nlohmann::json traceMethodJson(const bench::TraceMethodResult& result) {
 }
 
 int runBench(const BenchOptions& options) {
+  bench::checkPixelTraceRayCounts(options.pixelRays);  // before minutes of rendering
   const ResolvedScene resolved = resolveScene(options.scene);
   gpu::Device device(gpu::DeviceDesc{options.scene.device, options.scene.validation});
   renderer::RendererSettings settings;
@@ -42,8 +46,9 @@ int runBench(const BenchOptions& options) {
   settings.lightViewSize = options.giOptions.lightViewSize;
   renderer::Renderer renderer(device, resolved.scene, settings);
   const std::string label = "bench " + resolved.scene.name;
+  const renderer::AnimatedState state = renderer::evaluateAnimation(resolved.scene, resolved.camera, 0.0f);
   for (uint32_t frame = 0; frame < options.frames; ++frame) {
-    renderer.render(renderer::evaluateAnimation(resolved.scene, resolved.camera, 0.0f));
+    renderer.render(state);
     drawProgress(label, frame + 1, options.frames);
   }
 
@@ -63,13 +68,30 @@ int runBench(const BenchOptions& options) {
   report["bricksLive"] = gi.bricksLive;
   report["voxelsValid"] = gi.voxelsValid;
 
-  const auto trace = bench::benchmarkVoxelTrace(device, *renderer.giContext(), resolved.camera, renderer.viewDistance(),
-                                                renderer.normal(), options.rays, options.repetitions);
+  const renderer::FloatImage viewDistance = renderer.viewDistance(), normal = renderer.normal();
+  const auto trace = bench::benchmarkVoxelTrace(device, *renderer.giContext(), resolved.camera, viewDistance, normal,
+                                                options.rays, options.repetitions);
   report["voxelTrace"] = {{"rays", trace.rays},
                           {"hierarchical", traceMethodJson(trace.hierarchical)},
                           {"flat", traceMethodJson(trace.flat)},
                           {"hierarchicalSpeedup", trace.hierarchical.raysPerSecond / trace.flat.raysPerSecond},
                           {"identicalHits", trace.identicalHits}};
+
+  const auto pixelTrace = bench::benchmarkPixelTrace(
+      device, *renderer.giContext(), resolved.camera, viewDistance, normal, renderer.indirectIrradiance(),
+      renderer::projectSkyToSh2(renderer::makeSkyParameters(resolved.scene.sky, state.sun)), options.pixelStride,
+      options.pixelRays, options.repetitions);
+  nlohmann::json perPixel = nlohmann::json::array();
+  for (const auto& result : pixelTrace.results)
+    perPixel.push_back({{"raysPerPixel", result.raysPerPixel},
+                        {"milliseconds", result.milliseconds},
+                        {"fullFrameMilliseconds", result.fullFrameMilliseconds},
+                        {"differenceFromSsvgi", result.differenceFromSsvgi},
+                        {"noise", result.noise}});
+  report["pixelTrace"] = {{"tracedPixels", pixelTrace.tracedPixels},
+                          {"surfacePixels", pixelTrace.surfacePixels},
+                          {"pixelStride", options.pixelStride},
+                          {"results", perPixel}};
 
   const std::string json = report.dump(2);
   if (options.out.empty()) {
@@ -92,7 +114,8 @@ CommandRunner addBenchCommand(CLI::App& app) {
   auto options = std::make_shared<BenchOptions>();
   CLI::App* command = app.add_subcommand(
       "bench", "Render a scene with ssvgi and report, as JSON, the GPU time of every pass, GI memory and counters, "
-               "and rays/s of the hierarchical against the flat voxel trace on the same rays");
+               "rays/s of the hierarchical against the flat voxel trace on the same rays, and a per-pixel voxel "
+               "trace's time and quality against ssvgi's (SPEC §7 baselines)");
   addSceneOptions(*command, options->scene);
   command->add_option("--frames", options->frames, "Frames to render before measuring (the last one is reported)")
       ->capture_default_str()
@@ -104,6 +127,14 @@ CommandRunner addBenchCommand(CLI::App& app) {
   command->add_option("--repetitions", options->repetitions, "Timed runs of each trace; the median is reported")
       ->capture_default_str()
       ->check(CLI::Range(1u, 100u));
+  command->add_option("--pixel-rays", options->pixelRays,
+                      "Rays per pixel of the per-pixel voxel trace baseline (SPEC §7), even squares; may be repeated")
+      ->capture_default_str()
+      ->check(CLI::Range(4u, 1024u));
+  command->add_option("--pixel-stride", options->pixelStride,
+                      "The per-pixel baseline traces every Nth surface pixel in X and Y; its time is scaled to all")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 64u));
   command->add_option("--out", options->out, "Write the JSON report to this file instead of standard output");
   return [options] { return runBench(*options); };
 }
