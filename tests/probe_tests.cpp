@@ -97,7 +97,8 @@ TEST(ProbeDirections, theStrataMeanBasisAndDeviationOfAnSh2FunctionMatchNumericI
     EXPECT_NEAR(shader::kProbeStratumSolidAngle, (bounds.y - bounds.x) * (bounds.w - bounds.z), 1e-6f);
     for (int k = 0; k < 4; ++k) EXPECT_NEAR(meanBasis[k], basisSum[k] / shader::kProbeStratumSolidAngle, 1e-5);
     for (size_t f = 0; f < functions.size(); ++f) {
-      const glm::vec4 analytic = shader::probeStratumDeviation(stratum, functions[f]);
+      const glm::vec4 analytic =
+          shader::probeStratumDeviation(shader::probeStratumCovariance(stratum), functions[f]);
       for (int k = 0; k < 4; ++k)
         EXPECT_NEAR(analytic[k], deviations[f][k], 1e-5) << "function " << f << " coefficient " << k;
     }

@@ -243,11 +243,9 @@ SSVGI_INLINE vec4 probeStratumMeanBasis(uint stratum) {
   return sh2Basis(probeStratumDirectionIntegral(stratum) / kProbeStratumSolidAngle);
 }
 
-// ∫_s f·(Y − Ȳ_s) dω for an SH2 function f (coefficients in SH order), analytically: the part of f's projection onto
-// the basis that lies in the stratum beyond what its mean over the stratum gives. f = a + b·ω, and ∫_s (Y − Ȳ_s) = 0,
-// so only b counts: band 1 gets Y1 · (C·b) with C = ∫_s ω ωᵀ dω − (∫_s ω)(∫_s ω)ᵀ / Ω_s, whose entries integrate
-// z², 1−z² and z√(1−z²) over z (the last to −(1−z²)^{3/2}/3) times cos², sin², cos·sin, cos and sin over φ.
-SSVGI_INLINE vec4 probeStratumDeviation(uint stratum, vec4 coefficients) {
+// C = ∫_s ω ωᵀ dω − (∫_s ω)(∫_s ω)ᵀ / Ω_s over a stratum, analytically (for probeStratumDeviation): its entries
+// integrate z², 1−z² and z√(1−z²) over z (the last to −(1−z²)^{3/2}/3) times cos², sin², cos·sin, cos and sin over φ.
+SSVGI_INLINE mat3 probeStratumCovariance(uint stratum) {
   vec4 bounds = probeStratumBounds(stratum);
   float z0 = bounds.x, z1 = bounds.y, phi0 = bounds.z, phi1 = bounds.w;
   float zSquared = (z1 * z1 * z1 - z0 * z0 * z0) / 3.0f;
@@ -262,7 +260,13 @@ SSVGI_INLINE vec4 probeStratumDeviation(uint stratum, vec4 coefficients) {
   mat3 second = mat3(radiusSquared * cosSquared, radiusSquared * cosSin, zRadius * (sin(phi1) - sin(phi0)),
                      radiusSquared * cosSin, radiusSquared * sinSquared, zRadius * (cos(phi0) - cos(phi1)),
                      zRadius * (sin(phi1) - sin(phi0)), zRadius * (cos(phi0) - cos(phi1)), zSquared * width);
-  mat3 covariance = second - outerProduct(mean, mean) / kProbeStratumSolidAngle;
+  return second - outerProduct(mean, mean) / kProbeStratumSolidAngle;
+}
+
+// ∫_s f·(Y − Ȳ_s) dω for an SH2 function f (coefficients in SH order) over the stratum whose probeStratumCovariance is
+// `covariance`: the part of f's projection onto the basis that lies in the stratum beyond what its mean over the
+// stratum gives. f = a + b·ω and ∫_s (Y − Ȳ_s) = 0, so only b counts: band 1 gets Y1 · (C·b).
+SSVGI_INLINE vec4 probeStratumDeviation(mat3 covariance, vec4 coefficients) {
   vec3 slope = kSh2Band1Basis * vec3(coefficients.w, coefficients.y, coefficients.z);  // b, in x, y, z
   vec3 band1 = kSh2Band1Basis * (covariance * slope);
   return vec4(0.0f, band1.y, band1.z, band1.x);

@@ -177,9 +177,10 @@ Sh2Rgb updateStratum(uint stratum, StratifiedRays rays, uint firstDirection, uin
     deviation.g += residual.g * weightedDeviation;
     deviation.b += residual.b * weightedDeviation;
   }
-  deviation.r += probeStratumDeviation(stratum, history.r);
-  deviation.g += probeStratumDeviation(stratum, history.g);
-  deviation.b += probeStratumDeviation(stratum, history.b);
+  mat3 covariance = probeStratumCovariance(stratum);
+  deviation.r += probeStratumDeviation(covariance, history.r);
+  deviation.g += probeStratumDeviation(covariance, history.g);
+  deviation.b += probeStratumDeviation(covariance, history.b);
   uint count = reusedCount + rays.candidates;
   float contributionWeight = weightSum > 0.0 ? weightSum / (float(count) * keptTarget) : 0.0;
   uint storedCandidates = weightSum > 0.0 ? count : 0u;  // nothing bright seen: empty
