@@ -28,6 +28,16 @@ TEST_F(GpuLayer, uploadAndReadbackRoundTripIsExact) {
   EXPECT_EQ(gpu::readBufferAs<uint32_t>(device(), buffer), values);
 }
 
+TEST_F(GpuLayer, aSubmitFromInsideARecordingIsRefusedAndTheDeviceStaysUsable) {
+  // The device re-records one command buffer: a nested submit would reset it mid-recording.
+  gpu::Buffer buffer(device(), "nested submit", 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  EXPECT_THROW(device().submitAndWait([&](VkCommandBuffer) { device().submitAndWait([](VkCommandBuffer) {}); }),
+               gpu::GpuError);
+  const std::vector<uint32_t> values{7, 8, 9, 10};
+  gpu::uploadBuffer(device(), buffer, std::as_bytes(std::span(values)));
+  EXPECT_EQ(gpu::readBufferAs<uint32_t>(device(), buffer), values);
+}
+
 TEST_F(GpuLayer, imageUploadAndReadbackRoundTripIsExact) {
   gpu::Image image(device(), {"round trip image", VK_FORMAT_R32G32B32A32_SFLOAT, 13, 7, 1, 1,
                               VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT});
@@ -89,22 +99,19 @@ TEST_F(GpuLayer, dispatchWithAMissingBindingNamesTheShaderAndSlot) {
   gpu::ComputePipeline pipeline(device(), tests::scale_values_comp);
   gpu::Buffer a(device(), "a", 64, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
   gpu::DescriptorArena descriptors(device());
-  VkCommandBuffer commandBuffer = device().allocateCommandBuffer();
-  VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-  vkBeginCommandBuffer(commandBuffer, &begin);
-  gpu::CommandList list(device(), commandBuffer, descriptors);
-  try {
-    list.dispatch(pipeline, gpu::Bindings().buffer(0, a), {1, 1, 1}, ScalePush{1, 0, 1});
-    ADD_FAILURE() << "expected an error";
-  } catch (const gpu::GpuError& error) {
-    EXPECT_NE(std::string(error.what()).find("tests/scale_values.comp: binding 1 (Output) is not bound"),
-              std::string::npos)
-        << error.what();
-  }
-  EXPECT_THROW(list.dispatch(pipeline, gpu::Bindings().buffer(0, a).buffer(1, a), {1, 1, 1}, uint32_t{0}),
-               gpu::GpuError);  // push constant size mismatch
-  vkEndCommandBuffer(commandBuffer);
-  device().freeCommandBuffer(commandBuffer);
+  device().submitAndWait([&](VkCommandBuffer commandBuffer) {
+    gpu::CommandList list(device(), commandBuffer, descriptors);
+    try {
+      list.dispatch(pipeline, gpu::Bindings().buffer(0, a), {1, 1, 1}, ScalePush{1, 0, 1});
+      ADD_FAILURE() << "expected an error";
+    } catch (const gpu::GpuError& error) {
+      EXPECT_NE(std::string(error.what()).find("tests/scale_values.comp: binding 1 (Output) is not bound"),
+                std::string::npos)
+          << error.what();
+    }
+    EXPECT_THROW(list.dispatch(pipeline, gpu::Bindings().buffer(0, a).buffer(1, a), {1, 1, 1}, uint32_t{0}),
+                 gpu::GpuError);  // push constant size mismatch
+  });
 }
 
 TEST_F(GpuLayer, memoryOfNamedResourcesIsTracked) {

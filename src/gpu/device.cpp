@@ -276,6 +276,11 @@ Device::Device(const DeviceDesc& desc) {
   poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
   poolInfo.queueFamilyIndex = queueFamily_;
   VK_CHECK(vkCreateCommandPool(device_, &poolInfo, nullptr, &commandPool_));
+  VkCommandBufferAllocateInfo commandBufferInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  commandBufferInfo.commandPool = commandPool_;
+  commandBufferInfo.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  commandBufferInfo.commandBufferCount = 1;
+  VK_CHECK(vkAllocateCommandBuffers(device_, &commandBufferInfo, &commandBuffer_));
   VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
   VK_CHECK(vkCreateFence(device_, &fenceInfo, nullptr, &fence_));
 }
@@ -318,40 +323,33 @@ std::string Device::description() const {
          versionString(properties_.apiVersion) + ", " + driverInfo_ + ")";
 }
 
-VkCommandBuffer Device::allocateCommandBuffer() {
-  if (!commandPool_) throw GpuError("this device wraps a host's device: it records commands but cannot submit them");
-  VkCommandBufferAllocateInfo info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-  info.commandPool = commandPool_;
-  info.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-  info.commandBufferCount = 1;
-  VkCommandBuffer commandBuffer = VK_NULL_HANDLE;
-  VK_CHECK(vkAllocateCommandBuffers(device_, &info, &commandBuffer));
-  return commandBuffer;
-}
-
-void Device::freeCommandBuffer(VkCommandBuffer commandBuffer) {
-  vkFreeCommandBuffers(device_, commandPool_, 1, &commandBuffer);
-}
-
-void Device::submitAndWait(VkCommandBuffer commandBuffer) {
+// One command buffer, re-recorded by every submit and freed only with its pool. Freeing the command buffer as soon as
+// its fence had signalled and allocating the next one (which gets the same handle back) corrupted the heap in about
+// one test process in thirty under the Khronos validation layer 1.3.239 on lavapipe, whenever the CPU was
+// oversubscribed: the crashes were inside the layer (vkCmdBeginDebugUtilsLabelEXT, vkAllocateDescriptorSets) while
+// the layer's own queue thread was still busy with the submission the fence wait had just returned from.
+void Device::submitAndWait(const std::function<void(VkCommandBuffer)>& record) {
   if (!queue_) throw GpuError("this device wraps a host's device: it records commands but cannot submit them");
+  if (recording_) throw GpuError("Device::submitAndWait was called while recording its own command buffer");
+  recording_ = true;
+  VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  try {
+    VK_CHECK(vkBeginCommandBuffer(commandBuffer_, &begin));  // resets it (the pool allows it)
+    record(commandBuffer_);
+    VK_CHECK(vkEndCommandBuffer(commandBuffer_));
+  } catch (...) {
+    vkResetCommandBuffer(commandBuffer_, 0);  // out of the recording state, for the next submit
+    recording_ = false;
+    throw;
+  }
+  recording_ = false;
   VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
   submit.commandBufferCount = 1;
-  submit.pCommandBuffers = &commandBuffer;
+  submit.pCommandBuffers = &commandBuffer_;
   VK_CHECK(vkQueueSubmit(queue_, 1, &submit, fence_));
   VK_CHECK(vkWaitForFences(device_, 1, &fence_, VK_TRUE, UINT64_MAX));
   VK_CHECK(vkResetFences(device_, 1, &fence_));
-}
-
-void Device::submitAndWait(const std::function<void(VkCommandBuffer)>& record) {
-  VkCommandBuffer commandBuffer = allocateCommandBuffer();
-  VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  VK_CHECK(vkBeginCommandBuffer(commandBuffer, &begin));
-  record(commandBuffer);
-  VK_CHECK(vkEndCommandBuffer(commandBuffer));
-  submitAndWait(commandBuffer);
-  freeCommandBuffer(commandBuffer);
 }
 
 void Device::setName(VkObjectType type, uint64_t handle, const std::string& name) const {

@@ -66,11 +66,8 @@ class Device {
   std::string description() const;  // "NVIDIA H100 (discrete GPU, Vulkan 1.3.x, driver …)"
   bool isCpuDevice() const { return properties_.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU; }
 
-  // Records `record` into a fresh command buffer, submits it and waits for it to finish.
+  // Records `record` into the device's command buffer, submits it and waits for it to finish. Not reentrant.
   void submitAndWait(const std::function<void(VkCommandBuffer)>& record);
-  VkCommandBuffer allocateCommandBuffer();
-  void freeCommandBuffer(VkCommandBuffer commandBuffer);
-  void submitAndWait(VkCommandBuffer commandBuffer);
 
   // VK_EXT_debug_utils: names show in RenderDoc / Nsight and in validation messages. No-ops without the extension.
   void setName(VkObjectType type, uint64_t handle, const std::string& name) const;
@@ -109,7 +106,9 @@ class Device {
   VkQueue queue_ = VK_NULL_HANDLE;
   uint32_t queueFamily_ = 0;
   VkCommandPool commandPool_ = VK_NULL_HANDLE;
+  VkCommandBuffer commandBuffer_ = VK_NULL_HANDLE;  // freed with the pool
   VkFence fence_ = VK_NULL_HANDLE;
+  bool recording_ = false;
   VkPhysicalDeviceProperties properties_{};
   VkPhysicalDeviceMemoryProperties memoryProperties_{};
   std::string driverInfo_;
