@@ -13,7 +13,7 @@ renderer::RendererSettings rendererSettings(const ScenarioRendering& rendering) 
   settings.width = rendering.width;
   settings.height = rendering.height;
   settings.gi = rendering.gi;
-  settings.lightViewSize = rendering.lightViewSize;
+  settings.extraViews = rendering.extraViews;
   return settings;
 }
 

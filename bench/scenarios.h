@@ -23,7 +23,7 @@ struct ScenarioRendering {
   uint32_t width = 640;
   uint32_t height = 360;
   Settings gi = settingsForTier(QualityTier::High);  // with the scene's detail scale applied (renderer::scaledToScene)
-  uint32_t lightViewSize = renderer::RendererSettings{}.lightViewSize;
+  renderer::ExtraViewSettings extraViews;  // the views beyond the camera the renderer gives ssvgi
 };
 
 // A scene and the still view a scenario watches it from.

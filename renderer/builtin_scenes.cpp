@@ -473,6 +473,75 @@ Scene makeCourtyard(const BuiltinSceneOptions& options) {
   return std::move(assembly).finish();
 }
 
+// A shaded gallery facing a sunlit wall behind the camera (SPEC §7): the gallery, 20 m long and 4 m deep (interior
+// x∈[−10,10], z∈[−4,0], 3.5 m high), is open towards +z onto a yard; across it, 12 m away, a 9 m high ochre wall faces
+// the gallery (its face at z = 12). The sun stands behind the gallery (azimuth 200°, 35° up): the gallery's back wall
+// and roof keep it in shade, the sun lights the yard beyond their shadow and the far wall. There is no sky: nearly
+// all the light in the gallery has bounced off that wall and the yard. The camera stands in the gallery looking at
+// its back wall: what lights its view is never on screen.
+Scene makeGallery(const BuiltinSceneOptions& options) {
+  SceneAssembly assembly("gallery");
+  MeshBuilder& ground = assembly.material("ground", {0.3f, 0.3f, 0.28f});
+  MeshBuilder& plaster = assembly.material("plaster", {0.75f, 0.73f, 0.7f});
+  MeshBuilder& ochre = assembly.material("ochre", {0.8f, 0.55f, 0.3f});
+  MeshBuilder& green = assembly.material("green", {0.15f, 0.45f, 0.12f});
+
+  ground.addBox({-40.0f, -0.2f, -40.0f}, {40.0f, 0.0f, 40.0f});
+  plaster.addBox({-10.5f, 0.0f, -4.5f}, {10.5f, 4.0f, -4.0f});   // back wall
+  plaster.addBox({-10.5f, 3.5f, -4.0f}, {10.5f, 4.0f, 0.5f});    // roof
+  plaster.addBox({-10.5f, 0.0f, -4.0f}, {-10.0f, 3.5f, 0.0f});   // end walls
+  plaster.addBox({10.0f, 0.0f, -4.0f}, {10.5f, 3.5f, 0.0f});
+  for (float x = -8.0f; x <= 8.0f; x += 4.0f) plaster.addBox({x - 0.25f, 0.0f, -0.25f}, {x + 0.25f, 3.5f, 0.25f});
+  green.addBox({-3.0f, 0.0f, -4.0f}, {-1.0f, 1.0f, -3.2f});  // a bench against the back wall
+  ochre.addBox({-14.0f, 0.0f, 12.0f}, {14.0f, 9.0f, 12.5f});
+
+  assembly.setSun(200.0f, 35.0f, {8.0f, 7.6f, 7.0f}, options);
+  assembly.addCamera("gallery", {0.5f, 1.6f, -0.5f}, {-1.0f, 1.3f, -4.5f}, 60.0f);
+  if (options.movingObject) {
+    // Walks along the gallery.
+    assembly.setMovingObject(cubeShape(0.6f), {0.9f, 0.5f, 0.2f}, {-6.0f, 0.3f, -2.0f}, {12.0f, 0.0f, 0.0f}, 8.0f);
+  }
+  return std::move(assembly).finish();
+}
+
+// A closed hall lit only by a uniform sky through two openings in its roof (SPEC §7): interior x∈[−6,6], y∈[0,6],
+// z∈[−10,10], walls, floor and roof 0.3 m thick, 2×2 m openings over z∈[−6,−4] and z∈[3,5]. The camera stands near
+// one end looking level along the hall: the roof above and behind it — with the nearer opening — is never on screen.
+Scene makeHall(const BuiltinSceneOptions& options) {
+  SceneAssembly assembly("hall");
+  MeshBuilder& walls = assembly.material("walls", {0.72f, 0.7f, 0.66f});
+  MeshBuilder& floor = assembly.material("floor", {0.5f, 0.42f, 0.34f});
+  MeshBuilder& red = assembly.material("red", {0.7f, 0.1f, 0.08f});
+  MeshBuilder& blue = assembly.material("blue", {0.1f, 0.18f, 0.6f});
+
+  constexpr float wall = 0.3f;
+  constexpr float halfX = 6.0f;
+  constexpr float halfZ = 10.0f;
+  constexpr float height = 6.0f;
+  floor.addBox({-halfX - wall, -wall, -halfZ - wall}, {halfX + wall, 0.0f, halfZ + wall});
+  walls.addBox({-halfX - wall, 0.0f, -halfZ - wall}, {-halfX, height, halfZ + wall});
+  walls.addBox({halfX, 0.0f, -halfZ - wall}, {halfX + wall, height, halfZ + wall});
+  walls.addBox({-halfX, 0.0f, -halfZ - wall}, {halfX, height, -halfZ});
+  walls.addBox({-halfX, 0.0f, halfZ}, {halfX, height, halfZ + wall});
+  // The roof as slabs around the two openings: the openings x∈[−1,1] at z∈[−6,−4] and z∈[3,5].
+  const float roofLow = height, roofHigh = height + wall;
+  walls.addBox({-halfX - wall, roofLow, -halfZ - wall}, {-1.0f, roofHigh, halfZ + wall});
+  walls.addBox({1.0f, roofLow, -halfZ - wall}, {halfX + wall, roofHigh, halfZ + wall});
+  walls.addBox({-1.0f, roofLow, -halfZ - wall}, {1.0f, roofHigh, -6.0f});
+  walls.addBox({-1.0f, roofLow, -4.0f}, {1.0f, roofHigh, 3.0f});
+  walls.addBox({-1.0f, roofLow, 5.0f}, {1.0f, roofHigh, halfZ + wall});
+  red.addBox({-3.0f, 0.75f, -5.0f}, {1.5f, 1.5f, 1.5f}, glm::radians(20.0f));
+  blue.addCylinder({3.0f, 0.0f, 0.0f}, 0.5f, 3.0f, 16);
+
+  assembly.scene().sky = {.kind = SkyKind::Uniform, .uniformRadiance = glm::vec3(1.0f)};
+  assembly.addCamera("hall", {1.5f, 1.6f, 8.5f}, {1.5f, 1.6f, -10.0f}, 60.0f);
+  if (options.movingObject) {
+    // Passes under the nearer opening.
+    assembly.setMovingObject(sphereShape(0.5f), {0.9f, 0.9f, 0.9f}, {-3.0f, 0.5f, 4.0f}, {6.0f, 0.0f, 0.0f}, 6.0f);
+  }
+  return std::move(assembly).finish();
+}
+
 // The analytic test case. Tests compute direct light from this geometry, so it is exact:
 //   plane     a box x∈[−10,10], y∈[−0.1,0], z∈[−10,10] (top face at y = 0), albedo 0.8 ("plane");
 //   occluder  a 0.5 m cube centred at (3, 1, 0): x∈[2.75,3.25], y∈[0.75,1.25], z∈[−0.25,0.25], albedo 0.8 ("occluder");
@@ -498,11 +567,13 @@ struct BuiltinScene {
   Scene (*make)(const BuiltinSceneOptions&);
 };
 
-constexpr std::array<BuiltinScene, 5> kBuiltinScenes = {{
+constexpr std::array<BuiltinScene, 7> kBuiltinScenes = {{
     {"cornell", makeCornell},
     {"two-rooms", makeTwoRooms},
     {"dark-room", makeDarkRoom},
     {"courtyard", makeCourtyard},
+    {"gallery", makeGallery},
+    {"hall", makeHall},
     {"plane-point-light", makePlanePointLight},
 }};
 

@@ -8,8 +8,9 @@
 
 namespace ssvgi::renderer {
 
-// The scenes generated in code (SPEC §7): "cornell", "two-rooms", "dark-room", "courtyard", and "plane-point-light"
-// (a point light over a plane, the analytic test case).
+// The scenes generated in code (SPEC §7): "cornell", "two-rooms", "dark-room", "courtyard", "gallery" (a shaded
+// gallery lit by a sunlit wall behind the camera), "hall" (a closed hall lit by the sky through roof openings the
+// camera does not see) and "plane-point-light" (a point light over a plane, the analytic test case).
 std::vector<std::string> builtinSceneNames();
 
 struct BuiltinSceneOptions {

@@ -85,12 +85,11 @@ Renderer::Renderer(gpu::Device& device, const Scene& scene, const RendererSettin
     desc.maxWidth = settings.width;
     desc.maxHeight = settings.height;
     desc.framesInFlight = 1;  // the renderer waits for every frame
+    extraViews_.emplace(device, scene, settings.extraViews, *settings.gi, bounds_);
+    desc.maxExtraViewSize = extraViews_->maxViewSize();
     auto context = ssvgi::Context::create(desc);
     if (!context.ok()) throw gpu::GpuError("ssvgi: " + context.error().message);
     gi_ = std::move(context.value());
-    // ssvgi takes views up to the frame's size (its Hi-Z pyramid is sized for that).
-    const uint32_t lightViewSize = std::min({settings.lightViewSize, settings.width, settings.height});
-    if (lightViewSize > 0 && !scene.lights.empty()) lightViews_.emplace(device, scene, lightViewSize);
   }
 }
 
@@ -105,8 +104,7 @@ ssvgi::View toView(const glm::mat4& viewProjection, glm::vec3 position, uint32_t
 }
 }  // namespace
 
-void Renderer::recordGi(gpu::CommandList& commands, const shader::FrameConstants& frame,
-                        std::vector<ssvgi::ExtraView> extraViews) {
+void Renderer::recordGi(gpu::CommandList& commands, const shader::FrameConstants& frame) {
   // ssvgi samples the host's images: they must be shader-readable, their writes visible, before it records.
   const GBuffer& gbuffer = currentGBuffer();
   const GBuffer& litGBuffer = gbuffers_[(frameIndex_ + 1) & 1u];
@@ -123,7 +121,7 @@ void Renderer::recordGi(gpu::CommandList& commands, const shader::FrameConstants
 
   ssvgi::FrameDesc desc;
   desc.frameIndex = frameIndex_;
-  desc.camera = toView(frame.viewProjection, glm::vec3(frame.cameraPositionAndNear), settings_.width, settings_.height);
+  desc.camera = toView(frame.viewProjection, glm::vec3(frame.cameraPosition), settings_.width, settings_.height);
   desc.depth.view = gbuffer.depth.view();
   desc.normal.view = gbuffer.normal.view();
   desc.hasLitFrame = hasLitFrame;
@@ -133,7 +131,7 @@ void Renderer::recordGi(gpu::CommandList& commands, const shader::FrameConstants
   desc.litNormal.view = litGBuffer.normal.view();
   const shader::Sh2Rgb sky = projectSkyToSh2(frame.sky);  // what probe rays that leave the voxel volume see
   std::memcpy(desc.skyRadianceSh.data(), &sky, sizeof(sky));
-  desc.extraViews = std::move(extraViews);
+  desc.extraViews = lastExtraViews_;
   if (const ssvgi::Error error = gi_->dispatch(desc, commands.handle())) throw gpu::GpuError("ssvgi: " + error.message);
   giView_ = desc.camera;
 }
@@ -165,11 +163,8 @@ void Renderer::render(const AnimatedState& state) {
     directLighting_.record(commands, frameConstants_, lights_, shadows_, gbuffer, pointSampler_.handle(),
                            directIrradiance_, viewDistance_);
     if (gi_) {
-      std::vector<ssvgi::ExtraView> extraViews;
-      if (lightViews_)
-        extraViews = lightViews_->record(commands, frameIndex_, frame, gpuScene_, lights_, shadows_,
-                                         pointSampler_.handle());
-      recordGi(commands, frame, std::move(extraViews));
+      lastExtraViews_ = extraViews_->record(commands, frame, gpuScene_, lights_, shadows_, pointSampler_.handle());
+      recordGi(commands, frame);
     }
     VkImageView indirect = indirectIrradiance_.view();
     if (giLighting)

@@ -3,7 +3,7 @@
 #include "gpu/profiler.h"
 #include "gpu_scene.h"
 #include "image_io.h"
-#include "light_views.h"
+#include "extra_views.h"
 #include "screen_passes.h"
 #include "shadow_pass.h"
 
@@ -36,9 +36,9 @@ struct RendererSettings {
   ShadowSettings shadows;
   std::optional<ssvgi::Settings> gi;  // run the GI library with these settings (SPEC §3 integration)
   bool giLighting = true;  // composite its indirect light; false: it runs for its debug views only, no ambient at all
-  // Pixels per side of the views of the local lights given to the GI as extra views (SPEC §6.3; LightViews), at most
-  // the frame's smaller side. 0: none.
-  uint32_t lightViewSize = 64;
+  // The views beyond the camera the renderer gives the GI (SPEC §6.3; ExtraViews): the sun's, a capture around the
+  // camera, the local lights'.
+  ExtraViewSettings extraViews;
 };
 
 // The host renderer (headless): shadows, G-buffer, direct light, the GI library, composite and tonemap for one scene,
@@ -54,6 +54,8 @@ class Renderer {
   // The GI library's counters, memory and pass times for the last frame (nothing when it does not run).
   std::optional<ssvgi::Stats> giStats();
   const ssvgi::Context* giContext() const { return gi_.get(); }
+  // The views beyond the camera given to ssvgi in the last frame (SPEC §6.3; ExtraViews).
+  const std::vector<ssvgi::ExtraView>& extraViews() const { return lastExtraViews_; }
   // One of ssvgi's debug images of the last frame's camera: the linear image and its tonemapped RGBA8.
   struct DebugImage {
     FloatImage radiance;
@@ -78,8 +80,7 @@ class Renderer {
 
  private:
   const GBuffer& currentGBuffer() const { return gbuffers_[frameIndex_ & 1u]; }
-  void recordGi(gpu::CommandList& commands, const shader::FrameConstants& frame,
-                std::vector<ssvgi::ExtraView> extraViews);
+  void recordGi(gpu::CommandList& commands, const shader::FrameConstants& frame);
 
   gpu::Device& device_;
   const Scene& scene_;
@@ -104,7 +105,8 @@ class Renderer {
   std::array<gpu::Image, 2> finalRadiance_;
   gpu::Image tonemapped_;
   std::unique_ptr<ssvgi::Context> gi_;
-  std::optional<LightViews> lightViews_;  // with the GI, in scenes with local lights
+  std::optional<ExtraViews> extraViews_;  // with the GI
+  std::vector<ssvgi::ExtraView> lastExtraViews_;
   ssvgi::View giView_;  // the camera of the frame rendered last: next frame's lit-frame camera
   gpu::Image debugRadiance_;
   std::vector<gpu::PassTiming> timings_;

@@ -25,7 +25,7 @@ void DirectLighting::record(gpu::CommandList& commands, const gpu::Buffer& frame
                         .sampled(shader::kBindLightingLocalShadows, shadows.localShadowMaps(), shadows.compareSampler())
                         .image(shader::kBindLightingIrradiance, irradiance)
                         .image(shader::kBindLightingViewDistance, viewDistance),
-                    pixels(irradiance));
+                    pixels(gbuffer.depth));
 }
 
 Composite::Composite(gpu::Device& device) : pipeline_(device, shaders::composite_comp) {}

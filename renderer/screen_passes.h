@@ -5,7 +5,8 @@
 
 namespace ssvgi::renderer {
 
-// DirectLighting: E_direct from the sun and local lights with shadows, and the view distance of each pixel.
+// DirectLighting: E_direct from the sun and local lights with shadows, and the view distance of each pixel, for each
+// pixel of the G-buffer (the output images may be larger: scratch shared by views of several sizes).
 class DirectLighting {
  public:
   explicit DirectLighting(gpu::Device& device);

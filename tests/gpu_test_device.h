@@ -11,7 +11,7 @@ namespace ssvgi::testing {
 
 gpu::Device& gpuTestDevice();
 
-// A GI context description on the shared test device, for frames of at most `maxSize`² pixels.
+// A GI context description on the shared test device, for frames and extra views of at most `maxSize`² pixels.
 inline ContextDesc gpuTestContextDesc(const Settings& settings, uint32_t maxSize) {
   ContextDesc desc;
   desc.instance = gpuTestDevice().instance();
@@ -19,7 +19,7 @@ inline ContextDesc gpuTestContextDesc(const Settings& settings, uint32_t maxSize
   desc.device = gpuTestDevice().device();
   desc.debugUtilsEnabled = true;
   desc.settings = settings;
-  desc.maxWidth = desc.maxHeight = maxSize;
+  desc.maxWidth = desc.maxHeight = desc.maxExtraViewSize = maxSize;
   return desc;
 }
 

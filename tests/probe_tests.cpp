@@ -883,10 +883,10 @@ TEST(ProbeCacheSettings, reservoirSettingsOutOfRangeAreRejectedWithTheFieldNamed
 
 TEST(ProbeCacheMemory, theHighTierProbeVolumeFitsItsShareOfTheMemoryBudget) {
   gpu::Device& device = testing::gpuTestDevice();
-  // Small frames: the Hi-Z pyramid grows with the resolution and counts with the screen-size targets (the final
-  // gather's 10 MB of SPEC §5), not with the 30 MB of GI data.
+  // Small frames and extra views: the Hi-Z pyramid grows with their resolution and counts with the screen-size
+  // targets (the final gather's 10 MB of SPEC §5), not with the 30 MB of GI data.
   ContextDesc desc;
-  desc.maxWidth = desc.maxHeight = 64;
+  desc.maxWidth = desc.maxHeight = desc.maxExtraViewSize = 64;
   desc.instance = device.instance();
   desc.physicalDevice = device.physicalDevice();
   desc.device = device.device();

@@ -254,9 +254,10 @@ TEST(SceneGeometry, cylinderAndSphereFacesPointOutward) {
 
 // ---- Every built-in scene, with and without its options ----
 
-TEST(BuiltinScenes, listsTheFiveScenesAndNothingElse) {
+TEST(BuiltinScenes, listsTheSevenScenesAndNothingElse) {
   EXPECT_EQ(builtinSceneNames(),
-            (std::vector<std::string>{"cornell", "two-rooms", "dark-room", "courtyard", "plane-point-light"}));
+            (std::vector<std::string>{"cornell", "two-rooms", "dark-room", "courtyard", "gallery", "hall",
+                                      "plane-point-light"}));
   EXPECT_FALSE(makeBuiltinScene("sponza").has_value());
 }
 

@@ -4,12 +4,18 @@
 #include "gi/context_internals.h"
 #include "gpu/resources.h"
 #include "gpu_test_device.h"
+#include "voxel_readback.h"
+#include "shared/gi_frame.h"
+#include "shared/sampling.h"
 #include "shared/voxel_interface.h"
 #include "ssvgi/ssvgi.h"
 
+#include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
+#include <cstdio>
+#include <limits>
 #include <map>
 #include <optional>
 #include <set>
@@ -26,30 +32,44 @@ struct TestBox {
   glm::vec3 radiance;
 };
 
-// The frames a host would hand ssvgi: depth, colour and normal of a scene of boxes seen from a camera, computed on
-// the CPU by ray casting (so the test knows exactly which surface each pixel shows).
+// What one pixel of a host frame shows.
+struct PixelSurface {
+  bool hit = false;
+  glm::vec3 position{0.0f};
+  glm::vec3 normal{0.0f};
+};
+
+// The frames a host would hand ssvgi: depth, colour and normal of a scene of boxes seen through a reversed-Z
+// view-projection (perspective or orthographic), computed on the CPU by ray casting (so the test knows exactly which
+// surface each pixel shows).
 struct HostFrame {
-  HostFrame(gpu::Device& device, const renderer::Camera& camera, const std::vector<TestBox>& boxes)
+  HostFrame(gpu::Device& device, const glm::mat4& viewMatrix, const glm::mat4& projection,
+            const std::vector<TestBox>& boxes)
       : depth(device, {"test depth", VK_FORMAT_R32_SFLOAT, kSize, kSize, 1, 1, VK_IMAGE_USAGE_SAMPLED_BIT}),
         color(device, {"test colour", VK_FORMAT_R32G32B32A32_SFLOAT, kSize, kSize, 1, 1, VK_IMAGE_USAGE_SAMPLED_BIT}),
-        normal(device, {"test normal", VK_FORMAT_R32G32B32A32_SFLOAT, kSize, kSize, 1, 1, VK_IMAGE_USAGE_SAMPLED_BIT}) {
-    const glm::mat4 viewProjection =
-        renderer::reversedZInfiniteProjection(camera.verticalFov, 1.0f, camera.nearPlane) * renderer::viewMatrix(camera);
+        normal(device, {"test normal", VK_FORMAT_R32G32B32A32_SFLOAT, kSize, kSize, 1, 1, VK_IMAGE_USAGE_SAMPLED_BIT}),
+        viewProjection(projection * viewMatrix),
+        surfaces(kSize * kSize) {
     const glm::mat4 inverse = glm::inverse(viewProjection);
-    const glm::vec3 forward = glm::normalize(camera.target - camera.position);
+    const auto unproject = [&](glm::vec2 ndc, float depthValue) {
+      const glm::vec4 world = inverse * glm::vec4(ndc, depthValue, 1.0f);
+      return glm::vec3(world) / world.w;
+    };
     std::vector<float> depths(kSize * kSize, 0.0f), colors(kSize * kSize * 4, 0.0f), normals(kSize * kSize * 4, 0.0f);
     for (uint32_t y = 0; y < kSize; ++y) {
       for (uint32_t x = 0; x < kSize; ++x) {
+        // The pixel's ray from the near plane (NDC depth 1), towards greater depth.
         const glm::vec2 ndc((float(x) + 0.5f) / kSize * 2.0f - 1.0f, 1.0f - (float(y) + 0.5f) / kSize * 2.0f);
-        const glm::vec4 far = inverse * glm::vec4(ndc, 0.5f, 1.0f);
-        const glm::vec3 direction = glm::normalize(glm::vec3(far) / far.w - camera.position);
+        const glm::vec3 origin = unproject(ndc, 1.0f);
+        const glm::vec3 direction = glm::normalize(unproject(ndc, 0.5f) - origin);
+        const size_t i = y * kSize + x;
         float nearest = 1e30f;
         for (const TestBox& box : boxes) {
           glm::vec3 enterNormal(0.0f);
           float enter = 0.0f, exit = 1e30f;
           for (int axis = 0; axis < 3; ++axis) {
-            float t0 = (box.min[axis] - camera.position[axis]) / direction[axis];
-            float t1 = (box.max[axis] - camera.position[axis]) / direction[axis];
+            float t0 = (box.min[axis] - origin[axis]) / direction[axis];
+            float t1 = (box.max[axis] - origin[axis]) / direction[axis];
             glm::vec3 axisNormal(0.0f);
             axisNormal[axis] = -1.0f;
             if (t0 > t1) std::swap(t0, t1), axisNormal[axis] = 1.0f;
@@ -58,8 +78,10 @@ struct HostFrame {
           }
           if (enter < exit && enter > 0.0f && enter < nearest) {
             nearest = enter;
-            const size_t i = y * kSize + x;
-            depths[i] = camera.nearPlane / (enter * glm::dot(direction, forward));
+            const glm::vec3 hit = origin + enter * direction;
+            const glm::vec4 clip = viewProjection * glm::vec4(hit, 1.0f);
+            depths[i] = clip.z / clip.w;
+            surfaces[i] = {true, hit, enterNormal};
             for (int c = 0; c < 3; ++c) {
               colors[i * 4 + c] = box.radiance[c];
               normals[i * 4 + c] = enterNormal[c];
@@ -73,13 +95,19 @@ struct HostFrame {
     gpu::uploadImage(device, normal, std::as_bytes(std::span(normals)));
     const float* matrix = glm::value_ptr(viewProjection);
     std::copy(matrix, matrix + 16, view.viewProjection.begin());
-    view.position = {camera.position.x, camera.position.y, camera.position.z};
+    const glm::vec3 eye = glm::inverse(viewMatrix)[3];
+    view.position = {eye.x, eye.y, eye.z};
     view.width = view.height = kSize;
   }
+  HostFrame(gpu::Device& device, const renderer::Camera& camera, const std::vector<TestBox>& boxes)
+      : HostFrame(device, renderer::viewMatrix(camera),
+                  renderer::reversedZInfiniteProjection(camera.verticalFov, 1.0f, camera.nearPlane), boxes) {}
 
   gpu::Image depth;
   gpu::Image color;
   gpu::Image normal;
+  glm::mat4 viewProjection;
+  std::vector<PixelSurface> surfaces;  // per pixel, rows from the top
   View view;
 };
 
@@ -161,20 +189,8 @@ class VoxelScene : public testing::GpuTest {
     return state;
   }
 
-  // World voxel coordinate -> its Voxel, for every occupied voxel of every live brick.
-  static std::map<std::tuple<int, int, int>, shader::Voxel> occupiedVoxels(const GpuState& state) {
-    std::map<std::tuple<int, int, int>, shader::Voxel> occupied;
-    for (uint32_t b = 0; b < state.pool.bumpCount; ++b) {
-      const shader::Brick& brick = state.bricks[b];
-      if (brick.coordinate.w == 0) continue;
-      for (uint32_t v = 0; v < shader::kVoxelsPerBrick; ++v) {
-        const uint32_t word = v < 32 ? brick.occupancy.x : brick.occupancy.y;
-        if (!(word & (1u << (v & 31u)))) continue;
-        const glm::ivec3 voxel = glm::ivec3(brick.coordinate) * 4 + glm::ivec3(v & 3, (v >> 2) & 3, v >> 4);
-        occupied[{voxel.x, voxel.y, voxel.z}] = state.voxels[b * shader::kVoxelsPerBrick + v];
-      }
-    }
-    return occupied;
+  static std::map<testing::VoxelCoordinate, shader::Voxel> occupiedVoxels(const GpuState& state) {
+    return testing::occupiedVoxels(state.bricks, state.voxels, state.pool.bumpCount);
   }
 
   // Every invariant of the pool: live bricks are exactly those the lookup points to, at their own cells; the free
@@ -383,6 +399,178 @@ TEST_F(VoxelScene, anExtraViewLitByDirectLightOnlyTakesTheProbesLightReflectedBy
   EXPECT_EQ(checked, 16u);
 }
 
+// SceneVoxelization's rules (SPEC §4.3 and the refinements in scene_voxelization.comp) for the voxels of a static
+// view, on the CPU: frame by frame, the same random point of each voxel (shared/sampling.h's hash), the pixel it
+// projects to, and Valid / refresh / Invalid from the surface that pixel shows exactly. A decision that lies within
+// float rounding of a threshold (a point on a pixel's edge, a surface point on a voxel's face) marks the voxel as one
+// the GPU may decide otherwise.
+class InjectionOracle {
+ public:
+  InjectionOracle(float voxelSize, uint32_t invalidFramesToClear)
+      : voxelSize_(voxelSize), invalidFramesToClear_(invalidFramesToClear) {}
+
+  // Every voxel a pixel of `frame` shows a surface in can become occupied; one that holds no seen point never is.
+  void addCandidates(const HostFrame& frame) {
+    for (const PixelSurface& surface : frame.surfaces)
+      if (surface.hit) voxels_.try_emplace(key(glm::ivec3(glm::floor(held(surface) / voxelSize_))));
+  }
+
+  // One injection of `frame` (an extra view, or the lit frame) with frame index `frameIndex`.
+  void inject(const HostFrame& frame, uint32_t frameIndex) {
+    const glm::mat4 inverse = glm::inverse(frame.viewProjection);
+    for (auto& [coordinate, voxel] : voxels_) {
+      const glm::ivec3 worldVoxel(std::get<0>(coordinate), std::get<1>(coordinate), std::get<2>(coordinate));
+      const glm::vec3 voxelMin = glm::vec3(worldVoxel) * voxelSize_;
+      const glm::vec3 samplePoint =
+          voxelMin + shader::hashToUnitCube(glm::uvec3(worldVoxel) ^ glm::uvec3(0u, 0u, frameIndex * 0x9e3779b9u)) *
+                         voxelSize_;
+      const glm::vec4 clip = frame.viewProjection * glm::vec4(samplePoint, 1.0f);
+      const glm::vec3 ndc = glm::vec3(clip) / clip.w;
+      const glm::vec2 pixel = shader::giNdcToPixel(glm::vec2(ndc), glm::vec2(kSize));
+      const glm::vec2 fraction = glm::fract(pixel);
+      voxel.ambiguous |= glm::any(glm::lessThan(glm::min(fraction, 1.0f - fraction), glm::vec2(1e-4f)));
+      if (!(clip.w > 0.0f && ndc.z <= 1.0f && ndc.z >= 0.0f) || glm::any(glm::lessThan(pixel, glm::vec2(0.0f))) ||
+          glm::any(glm::greaterThanEqual(pixel, glm::vec2(kSize))))
+        continue;  // Skip: not seen
+      const PixelSurface& surface = frame.surfaces[size_t(pixel.y) * kSize + size_t(pixel.x)];
+      if (!surface.hit) {
+        countSeenThrough(voxel);
+        continue;
+      }
+      const glm::vec3 heldPoint = held(surface);
+      const glm::vec3 fromMin = heldPoint - voxelMin;
+      const bool holds = glm::all(glm::greaterThanEqual(fromMin, glm::vec3(0.0f))) &&
+                         glm::all(glm::lessThan(fromMin, glm::vec3(voxelSize_)));
+      voxel.ambiguous |= nearAnyOf(fromMin, 0.0f) || nearAnyOf(fromMin, voxelSize_);
+      const glm::vec4 nearPoint = inverse * glm::vec4(glm::vec2(ndc), 1.0f, 1.0f);
+      const glm::vec4 fartherPoint = inverse * glm::vec4(glm::vec2(ndc), 0.5f, 1.0f);
+      const glm::vec3 rayDirection =
+          glm::normalize(glm::vec3(fartherPoint) / fartherPoint.w - glm::vec3(nearPoint) / nearPoint.w);
+      const float inFrontBy = glm::dot(surface.position - samplePoint, rayDirection) - 0.5f * voxelSize_;
+      const float planeCut = 0.5f * voxelSize_ * glm::dot(glm::abs(surface.normal), glm::vec3(1.0f)) -
+                             std::abs(glm::dot(voxelMin + 0.5f * voxelSize_ - heldPoint, surface.normal));
+      voxel.ambiguous |= std::abs(inFrontBy) < 1e-4f || std::abs(planeCut) < 1e-4f;
+      const bool cut = planeCut > 0.0f;
+      const bool refreshes = voxel.occupied && cut &&
+                             glm::distance(heldPoint, glm::clamp(heldPoint, voxelMin, voxelMin + voxelSize_)) <=
+                                 voxelSize_ &&
+                             glm::dot(voxel.normal, surface.normal) > 0.9f;
+      if (holds || refreshes) {
+        voxel.occupied = true;
+        voxel.seenThrough = 0;
+        if (holds) voxel.normal = surface.normal;
+      } else if (inFrontBy > 0.0f && !cut) {
+        countSeenThrough(voxel);
+      }
+    }
+  }
+
+  // The voxels that end occupied, and those whose fate the GPU's rounding may change.
+  std::set<std::tuple<int, int, int>> occupied() const { return select([](const Voxel& v) { return v.occupied; }); }
+  std::set<std::tuple<int, int, int>> ambiguous() const { return select([](const Voxel& v) { return v.ambiguous; }); }
+
+ private:
+  struct Voxel {
+    bool occupied = false;
+    bool ambiguous = false;
+    uint32_t seenThrough = 0;
+    glm::vec3 normal{0.0f};
+  };
+  static std::tuple<int, int, int> key(glm::ivec3 v) { return {v.x, v.y, v.z}; }
+  glm::vec3 held(const PixelSurface& surface) const { return surface.position - surface.normal * (0.01f * voxelSize_); }
+  static bool nearAnyOf(glm::vec3 values, float boundary) {
+    return glm::any(glm::lessThan(glm::abs(values - boundary), glm::vec3(1e-4f)));
+  }
+  void countSeenThrough(Voxel& voxel) const {
+    if (!voxel.occupied) return;
+    if (++voxel.seenThrough >= invalidFramesToClear_) voxel = Voxel{false, voxel.ambiguous, 0, glm::vec3(0.0f)};
+  }
+  template <typename Predicate>
+  std::set<std::tuple<int, int, int>> select(Predicate predicate) const {
+    std::set<std::tuple<int, int, int>> selected;
+    for (const auto& [coordinate, voxel] : voxels_)
+      if (predicate(voxel)) selected.insert(coordinate);
+    return selected;
+  }
+
+  float voxelSize_;
+  uint32_t invalidFramesToClear_;
+  std::map<std::tuple<int, int, int>, Voxel> voxels_;
+};
+
+TEST_F(VoxelScene, anOrthographicViewInjectsExactlyTheVoxelsItsRulesGive) {
+  // An orthographic extra view (a sun's reflective shadow map) from 48° above the horizon over a 6 m square: the floor
+  // and a 1 m box standing on it, whose faces lie off the voxel grid. The camera looks up at an empty sky and has no
+  // lit frame, so what the voxels hold comes from this view alone. After 32 injections the occupied voxels must be
+  // exactly those the CPU oracle of the injection rules gives, each in its surface's colour and normal. Then the view's
+  // near plane moves into the box: it sees the floor through the box's clipped top, which must not clear the box's
+  // voxels in front of that plane. Then the box is taken away: its voxels, seen through, go as the oracle says.
+  const Settings settings = smallSettings();
+  create(settings);
+  const glm::vec3 centre(0.5f, 0.1f, 0.5f);
+  const glm::vec3 towardsViewer = glm::normalize(glm::vec3(1.0f, 1.4f, 0.8f));
+  const glm::mat4 view = glm::lookAtRH(centre + 8.0f * towardsViewer, centre, glm::vec3(0.0f, 1.0f, 0.0f));
+  const glm::mat4 projection = renderer::reversedZOrthographicProjection(-3.0f, 3.0f, -3.0f, 3.0f, 1.0f, 16.0f);
+  const TestBox box{{0.3f, 0.1f, -0.4f}, {1.3f, 1.1f, 0.6f}, {0.125f, 0.5f, 0.25f}};
+  const HostFrame withBox(device(), view, projection, {kFloor, box});
+  const HostFrame floorOnly(device(), view, projection, {kFloor});
+  // The box's top lies 6.8 to 7.7 m from the view's plane.
+  const HostFrame nearPlaneInTheBox(device(), view,
+                                    renderer::reversedZOrthographicProjection(-3.0f, 3.0f, -3.0f, 3.0f, 7.3f, 16.0f),
+                                    {kFloor, box});
+  renderer::Camera upwards = lookingDown({0.5f, 1.0f, 0.5f});
+  upwards.target = upwards.position + glm::vec3(0.0f, 1.0f, 0.0f);
+  const HostFrame sky(device(), upwards, {});
+
+  InjectionOracle oracle(kVoxel, settings.invalidFramesToClear);
+  oracle.addCandidates(withBox);
+  oracle.addCandidates(floorOnly);
+  oracle.addCandidates(nearPlaneInTheBox);
+  auto injectFrames = [&](const HostFrame& frame, uint32_t frames) {
+    for (uint32_t i = 0; i < frames; ++i) {
+      oracle.inject(frame, frameIndex_);
+      dispatch(sky, nullptr, {extraView(frame)});
+    }
+  };
+  auto expectOracle = [&](const char* phase) {
+    SCOPED_TRACE(phase);
+    const auto occupied = occupiedVoxels(readState());
+    const auto expected = oracle.occupied(), ambiguous = oracle.ambiguous();
+    uint32_t compared = 0;
+    for (const auto& [coordinate, voxel] : occupied) {
+      const auto [x, y, z] = coordinate;
+      if (ambiguous.count(coordinate)) continue;
+      ++compared;
+      EXPECT_TRUE(expected.count(coordinate)) << "voxel " << x << "," << y << "," << z << " should be empty";
+      // A voxel of the floor's layer (y = 0) facing up holds the floor; any other, the box (a voxel at the box's
+      // foot holds the colour of the surface whose normal it keeps).
+      const glm::vec3 normal = shader::unpackOctahedralNormal(voxel.surfaceAndLastHit & 0xffffu);
+      const glm::vec3 colour = y == 0 && normal.y > 0.99f ? kFloor.radiance : box.radiance;
+      const glm::vec3 radiance = shader::unpackR11G11B10F(voxel.radiance);
+      EXPECT_NEAR(radiance.y, colour.y, colour.y / 64.0f) << "voxel " << x << "," << y << "," << z;
+      EXPECT_GT(glm::max(glm::abs(normal).x, glm::max(glm::abs(normal).y, glm::abs(normal).z)), 0.99f)
+          << "voxel " << x << "," << y << "," << z << ": not a box face's normal";
+    }
+    for (const auto& coordinate : expected) {
+      if (ambiguous.count(coordinate)) continue;
+      const auto [x, y, z] = coordinate;
+      EXPECT_TRUE(occupied.count(coordinate)) << "voxel " << x << "," << y << "," << z << " missing";
+    }
+    EXPECT_GT(compared, 300u);
+    EXPECT_LT(ambiguous.size(), expected.size() / 10) << "too few voxels decided clearly to test";
+    std::printf("%s: %u voxels compared, all as the oracle says; %zu left out as ambiguous\n", phase, compared,
+                ambiguous.size());
+  };
+  injectFrames(withBox, 32);
+  expectOracle("the floor and the box");
+  const size_t boxVoxels = oracle.occupied().size();
+  injectFrames(nearPlaneInTheBox, 2 * settings.invalidFramesToClear);
+  expectOracle("the near plane in the box");
+  EXPECT_GE(oracle.occupied().size(), boxVoxels) << "voxels in front of the near plane were cleared";
+  injectFrames(floorOnly, 2 * settings.invalidFramesToClear);
+  expectOracle("the box taken away");
+}
+
 TEST_F(VoxelScene, badExtraViewsAreRefusedWithTheFieldNamed) {
   create(smallSettings());
   const HostFrame frame(device(), lookingDown({0.5f, 6.0f, 0.5f}), {kFloor});
@@ -407,8 +595,43 @@ TEST_F(VoxelScene, badExtraViewsAreRefusedWithTheFieldNamed) {
   ExtraView tooLarge = extraView(frame);
   tooLarge.camera.width = kSize + 1;
   const Error large = dispatchWith({tooLarge});
-  EXPECT_NE(large.message.find("exceeds ContextDesc::maxWidth/maxHeight"), std::string::npos) << large.message;
+  EXPECT_NE(large.message.find("FrameDesc::extraViews[0].camera: 65×64 exceeds ContextDesc::maxExtraViewSize"),
+            std::string::npos)
+      << large.message;
   EXPECT_FALSE(dispatchWith({extraView(frame)})) << "a valid extra view";
+}
+
+TEST_F(VoxelScene, nonFiniteOrSingularViewsAndFarAwayCamerasAreRefused) {
+  // A NaN or a singular matrix would make every pass's loops over the volume meaningless (issue 19 saw ProbePlacement
+  // take 30 s a frame for a NaN camera); refused with the field named, and the context stays usable.
+  create(smallSettings());
+  const HostFrame frame(device(), lookingDown({0.5f, 6.0f, 0.5f}), {kFloor});
+  auto dispatchWith = [&](const View& camera, const std::vector<ExtraView>& views = {}) {
+    FrameDesc desc;
+    desc.camera = camera;
+    desc.depth.view = frame.depth.view();
+    desc.normal.view = frame.normal.view();
+    desc.extraViews = views;
+    Error error;
+    device().submitAndWait([&](VkCommandBuffer commandBuffer) { error = context_->dispatch(desc, commandBuffer); });
+    return error;
+  };
+  View nan = frame.view;
+  nan.viewProjection[5] = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_NE(dispatchWith(nan).message.find("FrameDesc::camera.viewProjection: not finite"), std::string::npos);
+  View singular = frame.view;
+  singular.viewProjection = {};
+  EXPECT_NE(dispatchWith(singular).message.find("FrameDesc::camera.viewProjection: not invertible"), std::string::npos);
+  View farAway = frame.view;
+  farAway.position[1] = 1e30f;
+  const Error far = dispatchWith(farAway);
+  EXPECT_EQ(far.status, Status::InvalidDescription);
+  EXPECT_NE(far.message.find("FrameDesc::camera.position"), std::string::npos) << far.message;
+  ExtraView badView = extraView(frame);
+  badView.camera.viewProjection[0] = std::numeric_limits<float>::infinity();
+  EXPECT_NE(dispatchWith(frame.view, {badView}).message.find("FrameDesc::extraViews[0].camera.viewProjection"),
+            std::string::npos);
+  EXPECT_FALSE(dispatchWith(frame.view)) << "the context refuses good frames after bad ones";
 }
 
 // Pool index of the live brick at a world brick coordinate, if any.

@@ -9,8 +9,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <memory>
 
 namespace ssvgi::cli {
@@ -20,6 +22,7 @@ namespace {
 struct BenchOptions {
   SceneOptions scene;
   uint32_t frames = 16;
+  uint32_t measuredFrames = 8;  // the last frames whose pass times are reported (median per pass)
   GiOptions giOptions;
   uint32_t rays = 1'000'000;
   uint32_t repetitions = 5;
@@ -43,26 +46,53 @@ int runBench(const BenchOptions& options) {
   settings.width = resolved.width;
   settings.height = resolved.height;
   settings.gi = giSettings(options.giOptions, resolved.scene);
-  settings.lightViewSize = options.giOptions.lightViewSize;
+  settings.extraViews = options.giOptions.extraViews;
   renderer::Renderer renderer(device, resolved.scene, settings);
   const std::string label = "bench " + resolved.scene.name;
   const renderer::AnimatedState state = renderer::evaluateAnimation(resolved.scene, resolved.camera, 0.0f);
+  // Each pass's time in each measured frame (0 in a frame without it: the extra views take turns).
+  std::map<std::string, std::vector<double>> passFrames;
+  const uint32_t firstMeasured = options.frames - std::min(options.measuredFrames, options.frames);
   for (uint32_t frame = 0; frame < options.frames; ++frame) {
     renderer.render(state);
+    if (frame >= firstMeasured) {
+      for (const auto& timing : renderer.passTimings()) {
+        std::vector<double>& times = passFrames[timing.name];
+        times.resize(frame - firstMeasured, 0.0);
+        times.push_back(timing.milliseconds);
+      }
+    }
     drawProgress(label, frame + 1, options.frames);
   }
+  const auto measured = options.frames - firstMeasured;
 
   nlohmann::json report = sceneStats(device, options.scene, resolved);
   report["frames"] = options.frames;
   report["tier"] = options.giOptions.tier;
   report["giSettings"] = giSettingsJson(*settings.gi);
+  // SPEC §5: the median of each pass over the measured frames.
   nlohmann::json passes = nlohmann::json::object();
-  double ssvgiMilliseconds = 0.0;
-  for (const auto& timing : renderer.passTimings()) {
-    passes[timing.name] = timing.milliseconds;
-    if (timing.name.rfind("ssvgi: ", 0) == 0) ssvgiMilliseconds += timing.milliseconds;
+  double ssvgiMilliseconds = 0.0, rendererMilliseconds = 0.0;
+  for (auto& [name, times] : passFrames) {
+    times.resize(measured, 0.0);
+    std::sort(times.begin(), times.end());
+    const double median = measured % 2 ? times[measured / 2] : 0.5 * (times[measured / 2 - 1] + times[measured / 2]);
+    passes[name] = median;
+    (name.rfind("ssvgi: ", 0) == 0 ? ssvgiMilliseconds : rendererMilliseconds) += median;
   }
-  report["gpuMilliseconds"] = {{"passes", passes}, {"ssvgiTotal", ssvgiMilliseconds}};
+  report["measuredFrames"] = measured;
+  report["gpuMilliseconds"] = {{"passes", passes}, {"ssvgiTotal", ssvgiMilliseconds}, {"rendererTotal", rendererMilliseconds}};
+  // The views beyond the camera (SPEC §6.3, §5): the host's rendering of them and ssvgi's injection of them, each
+  // also a line of "passes", and the host's share of the renderer's own frame (its passes other than ssvgi's).
+  const double hostViews = passes.value("renderer: ExtraViews", 0.0), ssvgiViews = passes.value("ssvgi: ExtraViews", 0.0);
+  report["extraViews"] = {{"hostMilliseconds", hostViews},
+                          {"ssvgiMilliseconds", ssvgiViews},
+                          {"rendererMilliseconds", rendererMilliseconds},
+                          {"hostShareOfRendererFrame", rendererMilliseconds > 0.0 ? hostViews / rendererMilliseconds : 0.0},
+                          {"settings", {{"sunViewSize", settings.extraViews.sunViewSize},
+                                        {"surroundViewSize", settings.extraViews.surroundViewSize},
+                                        {"lightViewSize", settings.extraViews.lightViewSize},
+                                        {"viewsPerFrame", settings.extraViews.viewsPerFrame}}}};
   const ssvgi::Stats gi = *renderer.giStats();
   report["ssvgiMemoryBytes"] = gi.totalBytes;
   report["bricksLive"] = gi.bricksLive;
@@ -117,7 +147,11 @@ CommandRunner addBenchCommand(CLI::App& app) {
                "rays/s of the hierarchical against the flat voxel trace on the same rays, and a per-pixel voxel "
                "trace's time and quality against ssvgi's (SPEC §7 baselines)");
   addSceneOptions(*command, options->scene);
-  command->add_option("--frames", options->frames, "Frames to render before measuring (the last one is reported)")
+  command->add_option("--frames", options->frames, "Frames to render")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 100000u));
+  command->add_option("--measured-frames", options->measuredFrames,
+                      "The last frames whose GPU times are reported: the median of each pass over them")
       ->capture_default_str()
       ->check(CLI::Range(1u, 100000u));
   addGiOptions(*command, options->giOptions);

@@ -82,7 +82,7 @@ int runRender(const RenderOptions& options) {
   // ssvgi runs for its indirect light, or only for the debug views of its voxels (--gi off: no indirect light).
   if (options.gi == "on" || !options.debugViews.empty()) settings.gi = giSettings(options.giOptions, resolved.scene);
   settings.giLighting = options.gi == "on";
-  settings.lightViewSize = options.giOptions.lightViewSize;
+  settings.extraViews = options.giOptions.extraViews;
   renderer::Renderer renderer(device, resolved.scene, settings);
 
   const std::string label = "rendering " + resolved.scene.name;

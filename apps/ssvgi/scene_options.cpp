@@ -36,6 +36,13 @@ std::vector<float> parseNumbers(const std::string& text, size_t count, const std
   return values;
 }
 
+// "cornell, two-rooms, …": the built-in scenes' names, for help texts and errors.
+std::string builtinSceneList() {
+  std::string names;
+  for (const std::string& name : renderer::builtinSceneNames()) names += (names.empty() ? "" : ", ") + name;
+  return names;
+}
+
 renderer::Scene loadScene(const SceneOptions& options) {
   renderer::BuiltinSceneOptions builtin;
   builtin.movingObject = options.movingObject;
@@ -44,9 +51,7 @@ renderer::Scene loadScene(const SceneOptions& options) {
   const std::filesystem::path path(options.scene);
   const std::string extension = path.extension().string();
   if (extension != ".gltf" && extension != ".glb") {
-    std::string names;
-    for (const auto& name : renderer::builtinSceneNames()) names += (names.empty() ? "" : ", ") + name;
-    throw std::runtime_error("--scene " + options.scene + ": not a built-in scene (" + names +
+    throw std::runtime_error("--scene " + options.scene + ": not a built-in scene (" + builtinSceneList() +
                              ") nor a .gltf/.glb file");
   }
   return renderer::loadGltf(path);
@@ -55,8 +60,8 @@ renderer::Scene loadScene(const SceneOptions& options) {
 }  // namespace
 
 void addSceneOptions(CLI::App& command, SceneOptions& options) {
-  command.add_option("--scene", options.scene, "Built-in scene (cornell, two-rooms, dark-room, courtyard, "
-                                               "plane-point-light) or a glTF 2.0 file (.gltf/.glb)")
+  command.add_option("--scene", options.scene,
+                     "Built-in scene (" + builtinSceneList() + ") or a glTF 2.0 file (.gltf/.glb)")
       ->capture_default_str();
   command.add_option("--size", options.size, "Image size WxH in pixels")->capture_default_str();
   command.add_option("--camera", options.camera,
@@ -212,10 +217,27 @@ void addGiOptions(CLI::App& command, GiOptions& options) {
   command.add_option("--gi-set", options.overrides,
                      "Override one GI setting after the tier and the scene's detail scale, as NAME=VALUE (X,Y,Z for "
                      "volumeBricks and probeGrid); may be repeated. Names: " + names);
-  command.add_option("--light-views", options.lightViewSize,
-                     "Give ssvgi the views of the scene's local lights as extra views (SPEC §6.3), this many pixels "
-                     "per side; 0: none")
-      ->capture_default_str();
+  // The views beyond the camera (SPEC §6.3; renderer::ExtraViewSettings).
+  const auto viewSize = CLI::Range(0u, 4096u);
+  command.add_option("--sun-view", options.extraViews.sunViewSize,
+                     "Give ssvgi the sun's view (an orthographic reflective shadow map over the voxel volume, texels "
+                     "a voxel wide), this many pixels per side; 0: none")
+      ->capture_default_str()
+      ->check(viewSize);
+  command.add_option("--surround-views", options.extraViews.surroundViewSize,
+                     "Give ssvgi a capture around the camera (six 90° views from its position), this many pixels per "
+                     "side; 0: none")
+      ->capture_default_str()
+      ->check(viewSize);
+  command.add_option("--light-views", options.extraViews.lightViewSize,
+                     "Give ssvgi the views of the scene's local lights (six per point light, one per spot), this many "
+                     "pixels per side; 0: none")
+      ->capture_default_str()
+      ->check(viewSize);
+  command.add_option("--views-per-frame", options.extraViews.viewsPerFrame,
+                     "Extra views rendered per frame; when there are more, they take turns")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, ssvgi::kMaxExtraViews));
 }
 
 ssvgi::Settings giSettings(const GiOptions& options, const renderer::Scene& scene) {

@@ -50,7 +50,7 @@ ssvgi::Settings giSettingsForTier(const std::string& tier);
 struct GiOptions {
   std::string tier = "high";
   std::vector<std::string> overrides;  // NAME=VALUE, a field of ssvgi::Settings; X,Y,Z for the three-axis ones
-  uint32_t lightViewSize = renderer::RendererSettings{}.lightViewSize;
+  renderer::ExtraViewSettings extraViews;  // the views beyond the camera the renderer gives ssvgi (SPEC §6.3)
 };
 
 void addGiOptions(CLI::App& command, GiOptions& options);

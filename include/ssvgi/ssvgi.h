@@ -99,16 +99,20 @@ struct ContextDesc {
   Settings settings;
   uint32_t maxWidth = 1920;   // the largest frame dispatch() will be given, pixels (sizes the Hi-Z pyramid)
   uint32_t maxHeight = 1080;
+  uint32_t maxExtraViewSize = 1024;  // the largest side of an extra view (FrameDesc::extraViews), pixels, ≤ 16384;
+                                     // the Hi-Z pyramid is sized for the larger of this square and the frame
   uint32_t framesInFlight = 2;  // dispatches the host may have in flight; ssvgi recycles its descriptors after these
 };
 
 // A column-major 4×4 matrix (glm's and GLSL's layout).
 using Matrix4 = std::array<float, 16>;
 
-// How a frame was seen: reversed-Z view-projection (SPEC §2) and its size in pixels.
+// How a frame was seen: reversed-Z view-projection (SPEC §2) and its size in pixels. dispatch() refuses a matrix that
+// is not finite or not invertible, and a position beyond ±1e6 m.
 struct View {
   Matrix4 viewProjection{};
-  std::array<float, 3> position{};  // camera position, metres
+  std::array<float, 3> position{};  // camera position, metres: where the host's camera centres the GI volumes; for
+                                    // an extra view, not used (its geometry comes from viewProjection)
   uint32_t width = 0;
   uint32_t height = 0;
 };
@@ -119,11 +123,15 @@ struct SampledImage {
   VkImageView view = VK_NULL_HANDLE;
 };
 
-// A view beyond the camera (SPEC §6.3) — a light's reflective shadow map, a cubemap face, a second camera — rendered by
-// the host this frame. Its surfaces are injected into the voxels before the lit frame, so that voxels the camera has
-// never seen hold their light too; where both see a surface, the lit frame's light is the one that stays.
+// A view beyond the camera (SPEC §6.3) — the sun's or a light's reflective shadow map, a cubemap face around the
+// camera, a second camera — rendered by the host this frame. Its surfaces are injected into the voxels before the lit
+// frame, so that voxels the camera has never seen hold their light too; where both see a surface, the lit frame's
+// light is the one that stays. What lies nearer than its near plane (or beyond an orthographic view's far plane) is
+// left as it was. Texels no larger than a voxel fill every voxel of the surfaces it sees; a host that jitters a view's
+// projection by a fraction of a texel from frame to frame (as the renderer does) fills them with larger texels too.
 struct ExtraView {
-  View camera;            // perspective, reversed-Z (SPEC §2), at most ContextDesc::maxWidth × maxHeight
+  View camera;            // any reversed-Z view-projection (SPEC §2): perspective, with a finite or infinite far
+                          // plane, or orthographic; at most ContextDesc::maxExtraViewSize pixels on each side
   SampledImage color;     // the radiance leaving its surfaces, linear HDR
   SampledImage depth;     // D32 reversed-Z
   SampledImage normal;    // unit world normal in rgb

@@ -20,7 +20,7 @@ void main() {
 
   vec4 nearPoint = frame.inverseViewProjection * vec4(pixelToNdc(vec2(pixel), frame.viewportSize), 1.0, 1.0);
   vec3 origin = nearPoint.xyz / nearPoint.w;
-  vec3 direction = normalize(origin - frame.cameraPositionAndNear.xyz);
+  vec3 direction = normalize(origin - frame.cameraPosition.xyz);
   RayHit hit;
   if (!traceNearest(origin, direction, hit)) {
     imageStore(rayOrigins, pixel, vec4(0.0));
@@ -38,5 +38,5 @@ void main() {
   imageStore(albedos, pixel, vec4(surface.albedo, 1.0));
   imageStore(primaryRadiance, pixel, vec4(surface.emission, 0.0));
   imageStore(directIrradiances, pixel, vec4(directIrradiance(surface.position, surface.normal, rayOrigin), 1.0));
-  imageStore(viewDistances, pixel, vec4(distance(surface.position, frame.cameraPositionAndNear.xyz)));
+  imageStore(viewDistances, pixel, vec4(distance(surface.position, frame.cameraPosition.xyz)));
 }

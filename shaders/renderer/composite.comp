@@ -30,7 +30,7 @@ vec3 worldPosition(ivec2 pixel, float depth) {
 vec3 edgeAwareIndirect(ivec2 pixel, float depth) {
   vec3 position = worldPosition(pixel, depth);
   vec3 normal = normalize(texelFetch(normalBuffer, pixel, 0).xyz);
-  float tolerance = kPlaneTolerance * distance(position, frame.cameraPositionAndNear.xyz);
+  float tolerance = kPlaneTolerance * distance(position, frame.cameraPosition.xyz);
   ivec2 lastTexel = textureSize(indirectIrradiance, 0) - 1;
   ivec2 firstTexel = pixel >> 1;  // the pixel sits at texel coordinate pixel/2: on texel 2h, or halfway to 2h + 2
   vec2 fraction = vec2(pixel & 1) * 0.5;
@@ -62,7 +62,7 @@ void main() {
   float depth = texelFetch(depthBuffer, pixel, 0).r;
   if (depth <= 0.0) {
     vec4 world = frame.inverseViewProjection * vec4(pixelToNdc(vec2(pixel), frame.viewportSize), 1.0, 1.0);
-    vec3 direction = normalize(world.xyz / world.w - frame.cameraPositionAndNear.xyz);
+    vec3 direction = normalize(world.xyz / world.w - frame.cameraPosition.xyz);
     radiance = evaluateSky(frame.sky, direction);
   } else {
     vec3 albedo = texelFetch(albedoBuffer, pixel, 0).rgb;

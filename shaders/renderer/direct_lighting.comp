@@ -75,5 +75,5 @@ void main() {
                   localVisibility(light, position, normal);
   }
   imageStore(directIrradiance, pixel, vec4(irradiance, 1.0));
-  imageStore(viewDistance, pixel, vec4(distance(position, frame.cameraPositionAndNear.xyz)));
+  imageStore(viewDistance, pixel, vec4(distance(position, frame.cameraPosition.xyz)));
 }

@@ -18,20 +18,21 @@ SSVGI_CONSTANT(uint, kViewExtraLit, 1u);         // an extra view whose colour h
 SSVGI_CONSTANT(uint, kViewExtraDirectOnly, 2u);  // an extra view lit by direct and emitted light only: injection adds
                                                  // albedo/π · E of the probes
 
+// A view's projection may be perspective or orthographic (any view-projection that maps depth to reversed-Z): what the
+// passes need of its geometry they find from the matrices (gi_frame.glsl: viewRayDirection), not from a position.
 struct GiFrame {
   mat4 viewProjection;             // current camera, reversed-Z
   mat4 inverseViewProjection;
   mat4 litViewProjection;          // the camera the lit frame was rendered with
   mat4 litInverseViewProjection;
-  vec4 cameraPosition;             // xyz: current camera position
-  vec4 litCameraPosition;          // xyz: lit frame's camera position
+  vec4 cameraPosition;             // xyz: current camera position (the host's camera: the gather's distances)
   uvec4 sizes;                     // x, y: current depth size; z, w: lit frame size
   uvec4 frame;                     // x: frame index; y: BrickAllocate pixel stride; z: Hi-Z level count;
                                    // w: the view's kind (kView…)
   vec4 frustumPlanes[6];           // current camera, world space, normals pointing inwards: dot(n, p) + w >= 0 inside
   uvec4 hizLevels[kMaxHiZLevels];  // per Hi-Z level: x: first float in the pyramid buffer; y: width; z: height
 };
-SSVGI_CHECK_SIZE(GiFrame, 4 * 64 + 4 * 16 + 6 * 16 + 16 * 16);
+SSVGI_CHECK_SIZE(GiFrame, 4 * 64 + 3 * 16 + 6 * 16 + 16 * 16);
 
 // Pixel centre -> NDC for a frame of `size` pixels (rows top to bottom, NDC +y up, as the host renderer).
 SSVGI_INLINE vec2 giPixelToNdc(vec2 pixel, vec2 size) {

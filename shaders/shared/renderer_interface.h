@@ -16,11 +16,12 @@ SSVGI_CONSTANT(uint, kLightSpot, 1u);
 SSVGI_CONSTANT(uint, kNoTexture, 0xffffffffu);
 
 struct FrameConstants {
-  mat4 viewProjection;          // world -> clip, reversed-Z infinite perspective
+  mat4 viewProjection;          // world -> clip, reversed-Z: the camera's infinite perspective, or an extra view's
+                                // perspective or orthographic projection
   mat4 inverseViewProjection;   // clip -> world
   mat4 previousViewProjection;  // last frame's, for motion vectors
   mat4 sunShadowMatrix;         // world -> sun shadow clip (orthographic, [0,1] depth)
-  vec4 cameraPositionAndNear;   // xyz: world position; w: near plane distance
+  vec4 cameraPosition;          // xyz: world position (of an orthographic view: the centre of its near plane)
   vec4 cameraForward;           // xyz: unit view direction
   vec4 viewportSize;            // width, height, 1/width, 1/height
   vec4 sunDirectionAndEnabled;  // xyz: unit vector towards the sun; w: 1 when the sun is on

@@ -25,8 +25,9 @@ namespace {
 
 glm::mat4 toMat4(const Matrix4& matrix) { return glm::make_mat4(matrix.data()); }
 
-// Frustum planes of a view-projection, pointing inwards (Gribb and Hartmann). Reversed-Z: inside is 0 <= z <= w; the
-// infinite far plane (z >= 0) excludes nothing and is left out.
+// Frustum planes of a view-projection, pointing inwards (Gribb and Hartmann). Reversed-Z: inside is 0 <= z <= w. The
+// far plane (z >= 0) bounds an orthographic view; a perspective view's lies at infinity (its row is (0, 0, 0, near))
+// and excludes nothing.
 void frustumPlanes(const glm::mat4& viewProjection, glm::vec4 planes[6]) {
   const glm::mat4 rows = glm::transpose(viewProjection);
   planes[0] = rows[3] + rows[0];
@@ -34,8 +35,11 @@ void frustumPlanes(const glm::mat4& viewProjection, glm::vec4 planes[6]) {
   planes[2] = rows[3] + rows[1];
   planes[3] = rows[3] - rows[1];
   planes[4] = rows[3] - rows[2];
-  planes[5] = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
-  for (int i = 0; i < 5; ++i) planes[i] /= glm::length(glm::vec3(planes[i]));
+  planes[5] = rows[2];
+  for (glm::vec4* plane = planes; plane != planes + 6; ++plane) {
+    const float length = glm::length(glm::vec3(*plane));
+    *plane = length > 0.0f ? *plane / length : glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+  }
 }
 
 // Levels of the Hi-Z pyramid for a depth of `width` × `height`: level 0 is half size, down to 1×1.
@@ -52,6 +56,12 @@ uint32_t hizLayout(uint32_t width, uint32_t height, glm::uvec4 levels[shader::kM
 
 Error invalid(const std::string& message) { return {Status::InvalidDescription, message}; }
 
+// View positions beyond this many metres from the origin are refused: there a float no longer resolves a millimetre,
+// and the volumes' integer brick and probe coordinates would overflow further out.
+constexpr float kMaxViewCoordinate = 1.0e6f;
+// The largest extra view side ContextDesc::maxExtraViewSize may ask for (the Hi-Z pyramid is sized for it).
+constexpr uint32_t kMaxExtraViewSizeLimit = 16384;
+
 Error toError(const gpu::GpuError& error) {
   const std::string message = error.what();
   const bool outOfMemory = message.find("OUT_OF_DEVICE_MEMORY") != std::string::npos;
@@ -66,7 +76,8 @@ Error validateSettings(const ContextDesc& desc) {
     if (settings.volumeBricks[axis] == 0 || settings.volumeBricks[axis] % (2 * shader::kScrollStepBricks) != 0)
       return invalid("Settings::volumeBricks must be positive multiples of 8 (got " +
                      std::to_string(settings.volumeBricks[axis]) + ")");
-  if (!(settings.voxelSize > 0.0f)) return invalid("Settings::voxelSize must be positive");
+  if (!(settings.voxelSize > 0.0f) || !std::isfinite(settings.voxelSize))
+    return invalid("Settings::voxelSize must be positive and finite");
   if (settings.brickPoolCapacity == 0) return invalid("Settings::brickPoolCapacity must be positive");
   if (settings.allocationPixelStride == 0) return invalid("Settings::allocationPixelStride must be positive");
   if (settings.invalidFramesToClear == 0 || settings.invalidFramesToClear > shader::kVoxelMaxLastHit)
@@ -77,7 +88,8 @@ Error validateSettings(const ContextDesc& desc) {
         settings.probeGrid[axis] > 4096)  // 1024 blocks: packProbeBlock's 10 bits
       return invalid("Settings::probeGrid must be multiples of 4 in 4..4096 (got " +
                      std::to_string(settings.probeGrid[axis]) + ")");
-  if (!(settings.probeSpacing > 0.0f)) return invalid("Settings::probeSpacing must be positive");
+  if (!(settings.probeSpacing > 0.0f) || !std::isfinite(settings.probeSpacing))
+    return invalid("Settings::probeSpacing must be positive and finite");
   if (settings.probeBudget == 0) return invalid("Settings::probeBudget must be positive");
   // A power of two up to the workgroup size divides the 1024 directions into whole slices.
   if (settings.raysPerProbe == 0 || settings.raysPerProbe > shader::kProbeTraceGroupSize ||
@@ -98,15 +110,38 @@ Error validateSettings(const ContextDesc& desc) {
     return invalid("Settings::probeChangeThreshold must be 0 (off) or positive");
   if (desc.framesInFlight == 0 || desc.framesInFlight > 8) return invalid("ContextDesc::framesInFlight must be in 1..8");
   if (desc.maxWidth == 0 || desc.maxHeight == 0) return invalid("ContextDesc::maxWidth/maxHeight must be positive");
+  if (desc.maxExtraViewSize > kMaxExtraViewSizeLimit)
+    return invalid("ContextDesc::maxExtraViewSize must be at most " + std::to_string(kMaxExtraViewSizeLimit));
   return {};
 }
 
-Error validateView(const View& view, const char* name, const ContextDesc& desc) {
-  if (view.width == 0 || view.height == 0) return invalid(std::string(name) + ": width and height must be positive");
-  if (view.width > desc.maxWidth || view.height > desc.maxHeight)
-    return invalid(std::string(name) + ": " + std::to_string(view.width) + "×" + std::to_string(view.height) +
-                   " exceeds ContextDesc::maxWidth/maxHeight");
+// A view's matrix must map the world to clip space invertibly and its position lie where float coordinates still
+// resolve a voxel: NaN or 1e30 there would send every pass's loops over the volume astray.
+Error validateViewGeometry(const View& view, const std::string& name) {
+  const glm::mat4 viewProjection = glm::make_mat4(view.viewProjection.data());
+  for (float value : view.viewProjection)
+    if (!std::isfinite(value)) return invalid(name + ".viewProjection: not finite");
+  const glm::mat4 inverse = glm::inverse(viewProjection);
+  for (int column = 0; column < 4; ++column)
+    for (int row = 0; row < 4; ++row)
+      if (!std::isfinite(inverse[column][row])) return invalid(name + ".viewProjection: not invertible");
+  for (float coordinate : view.position)
+    if (!(std::abs(coordinate) <= kMaxViewCoordinate))
+      return invalid(name + ".position: each coordinate must be finite and within ±" +
+                     std::to_string(int(kMaxViewCoordinate)) + " m");
   return {};
+}
+
+Error validateView(const View& view, const std::string& name, uint32_t maxWidth, uint32_t maxHeight,
+                   const char* limit) {
+  if (view.width == 0 || view.height == 0) return invalid(name + ": width and height must be positive");
+  if (view.width > maxWidth || view.height > maxHeight)
+    return invalid(name + ": " + std::to_string(view.width) + "×" + std::to_string(view.height) + " exceeds " + limit);
+  return validateViewGeometry(view, name);
+}
+
+Error validateFrameView(const View& view, const std::string& name, const ContextDesc& desc) {
+  return validateView(view, name, desc.maxWidth, desc.maxHeight, "ContextDesc::maxWidth/maxHeight");
 }
 
 class ContextImplementation final : public Context {
@@ -149,7 +184,7 @@ class ContextImplementation final : public Context {
 
   Error debugView(DebugView view, const View& camera, VkImage target, VkImageView targetView,
                   VkCommandBuffer commandBuffer) override {
-    if (Error error = validateView(camera, "debugView camera", desc_)) return error;
+    if (Error error = validateFrameView(camera, "debugView camera", desc_)) return error;
     if (!target || !targetView) return invalid("debugView: target image and view are required");
     return guarded([&] {
       PerFrame& slot = *perFrame_[lastSlot_];
@@ -232,9 +267,11 @@ class ContextImplementation final : public Context {
     return info;
   }
 
+  // The pyramid of the largest view: the camera's frame or an extra view.
   static VkDeviceSize hizBytes(const ContextDesc& desc) {
     glm::uvec4 levels[shader::kMaxHiZLevels];
-    const uint32_t count = hizLayout(desc.maxWidth, desc.maxHeight, levels);
+    const uint32_t count = hizLayout(std::max(desc.maxWidth, desc.maxExtraViewSize),
+                                     std::max(desc.maxHeight, desc.maxExtraViewSize), levels);
     return VkDeviceSize(levels[count - 1].x + 1) * sizeof(float);
   }
 
@@ -249,11 +286,13 @@ class ContextImplementation final : public Context {
   }
 
   Error validateFrame(const FrameDesc& frame) const {
-    if (Error error = validateView(frame.camera, "FrameDesc::camera", desc_)) return error;
+    if (Error error = validateFrameView(frame.camera, "FrameDesc::camera", desc_)) return error;
     if (!frame.depth.view) return invalid("FrameDesc::depth: an image view is required");
     if (!frame.normal.view) return invalid("FrameDesc::normal: an image view is required");
+    for (float coefficient : frame.skyRadianceSh)
+      if (!std::isfinite(coefficient)) return invalid("FrameDesc::skyRadianceSh: not finite");
     if (frame.hasLitFrame) {
-      if (Error error = validateView(frame.litCamera, "FrameDesc::litCamera", desc_)) return error;
+      if (Error error = validateFrameView(frame.litCamera, "FrameDesc::litCamera", desc_)) return error;
       if (!frame.litColor.view || !frame.litDepth.view || !frame.litNormal.view)
         return invalid("FrameDesc: hasLitFrame needs litColor, litDepth and litNormal views");
     }
@@ -263,7 +302,9 @@ class ContextImplementation final : public Context {
     for (size_t i = 0; i < frame.extraViews.size(); ++i) {
       const ExtraView& view = frame.extraViews[i];
       const std::string name = "FrameDesc::extraViews[" + std::to_string(i) + "]";
-      if (Error error = validateView(view.camera, name.c_str(), desc_)) return error;
+      if (Error error = validateView(view.camera, name + ".camera", desc_.maxExtraViewSize, desc_.maxExtraViewSize,
+                                     "ContextDesc::maxExtraViewSize"))
+        return error;
       if (!view.color.view || !view.depth.view || !view.normal.view)
         return invalid(name + ": color, depth and normal views are required");
     }
@@ -280,7 +321,6 @@ class ContextImplementation final : public Context {
     frame.cameraPosition = glm::vec4(current.position[0], current.position[1], current.position[2], 1.0f);
     frame.litViewProjection = toMat4(lit.viewProjection);
     frame.litInverseViewProjection = glm::inverse(frame.litViewProjection);
-    frame.litCameraPosition = glm::vec4(lit.position[0], lit.position[1], lit.position[2], 1.0f);
     frame.sizes = glm::uvec4(current.width, current.height, lit.width, lit.height);
     hizLevels = hizLayout(current.width, current.height, frame.hizLevels);
     frame.frame = glm::uvec4(frameIndex, desc_.settings.allocationPixelStride, hizLevels, kind);
@@ -361,7 +401,10 @@ class ContextImplementation final : public Context {
                                               desc.normal.view, hiz_, visibleBricks_});
     // 1, 3–5 (HiZBuild, BrickAllocate, BrickCulling, SceneVoxelization) for each extra view (SPEC §6.3), then for the
     // camera, so that the lit frame's light stays where both see a surface.
+    // Their passes are timed together, as "ssvgi: ExtraViews" (the profiler times only the outermost scope).
     const gi::ProbeLight probeLight{gather_.constants(), probes_.probes()};
+    std::optional<gpu::CommandList::Scope> extraViewsScope;
+    if (!desc.extraViews.empty()) extraViewsScope.emplace(commands, "ssvgi: ExtraViews");
     for (size_t i = 0; i < desc.extraViews.size(); ++i) {
       const ExtraView& view = desc.extraViews[i];
       uint32_t viewHizLevels = 0;
@@ -374,6 +417,7 @@ class ContextImplementation final : public Context {
                        gi::LitFrameImages{view.color.view, view.depth.view, view.normal.view, albedo}},
                       probeLight);
     }
+    extraViewsScope.reset();
     std::optional<gi::LitFrameImages> litFrame;
     if (desc.hasLitFrame)  // its albedo is bound, not read
       litFrame = gi::LitFrameImages{desc.litColor.view, desc.litDepth.view, desc.litNormal.view, desc.litColor.view};

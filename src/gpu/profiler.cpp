@@ -17,12 +17,18 @@ Profiler::~Profiler() {
   if (pool_) vkDestroyQueryPool(device_.device(), pool_, nullptr);
 }
 
+namespace {
+constexpr uint32_t kNestedScope = ~0u;  // a scope inside another: not timed on its own
+}  // namespace
+
 void Profiler::begin(VkCommandBuffer commandBuffer) {
   names_.clear();
+  openScopes_ = 0;
   if (supported_) vkCmdResetQueryPool(commandBuffer, pool_, 0, maxScopes_ * 2);
 }
 
 uint32_t Profiler::beginScope(VkCommandBuffer commandBuffer, const std::string& name) {
+  if (openScopes_++ > 0) return kNestedScope;
   const auto scope = static_cast<uint32_t>(names_.size());
   if (scope >= maxScopes_) throw GpuError("profiler: more than " + std::to_string(maxScopes_) + " scopes in a frame");
   names_.push_back(name);
@@ -33,7 +39,9 @@ uint32_t Profiler::beginScope(VkCommandBuffer commandBuffer, const std::string& 
 }
 
 void Profiler::endScope(VkCommandBuffer commandBuffer, uint32_t scope) {
-  if (supported_) vkCmdWriteTimestamp(commandBuffer, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool_, scope * 2 + 1);
+  --openScopes_;
+  if (scope != kNestedScope && supported_)
+    vkCmdWriteTimestamp(commandBuffer, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool_, scope * 2 + 1);
 }
 
 std::vector<PassTiming> Profiler::resolve() {

@@ -12,7 +12,9 @@ struct PassTiming {
 };
 
 // GPU timestamps around labelled passes. One frame at a time: begin() in the command buffer, scopes, then resolve()
-// after the submission has completed.
+// after the submission has completed. Only outermost scopes are timed: a scope opened inside another (the passes of an
+// extra view inside "ssvgi: ExtraViews") counts towards the outer one alone, so that the timings add up to the frame
+// without counting any work twice.
 class Profiler {
  public:
   explicit Profiler(Device& device, uint32_t maxScopes = 256);
@@ -22,6 +24,7 @@ class Profiler {
 
   bool supported() const { return supported_; }
   void begin(VkCommandBuffer commandBuffer);
+  // Returns the scope's handle for endScope().
   uint32_t beginScope(VkCommandBuffer commandBuffer, const std::string& name);
   void endScope(VkCommandBuffer commandBuffer, uint32_t scope);
   // The passes of the last frame in the order they first began. Empty when timestamps are unsupported.
@@ -33,6 +36,7 @@ class Profiler {
   uint32_t maxScopes_ = 0;
   bool supported_ = false;
   std::vector<std::string> names_;
+  uint32_t openScopes_ = 0;
 };
 
 }  // namespace ssvgi::gpu

@@ -22,13 +22,16 @@ layout(binding = kBindProbeList) buffer ProbeList {
 };
 
 // Whether any voxel lies in [lo, hi): the cells of the search level that cover it, each inside the voxel volume
-// (a cell of a grid level is wholly inside or outside it; outside, its toroidal bit belongs to another cell).
+// (a cell of a grid level is wholly inside or outside it; outside, its toroidal bit belongs to another cell). The
+// cells searched are clipped to the volume first, so that no probe spacing makes the loop longer than the volume.
 bool voxelsWithin(vec3 lo, vec3 hi) {
   uint level = update.settings.w;
   float cellSize = volume.voxelSize.x * float(1u << level);
-  ivec3 first = ivec3(floor(lo / cellSize));
-  ivec3 last = ivec3(ceil(hi / cellSize)) - 1;
   int bricksPerCell = 1 << (level - kFirstGridLevel);
+  ivec3 volumeFirst = volume.originBrick.xyz / bricksPerCell;  // the volume's origin is a whole number of cells
+  ivec3 volumeLast = volumeFirst + volume.dimensionsBricks.xyz / bricksPerCell - 1;
+  ivec3 first = max(ivec3(floor(max(lo / cellSize, vec3(volumeFirst)))), volumeFirst);
+  ivec3 last = min(ivec3(ceil(min(hi / cellSize, vec3(volumeLast + 1)))) - 1, volumeLast);
   for (int z = first.z; z <= last.z; ++z)
     for (int y = first.y; y <= last.y; ++y)
       for (int x = first.x; x <= last.x; ++x) {

@@ -46,8 +46,12 @@ void main() {
   if (brick >= pool.bumpCount || bricks[brick].coordinate.w == 0) return;
   if (frame.frame.w == kViewCamera)  // counted once a frame
     atomicAdd(pool.voxelsValid, uint(bitCount(bricks[brick].occupancy.x) + bitCount(bricks[brick].occupancy.y)));
-  vec3 lo = vec3(bricks[brick].coordinate.xyz) * volume.voxelSize.y;
-  vec3 hi = lo + vec3(volume.voxelSize.y);
+  // The brick's box grown by a hair (2 % of a voxel, twice heldSurfacePoint's offset): a surface lying on the brick's
+  // face — a wall on the brick grid, seen head-on — is drawn at exactly the depth of the box's nearest corner, and
+  // rounding alone would otherwise decide whether the brick that holds it counts as hidden behind it.
+  vec3 margin = vec3(0.02 * volume.voxelSize.x);
+  vec3 lo = vec3(bricks[brick].coordinate.xyz) * volume.voxelSize.y - margin;
+  vec3 hi = lo + vec3(volume.voxelSize.y) + 2.0 * margin;
   if (!boxInFrustum(lo, hi, frame.frustumPlanes) || occludedByHiZ(lo, hi)) return;
   uint slot = atomicAdd(visible.count, 1u);
   atomicAdd(visible.groupCountX, 1u);

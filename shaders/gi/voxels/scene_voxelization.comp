@@ -59,19 +59,22 @@ void main() {
   vec3 voxelMin = vec3(worldVoxel) * voxelSize;
   vec3 samplePoint = voxelMin + hashToUnitCube(uvec3(ivec3(worldVoxel)) ^ uvec3(0u, 0u, frame.frame.x * 0x9e3779b9u)) * voxelSize;
   vec4 clip = frame.litViewProjection * vec4(samplePoint, 1.0);
+  vec3 ndc = clip.xyz / clip.w;
   vec2 litSize = vec2(frame.sizes.zw);
-  vec2 pixel = giNdcToPixel(clip.xy / clip.w, litSize);
-  if (clip.w > 0.0 && all(greaterThanEqual(pixel, vec2(0.0))) && all(lessThan(pixel, litSize))) {
+  vec2 pixel = giNdcToPixel(ndc.xy, litSize);
+  // Only a point between the view's near and far planes (reversed-Z: NDC depth 1 to 0) is seen: what the near plane
+  // or an orthographic view's far plane clipped away is not known to be empty.
+  bool inDepthRange = clip.w > 0.0 && ndc.z <= 1.0 && ndc.z >= 0.0;
+  if (inDepthRange && all(greaterThanEqual(pixel, vec2(0.0))) && all(lessThan(pixel, litSize))) {
     ivec2 texel = ivec2(pixel);
     float depth = texelFetch(litDepth, texel, 0).r;
     vec3 surface = depth > 0.0 ? reconstructPosition(frame.litInverseViewProjection, vec2(texel), litSize, depth)
                                : vec3(0.0);
     vec3 normal = depth > 0.0 ? normalize(texelFetch(litNormal, texel, 0).xyz) : vec3(0.0);
-    float sampleDistance = distance(samplePoint, frame.litCameraPosition.xyz);
-    // "Clearly in front": by more than half a voxel, so that depth quantisation and a surface point just outside
-    // this voxel do not count against it.
+    // "Clearly in front" along the view's ray (perspective or orthographic): by more than half a voxel, so that depth
+    // quantisation and a surface point just outside this voxel do not count against it.
     float clearMargin = voxelSize * 0.5;
-    bool inFront = sampleDistance < distance(surface, frame.litCameraPosition.xyz) - clearMargin;
+    bool inFront = dot(surface - samplePoint, viewRayDirection(frame.litInverseViewProjection, ndc.xy)) > clearMargin;
     vec3 held = heldSurfacePoint(surface, normal);
     // Seeing through one point of a voxel proves only that point empty. A voxel that the surface seen there passes
     // through (its tangent plane cuts the voxel's box) may hold that surface elsewhere: at a grazing view most of
