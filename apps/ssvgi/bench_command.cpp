@@ -97,6 +97,8 @@ int runBench(const BenchOptions& options) {
   report["ssvgiMemoryBytes"] = gi.totalBytes;
   report["bricksLive"] = gi.bricksLive;
   report["voxelsValid"] = gi.voxelsValid;
+  report["probesUpdatedLastFrame"] = gi.probesUpdatedLastFrame;
+  report["probeLevelUpdatedLastFrame"] = gi.probeLevelUpdatedLastFrame;
 
   const renderer::FloatImage viewDistance = renderer.viewDistance(), normal = renderer.normal();
   const auto trace = bench::benchmarkVoxelTrace(device, *renderer.giContext(), resolved.camera, viewDistance, normal,

@@ -84,9 +84,11 @@ SSVGI_CHECK_SIZE(IndirectList, 16);
 SSVGI_CONSTANT(uint, kIndirectListHeaderWords, 4u);
 
 // A voxel: radiance as R11G11B10F; its surface: octahedral normal (2 × 8 bit, bits 0–15) and where the surface's
-// plane lies in the voxel (8 bit, bits 16–23, packVoxelPlane); frames since the last valid injection (8 bit, 24–31).
-// SPEC §4.1 gives the counter 16 bits; it counts to invalidFramesToClear (about 8), and the plane makes a thin or
-// off-grid surface stop rays where it is rather than at the voxel's box (voxel_trace.glsl, voxelHitAt).
+// plane lies in the voxel (8 bit, bits 16–23, packVoxelPlane); frames it has been seen through since the last valid
+// injection (6 bit, 24–29); extra views that have seen it since the camera's lit frame last gave it light (2 bit,
+// 30–31, saturating at kVoxelExtraViewsBeforeWrite). SPEC §4.1 gives the counter 16 bits; it counts to
+// invalidFramesToClear (about 8), and the plane makes a thin or off-grid surface stop rays where it is rather than at
+// the voxel's box (voxel_trace.glsl, voxelHitAt).
 struct Voxel {
   uint radiance;
   uint surfaceAndLastHit;
@@ -98,7 +100,12 @@ SSVGI_CHECK_SIZE(Voxel, 8);
 // enters it.
 SSVGI_CONSTANT(uint, kVoxelPlaneShift, 16u);
 SSVGI_CONSTANT(uint, kVoxelLastHitShift, 24u);
-SSVGI_CONSTANT(uint, kVoxelMaxLastHit, 0xffu);
+SSVGI_CONSTANT(uint, kVoxelMaxLastHit, 0x3fu);
+SSVGI_CONSTANT(uint, kVoxelExtraViewsShift, 30u);
+// Where the camera's lit frame keeps giving a voxel its light, that light stays (SPEC §6.3): an extra view writes a
+// voxel the lit frame has lit only once it has seen it this many times since — a surface the camera stops looking at
+// takes the views' light again within a few of their renders.
+SSVGI_CONSTANT(uint, kVoxelExtraViewsBeforeWrite, 3u);
 SSVGI_CONSTANT(float, kVoxelPlaneRange, 0.875f);
 SSVGI_INLINE uint packVoxelPlane(float offsetVoxels) {
   float unit = clamp(offsetVoxels / kVoxelPlaneRange, -1.0f, 1.0f) * 0.5f + 0.5f;

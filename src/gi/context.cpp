@@ -81,7 +81,7 @@ Error validateSettings(const ContextDesc& desc) {
   if (settings.brickPoolCapacity == 0) return invalid("Settings::brickPoolCapacity must be positive");
   if (settings.allocationPixelStride == 0) return invalid("Settings::allocationPixelStride must be positive");
   if (settings.invalidFramesToClear == 0 || settings.invalidFramesToClear > shader::kVoxelMaxLastHit)
-    return invalid("Settings::invalidFramesToClear must be in 1..255");
+    return invalid("Settings::invalidFramesToClear must be in 1.." + std::to_string(shader::kVoxelMaxLastHit));
   if (settings.emptyFramesToRelease == 0) return invalid("Settings::emptyFramesToRelease must be positive");
   for (int axis = 0; axis < 3; ++axis)
     if (settings.probeGrid[axis] == 0 || settings.probeGrid[axis] % shader::kProbeBlockSize != 0 ||

@@ -35,6 +35,8 @@ vec3 injectedRadiance(ivec2 texel, vec3 surface, vec3 normal) {
   return radiance + albedo * (1.0 / kPi) * probeIrradiance(surface, normal, noise, false).rgb;
 }
 
+const float kExtraViewRadianceBlend = 0.25;
+
 shared uint occupancyLow;
 shared uint occupancyHigh;
 
@@ -72,9 +74,19 @@ void main() {
                                : vec3(0.0);
     vec3 normal = depth > 0.0 ? normalize(texelFetch(litNormal, texel, 0).xyz) : vec3(0.0);
     // "Clearly in front" along the view's ray (perspective or orthographic): by more than half a voxel, so that depth
-    // quantisation and a surface point just outside this voxel do not count against it.
+    // quantisation and a surface point just outside this voxel do not count against it — and in front of the nearest
+    // surface the view shows around the point (the 2×2 texels nearest it), so that at a depth edge (the rim of an
+    // opening, a silhouette) a texel whose centre sees past the edge does not clear the edge's own voxels. Coarse views
+    // (the sun's, a capture's) have texels as wide as a voxel: a skylight's rim was cleared every few frames.
     float clearMargin = voxelSize * 0.5;
-    bool inFront = dot(surface - samplePoint, viewRayDirection(frame.litInverseViewProjection, ndc.xy)) > clearMargin;
+    float nearestDepth = 0.0;  // reversed-Z: the largest is the nearest; 0 where all four see nothing
+    ivec2 firstTexel = ivec2(floor(pixel - 0.5));
+    for (int corner = 0; corner < 4; ++corner) {
+      ivec2 neighbour = clamp(firstTexel + ivec2(corner & 1, corner >> 1), ivec2(0), ivec2(litSize) - 1);
+      nearestDepth = max(nearestDepth, texelFetch(litDepth, neighbour, 0).r);
+    }
+    vec3 nearestSurface = reconstructPosition(frame.litInverseViewProjection, pixel - 0.5, litSize, nearestDepth);
+    bool inFront = dot(nearestSurface - samplePoint, viewRayDirection(frame.litInverseViewProjection, ndc.xy)) > clearMargin;
     vec3 held = heldSurfacePoint(surface, normal);
     // Seeing through one point of a voxel proves only that point empty. A voxel that the surface seen there passes
     // through (its tangent plane cuts the voxel's box) may hold that surface elsewhere: at a grazing view most of
@@ -82,25 +94,49 @@ void main() {
     // (holes in walls, and light through them). Only a voxel wholly in front of that plane is seen through.
     float halfExtent = 0.5 * voxelSize * dot(abs(normal), vec3(1.0));
     bool cutBySurfacePlane = abs(dot(voxelMin + 0.5 * voxelSize - held, normal)) < halfExtent;
-    bool holdsSurface =
-        depth > 0.0 && all(greaterThanEqual(held, voxelMin)) && all(lessThan(held, voxelMin + voxelSize));
+    // A wall one voxel thick, seen from inside by the camera and from outside by the sun, puts two opposite faces in
+    // the same voxels. A voxel holds one: the face towards the middle of the voxel volume, where the camera is — the
+    // side its surroundings see — rather than flipping between the two with the views (the dark room's walls turned
+    // black from inside, and flickered by 25 %).
+    vec3 storedNormal = unpackOctahedralNormal(voxel.surfaceAndLastHit & 0xffffu);
+    vec3 volumeCentre = (vec3(volume.originBrick.xyz) + 0.5 * vec3(volume.dimensionsBricks.xyz)) * volume.voxelSize.y;
+    bool turnsSurfaceAround = occupied && dot(storedNormal, normal) < 0.0 &&
+                              dot(normal, volumeCentre - (voxelMin + 0.5 * voxelSize)) <= 0.0;
+    bool holdsSurface = depth > 0.0 && !turnsSurfaceAround && all(greaterThanEqual(held, voxelMin)) &&
+                        all(lessThan(held, voxelMin + voxelSize));
     // An occupied voxel also takes the colour of a pixel of its own surface (the seen surface's plane cuts it, the
     // normals agree) up to a voxel away: few random points of a voxel on a wall seen at a grazing angle land on its
     // own pixels, and its radiance would lag a change of light by many frames.
     bool refreshesColour = depth > 0.0 && occupied && cutBySurfacePlane &&
                            distance(held, clamp(held, voxelMin, voxelMin + voxelSize)) <= voxelSize &&
-                           dot(unpackOctahedralNormal(voxel.surfaceAndLastHit & 0xffffu), normal) > 0.9;
+                           dot(storedNormal, normal) > 0.9;
     if (holdsSurface || refreshesColour) {
-      voxel.radiance = packR11G11B10F(injectedRadiance(texel, surface, normal));
-      // A valid sample sets the voxel's surface (normal and plane); a refresh keeps it. Either resets the counter.
-      float planeOffset = dot(surface - (voxelMin + 0.5 * voxelSize), normal) / voxelSize;
-      uint surfaceBits = holdsSurface ? packOctahedralNormal(normal) | (packVoxelPlane(planeOffset) << kVoxelPlaneShift)
-                                      : voxel.surfaceAndLastHit;
-      voxel.surfaceAndLastHit = surfaceBits & ((1u << kVoxelLastHitShift) - 1u);
+      // The lit frame's light stays where it keeps coming (kVoxelExtraViewsBeforeWrite): an extra view counts its
+      // visit and writes only once there have been enough since the lit frame last wrote.
+      bool fromCamera = frame.frame.w == kViewCamera;
+      uint extraViews = voxel.surfaceAndLastHit >> kVoxelExtraViewsShift;
+      bool writes = fromCamera || !occupied || extraViews >= kVoxelExtraViewsBeforeWrite;
+      uint surfaceBits = voxel.surfaceAndLastHit & ((1u << kVoxelLastHitShift) - 1u);
+      if (writes) {
+        // An extra view's texels are about a voxel wide and move by a fraction of one from render to render: each
+        // render samples the voxel at another point, of its surface or — where two meet in it, a floor and a wall —
+        // of either. They are averaged (an exponential window of about 1/kExtraViewRadianceBlend renders) rather than
+        // each replacing the last, which would flicker; the lit frame's light, finer and already filtered, replaces.
+        vec3 radiance = injectedRadiance(texel, surface, normal);
+        if (!fromCamera && occupied) radiance = mix(unpackR11G11B10F(voxel.radiance), radiance, kExtraViewRadianceBlend);
+        voxel.radiance = packR11G11B10F(radiance);
+        // A valid sample sets the voxel's surface (normal and plane); a refresh keeps it.
+        float planeOffset = dot(surface - (voxelMin + 0.5 * voxelSize), normal) / voxelSize;
+        if (holdsSurface) surfaceBits = packOctahedralNormal(normal) | (packVoxelPlane(planeOffset) << kVoxelPlaneShift);
+      }
+      extraViews = fromCamera ? 0u : (writes ? kVoxelExtraViewsBeforeWrite : extraViews + 1u);
+      // Seeing its surface resets the seen-through counter.
+      voxel.surfaceAndLastHit = surfaceBits | (extraViews << kVoxelExtraViewsShift);
       occupied = true;
-    } else if (occupied && (depth <= 0.0 || (inFront && !cutBySurfacePlane))) {
-      uint lastHit = min((voxel.surfaceAndLastHit >> kVoxelLastHitShift) + 1u, kVoxelMaxLastHit);
-      voxel.surfaceAndLastHit = (voxel.surfaceAndLastHit & ((1u << kVoxelLastHitShift) - 1u)) | (lastHit << kVoxelLastHitShift);
+    } else if (occupied && (nearestDepth <= 0.0 || (inFront && !cutBySurfacePlane))) {
+      uint lastHit = min(((voxel.surfaceAndLastHit >> kVoxelLastHitShift) & kVoxelMaxLastHit) + 1u, kVoxelMaxLastHit);
+      voxel.surfaceAndLastHit = (voxel.surfaceAndLastHit & ~(kVoxelMaxLastHit << kVoxelLastHitShift)) |
+                                (lastHit << kVoxelLastHitShift);
       if (lastHit >= volume.settings.x) occupied = false;
     }
     voxels[brick * kVoxelsPerBrick + voxelIndex] = occupied ? voxel : Voxel(0u, 0u);
