@@ -14,6 +14,8 @@
 #include <string>
 #include <string_view>
 
+#include <unistd.h>
+
 namespace ssvgi::renderer {
 
 namespace {
@@ -24,36 +26,20 @@ ImageIoError fileError(const std::filesystem::path& path, std::string_view probl
 
 // The files are read and written here rather than by tinyexr and stb, so that every failure to open a file is
 // reported alike, with the operating system's reason.
-void writeFile(const std::filesystem::path& path, std::span<const uint8_t> bytes) {
+void writeFile(const std::filesystem::path& path, const std::filesystem::path& nameInErrors,
+               std::span<const uint8_t> bytes) {
   std::FILE* file = std::fopen(path.c_str(), "wb");
   if (file == nullptr) {
-    throw fileError(path, std::string("cannot open for writing: ") + std::strerror(errno));
+    throw fileError(nameInErrors, std::string("cannot open for writing: ") + std::strerror(errno));
   }
   if (std::fwrite(bytes.data(), 1, bytes.size(), file) != bytes.size()) {
     const int reason = errno;
     std::fclose(file);
-    throw fileError(path, std::string("cannot write: ") + std::strerror(reason));
+    throw fileError(nameInErrors, std::string("cannot write: ") + std::strerror(reason));
   }
   if (std::fclose(file) != 0) {
-    throw fileError(path, std::string("cannot write: ") + std::strerror(errno));
+    throw fileError(nameInErrors, std::string("cannot write: ") + std::strerror(errno));
   }
-}
-
-std::vector<uint8_t> readFile(const std::filesystem::path& path) {
-  std::unique_ptr<std::FILE, decltype(&std::fclose)> file(std::fopen(path.c_str(), "rb"), &std::fclose);
-  if (file == nullptr) {
-    throw fileError(path, std::string("cannot open for reading: ") + std::strerror(errno));
-  }
-  std::vector<uint8_t> bytes;
-  std::array<uint8_t, 1 << 16> chunk;
-  size_t count = 0;
-  while ((count = std::fread(chunk.data(), 1, chunk.size(), file.get())) > 0) {
-    bytes.insert(bytes.end(), chunk.begin(), chunk.begin() + static_cast<std::ptrdiff_t>(count));
-  }
-  if (std::ferror(file.get()) != 0) {
-    throw fileError(path, std::string("cannot read: ") + std::strerror(errno));
-  }
-  return bytes;
 }
 
 // tinyexr's error messages are allocated by tinyexr and may span lines; returns one line and frees the original.
@@ -101,9 +87,7 @@ struct ExrImage {
   ExrImage& operator=(const ExrImage&) = delete;
 };
 
-}  // namespace
-
-void writeExr(const std::filesystem::path& path, const FloatImage& image) {
+std::vector<uint8_t> encodeExr(const std::filesystem::path& path, const FloatImage& image) {
   const std::span<const char* const> names = exrChannelNames(image.channels);
   if (names.empty()) {
     throw fileError(path, "cannot write an EXR with " + std::to_string(image.channels) +
@@ -162,81 +146,11 @@ void writeExr(const std::filesystem::path& path, const FloatImage& image) {
   if (encodedSize == 0) {
     throw fileError(path, "cannot encode EXR: " + takeExrMessage(message));
   }
-  writeFile(path, {encoded, encodedSize});
+  return {encoded, encoded + encodedSize};
 }
 
-FloatImage readExr(const std::filesystem::path& path) {
-  const std::vector<uint8_t> bytes = readFile(path);
-
-  EXRVersion version;
-  if (ParseEXRVersionFromMemory(&version, bytes.data(), bytes.size()) != TINYEXR_SUCCESS) {
-    throw fileError(path, "not an OpenEXR file");
-  }
-  if (version.multipart != 0 || version.non_image != 0) {
-    throw fileError(path, "multi-part and deep EXR files are not supported");
-  }
-  ExrHeader header;
-  const char* message = nullptr;
-  if (ParseEXRHeaderFromMemory(&header.value, &version, bytes.data(), bytes.size(), &message) != TINYEXR_SUCCESS) {
-    throw fileError(path, "corrupt EXR header: " + takeExrMessage(message));
-  }
-  if (header.value.tiled != 0) {
-    throw fileError(path, "tiled EXR files are not supported");
-  }
-
-  const auto channelCount = static_cast<uint32_t>(header.value.num_channels);
-  const std::span<const char* const> names = exrChannelNames(channelCount);
-  if (names.empty()) {
-    throw fileError(path, "unsupported channel count " + std::to_string(header.value.num_channels) +
-                              " (expected 1, 3 or 4)");
-  }
-  // Each file channel must name a different one of the expected channels.
-  std::vector<uint32_t> interleavedIndexOfFileChannel(channelCount);
-  std::string fileChannelNames;
-  uint32_t matchedChannels = 0;  // bit i: interleaved channel i was found
-  for (uint32_t fileChannel = 0; fileChannel < channelCount; ++fileChannel) {
-    const char* name = header.value.channels[fileChannel].name;
-    fileChannelNames += (fileChannel == 0 ? "" : " ") + std::string(name);
-    const auto match = std::find_if(names.begin(), names.end(),
-                                    [name](const char* expected) { return std::strcmp(expected, name) == 0; });
-    if (match != names.end()) {
-      interleavedIndexOfFileChannel[fileChannel] = static_cast<uint32_t>(match - names.begin());
-      matchedChannels |= 1u << interleavedIndexOfFileChannel[fileChannel];
-    }
-  }
-  if (matchedChannels != (1u << channelCount) - 1u) {
-    throw fileError(path, "unsupported channels '" + fileChannelNames + "' (expected Y, R G B or R G B A)");
-  }
-  for (uint32_t fileChannel = 0; fileChannel < channelCount; ++fileChannel) {
-    if (header.value.pixel_types[fileChannel] == TINYEXR_PIXELTYPE_UINT) {
-      throw fileError(path, "unsupported pixel type uint in channel " +
-                                std::string(header.value.channels[fileChannel].name));
-    }
-    header.value.requested_pixel_types[fileChannel] = TINYEXR_PIXELTYPE_FLOAT;  // tinyexr widens half to float
-  }
-
-  ExrImage exrImage;
-  if (LoadEXRImageFromMemory(&exrImage.value, &header.value, bytes.data(), bytes.size(), &message) !=
-      TINYEXR_SUCCESS) {
-    throw fileError(path, "corrupt EXR data: " + takeExrMessage(message));
-  }
-
-  FloatImage image{.width = static_cast<uint32_t>(exrImage.value.width),
-                   .height = static_cast<uint32_t>(exrImage.value.height),
-                   .channels = channelCount};
-  const size_t pixelCount = size_t{image.width} * image.height;
-  image.pixels.resize(pixelCount * channelCount);
-  for (uint32_t fileChannel = 0; fileChannel < channelCount; ++fileChannel) {
-    const auto* plane = reinterpret_cast<const float*>(exrImage.value.images[fileChannel]);
-    const uint32_t interleavedIndex = interleavedIndexOfFileChannel[fileChannel];
-    for (size_t pixel = 0; pixel < pixelCount; ++pixel) {
-      image.pixels[pixel * channelCount + interleavedIndex] = plane[pixel];
-    }
-  }
-  return image;
-}
-
-void writePng(const std::filesystem::path& path, uint32_t width, uint32_t height, std::span<const uint8_t> rgba) {
+std::vector<uint8_t> encodePng(const std::filesystem::path& path, uint32_t width, uint32_t height,
+                               std::span<const uint8_t> rgba) {
   constexpr uint32_t kBytesPerPixel = 4;
   if (width == 0 || height == 0 || width > INT_MAX / kBytesPerPixel || height > INT_MAX) {
     throw fileError(path, "cannot write a PNG of " + std::to_string(width) + "x" + std::to_string(height) + " pixels");
@@ -257,7 +171,204 @@ void writePng(const std::filesystem::path& path, uint32_t width, uint32_t height
                              static_cast<int>(width * kBytesPerPixel)) == 0) {
     throw fileError(path, "cannot encode PNG");
   }
-  writeFile(path, encoded);
+  return encoded;
+}
+
+}  // namespace
+
+void writeExr(const std::filesystem::path& path, const FloatImage& image) {
+  StagedFiles files;
+  files.writeExr(path, image);
+  files.commit();
+}
+
+FloatImage readExr(const std::filesystem::path& path) {
+  const std::vector<uint8_t> bytes = readFileBytes(path, kMaxExrFileBytes);
+
+  EXRVersion version;
+  if (ParseEXRVersionFromMemory(&version, bytes.data(), bytes.size()) != TINYEXR_SUCCESS) {
+    throw fileError(path, "not an OpenEXR file");
+  }
+  if (version.multipart != 0 || version.non_image != 0) {
+    throw fileError(path, "multi-part and deep EXR files are not supported");
+  }
+  ExrHeader header;
+  const char* message = nullptr;
+  if (ParseEXRHeaderFromMemory(&header.value, &version, bytes.data(), bytes.size(), &message) != TINYEXR_SUCCESS) {
+    throw fileError(path, "corrupt EXR header: " + takeExrMessage(message));
+  }
+  if (header.value.tiled != 0) {
+    throw fileError(path, "tiled EXR files are not supported");
+  }
+  // Checked before tinyexr allocates the image: a few bytes of header can claim millions of pixels.
+  const EXRBox2i& window = header.value.data_window;
+  const int64_t width = int64_t{window.max_x} - window.min_x + 1;
+  const int64_t height = int64_t{window.max_y} - window.min_y + 1;
+  if (width <= 0 || height <= 0 || static_cast<uint64_t>(width) * static_cast<uint64_t>(height) > kMaxExrPixels) {
+    throw fileError(path, "corrupt EXR header: a data window of " + std::to_string(width) + "x" +
+                              std::to_string(height) + " pixels (at most " + std::to_string(kMaxExrPixels) +
+                              " are read)");
+  }
+
+  const auto channelCount = static_cast<uint32_t>(header.value.num_channels);
+  const std::span<const char* const> names = exrChannelNames(channelCount);
+  if (names.empty()) {
+    throw fileError(path, "unsupported channel count " + std::to_string(header.value.num_channels) +
+                              " (expected 1, 3 or 4)");
+  }
+  // Each file channel must name a different one of the expected channels.
+  std::vector<uint32_t> interleavedIndexOfFileChannel(channelCount);
+  std::string fileChannelNames;
+  uint32_t matchedChannels = 0;  // bit i: interleaved channel i was found
+  for (uint32_t fileChannel = 0; fileChannel < channelCount; ++fileChannel) {
+    const char* name = header.value.channels[fileChannel].name;
+    if (fileChannel != 0) fileChannelNames += ' ';
+    fileChannelNames += name;
+    const auto match = std::find_if(names.begin(), names.end(),
+                                    [name](const char* expected) { return std::strcmp(expected, name) == 0; });
+    if (match != names.end()) {
+      interleavedIndexOfFileChannel[fileChannel] = static_cast<uint32_t>(match - names.begin());
+      matchedChannels |= 1u << interleavedIndexOfFileChannel[fileChannel];
+    }
+  }
+  if (matchedChannels != (1u << channelCount) - 1u) {
+    throw fileError(path, "unsupported channels '" + fileChannelNames + "' (expected Y, R G B or R G B A)");
+  }
+  for (uint32_t fileChannel = 0; fileChannel < channelCount; ++fileChannel) {
+    if (header.value.pixel_types[fileChannel] == TINYEXR_PIXELTYPE_UINT) {
+      throw fileError(path, "unsupported pixel type uint in channel " +
+                                std::string(header.value.channels[fileChannel].name));
+    }
+    header.value.requested_pixel_types[fileChannel] = TINYEXR_PIXELTYPE_FLOAT;  // tinyexr widens half to float
+  }
+
+  ExrImage exrImage;
+  // tinyexr (1.0.1) sets num_channels only once it has decoded the pixels, but on a failure to decode them it calls
+  // FreeEXRImage itself, which frees only the first num_channels planes; set beforehand, it frees them all.
+  exrImage.value.num_channels = header.value.num_channels;
+  if (LoadEXRImageFromMemory(&exrImage.value, &header.value, bytes.data(), bytes.size(), &message) !=
+      TINYEXR_SUCCESS) {
+    // What tinyexr freed it left pointed to: forget it, or ExrImage's destructor frees it a second time.
+    InitEXRImage(&exrImage.value);
+    throw fileError(path, "corrupt EXR data: " + takeExrMessage(message));
+  }
+  if (exrImage.value.images == nullptr || exrImage.value.width != width || exrImage.value.height != height) {
+    throw fileError(path, "corrupt EXR data: the pixels do not match the header's data window");
+  }
+
+  FloatImage image{.width = static_cast<uint32_t>(width), .height = static_cast<uint32_t>(height),
+                   .channels = channelCount};
+  const size_t pixelCount = size_t{image.width} * image.height;
+  image.pixels.resize(pixelCount * channelCount);
+  for (uint32_t fileChannel = 0; fileChannel < channelCount; ++fileChannel) {
+    const auto* plane = reinterpret_cast<const float*>(exrImage.value.images[fileChannel]);
+    const uint32_t interleavedIndex = interleavedIndexOfFileChannel[fileChannel];
+    for (size_t pixel = 0; pixel < pixelCount; ++pixel) {
+      image.pixels[pixel * channelCount + interleavedIndex] = plane[pixel];
+    }
+  }
+  return image;
+}
+
+void writePng(const std::filesystem::path& path, uint32_t width, uint32_t height, std::span<const uint8_t> rgba) {
+  StagedFiles files;
+  files.writePng(path, width, height, rgba);
+  files.commit();
+}
+
+std::vector<uint8_t> readFileBytes(const std::filesystem::path& path, uint64_t maxBytes) {
+  // Looked at before opening: opening a named pipe waits for a writer, and reading a device may never end.
+  std::error_code error;
+  const std::filesystem::file_status status = std::filesystem::status(path, error);
+  if (error) {
+    throw fileError(path, "cannot open for reading: " + error.message());
+  }
+  if (status.type() == std::filesystem::file_type::directory) {
+    throw fileError(path, "is a folder, not a file");
+  }
+  if (status.type() != std::filesystem::file_type::regular) {
+    throw fileError(path, "is not a regular file (a device, pipe or socket)");
+  }
+  const uintmax_t size = std::filesystem::file_size(path, error);
+  if (error) {
+    throw fileError(path, "cannot read: " + error.message());
+  }
+  const auto tooLarge = [&](uintmax_t bytes) {
+    return fileError(path, "holds " + std::to_string(bytes) + " bytes, more than the " + std::to_string(maxBytes) +
+                               " read at most");
+  };
+  if (size > maxBytes) {
+    throw tooLarge(size);
+  }
+
+  std::unique_ptr<std::FILE, decltype(&std::fclose)> file(std::fopen(path.c_str(), "rb"), &std::fclose);
+  if (file == nullptr) {
+    throw fileError(path, std::string("cannot open for reading: ") + std::strerror(errno));
+  }
+  std::vector<uint8_t> bytes;
+  bytes.reserve(size);
+  std::array<uint8_t, 1 << 16> chunk;
+  size_t count = 0;
+  while ((count = std::fread(chunk.data(), 1, chunk.size(), file.get())) > 0) {
+    bytes.insert(bytes.end(), chunk.begin(), chunk.begin() + static_cast<std::ptrdiff_t>(count));
+    if (bytes.size() > maxBytes) {
+      throw tooLarge(bytes.size());  // it grew while being read
+    }
+  }
+  if (std::ferror(file.get()) != 0) {
+    throw fileError(path, std::string("cannot read: ") + std::strerror(errno));
+  }
+  return bytes;
+}
+
+StagedFiles::~StagedFiles() {
+  for (const auto& [temporary, destination] : staged_) {
+    std::error_code ignored;  // already renamed into place, or never created
+    std::filesystem::remove(temporary, ignored);
+  }
+}
+
+void StagedFiles::writeExr(const std::filesystem::path& destination, const FloatImage& image) {
+  writeBytes(destination, encodeExr(destination, image));
+}
+
+void StagedFiles::writePng(const std::filesystem::path& destination, uint32_t width, uint32_t height,
+                           std::span<const uint8_t> rgba) {
+  writeBytes(destination, encodePng(destination, width, height, rgba));
+}
+
+void StagedFiles::writeText(const std::filesystem::path& destination, std::string_view text) {
+  writeBytes(destination, {reinterpret_cast<const uint8_t*>(text.data()), text.size()});
+}
+
+void StagedFiles::writeBytes(const std::filesystem::path& destination, std::span<const uint8_t> bytes) {
+  for (const auto& staged : staged_) {
+    if (staged.second == destination) {
+      throw fileError(destination, "written twice in one set of files");
+    }
+  }
+  std::filesystem::path temporary = destination;
+  temporary += ".partial-" + std::to_string(getpid());
+  staged_.emplace_back(temporary, destination);  // listed first, so that a half-written file is removed too
+  writeFile(temporary, destination, bytes);
+}
+
+void StagedFiles::commit() {
+  // rename() cannot replace a folder with a file; finding that out half-way would leave some files new, some old.
+  for (const auto& [temporary, destination] : staged_) {
+    std::error_code error;
+    if (std::filesystem::is_directory(destination, error)) {
+      throw fileError(destination, "is a folder; cannot replace it with a file");
+    }
+  }
+  for (const auto& [temporary, destination] : staged_) {
+    std::error_code error;
+    std::filesystem::rename(temporary, destination, error);
+    if (error) {
+      throw fileError(destination, "cannot move " + temporary.filename().string() + " into place: " + error.message());
+    }
+  }
+  staged_.clear();
 }
 
 }  // namespace ssvgi::renderer

@@ -1,14 +1,16 @@
-// The glTF loader: the shared Cornell box files, small files written by the tests for each feature, and broken files,
-// each of which must fail with one line naming the file.
+// The glTF loader: the shared Cornell box files, small files written by the tests for each feature, and broken or
+// hostile files, each of which must fail with one line naming the file and the object, or load with finite values.
 #include "gltf_loader.h"
 
 #include <gtest/gtest.h>
 
 #include <glm/gtc/constants.hpp>
 
+#include <array>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -211,9 +213,9 @@ TEST_F(GltfFiles, mirroredInstanceGetsReversedWindingSoFrontFacesStayFront) {
   }
 }
 
-TEST_F(GltfFiles, readsPunctualLightsAndNodeCamerasInWorldSpace) {
-  // Node 1: a spot at (0, 4, 0) turned −90° about +X, which takes −Z to −Y: it looks down. Node 2: the sun, turned
-  // alike, shining straight down. Node 3: a camera at (0, 1, 5) looking down −Z.
+// The triangle with lights and a camera. Node 1: a spot at (0, 4, 0) turned −90° about +X, which takes −Z to −Y: it
+// looks down. Node 2: the sun, turned alike, shining straight down. Node 3: a camera at (0, 1, 5) looking down −Z.
+std::string litDocument() {
   const std::string nodes = R"([{"mesh": 0, "children": [1, 2, 3]},
       {"translation": [0, 4, 0], "rotation": [-0.7071068, 0, 0, 0.7071068], "extensions": {"KHR_lights_punctual": {"light": 0}}},
       {"rotation": [-0.7071068, 0, 0, 0.7071068], "extensions": {"KHR_lights_punctual": {"light": 1}}},
@@ -223,7 +225,27 @@ TEST_F(GltfFiles, readsPunctualLightsAndNodeCamerasInWorldSpace) {
        "spot": {"innerConeAngle": 0.2, "outerConeAngle": 0.6}},
       {"type": "directional", "color": [1, 1, 0.5], "intensity": 3}]}},
     "cameras": [{"type": "perspective", "perspective": {"yfov": 0.9, "znear": 0.1}}])";
-  const Scene scene = loadGltf(write("lights.gltf", triangleDocument(nodes, dataUri(triangleBuffer()), extra)));
+  return triangleDocument(nodes, dataUri(triangleBuffer()), extra);
+}
+
+// A GLB file: the header, the JSON chunk padded with spaces and, when there is one, the binary chunk.
+std::string glbFile(const std::string& json, const std::string& bin, uint32_t version = 2) {
+  std::string paddedJson = json;
+  while (paddedJson.size() % 4 != 0) paddedJson += ' ';
+  const size_t binChunkBytes = bin.empty() ? 0 : 8 + bin.size();
+  std::string glb = "glTF";
+  append<uint32_t>(glb, {version, static_cast<uint32_t>(12 + 8 + paddedJson.size() + binChunkBytes)});
+  append<uint32_t>(glb, {static_cast<uint32_t>(paddedJson.size()), 0x4E4F534Au});  // "JSON"
+  glb += paddedJson;
+  if (!bin.empty()) {
+    append<uint32_t>(glb, {static_cast<uint32_t>(bin.size()), 0x004E4942u});  // "BIN"
+    glb += bin;
+  }
+  return glb;
+}
+
+TEST_F(GltfFiles, readsPunctualLightsAndNodeCamerasInWorldSpace) {
+  const Scene scene = loadGltf(write("lights.gltf", litDocument()));
 
   ASSERT_EQ(scene.lights.size(), 1u);
   const LocalLight& spot = scene.lights[0];
@@ -284,16 +306,7 @@ TEST_F(GltfFiles, readsInterleavedVerticesByteIndicesAndMaterialsFromGlb) {
                     {"buffer": 0, "byteOffset": 96, "byteLength": 16, "byteStride": 4},
                     {"buffer": 0, "byteOffset": 112, "byteLength": 6}],
     "buffers": [{"byteLength": 120}]})";
-  std::string paddedJson = json;
-  while (paddedJson.size() % 4 != 0) paddedJson += ' ';
-  std::string glb = "glTF";
-  append<uint32_t>(glb, {2, static_cast<uint32_t>(12 + 8 + paddedJson.size() + 8 + bin.size())});
-  append<uint32_t>(glb, {static_cast<uint32_t>(paddedJson.size()), 0x4E4F534Au});  // "JSON"
-  glb += paddedJson;
-  append<uint32_t>(glb, {static_cast<uint32_t>(bin.size()), 0x004E4942u});  // "BIN"
-  glb += bin;
-
-  const Scene scene = loadGltf(write("quad.glb", glb));
+  const Scene scene = loadGltf(write("quad.glb", glbFile(json, bin)));
   // The points primitive is skipped.
   ASSERT_EQ(scene.meshes.size(), 1u);
   const Mesh& mesh = scene.meshes[0];
@@ -353,18 +366,18 @@ TEST_F(GltfFiles, bufferTooShortForAnAccessorIsAnError) {
   const std::string shortBuffer =
       replaced(triangleDocument(R"([{"mesh": 0}])", "short.bin"), R"("byteLength": 44)", R"("byteLength": 20)");
   const std::string message = loadError(write("short.gltf", shortBuffer));
-  EXPECT_NE(message.find("bufferView 0"), std::string::npos) << message;
+  EXPECT_NE(message.find("bufferViews[0]"), std::string::npos) << message;
   // The buffer is whole but an accessor claims more elements than its view holds.
   const std::string longAccessor = replaced(triangleDocument(R"([{"mesh": 0}])", dataUri(triangleBuffer())),
                                             R"("count": 3, "type": "VEC3")", R"("count": 300, "type": "VEC3")");
-  EXPECT_NE(loadError(write("long.gltf", longAccessor)).find("accessor 0"), std::string::npos);
+  EXPECT_NE(loadError(write("long.gltf", longAccessor)).find("accessors[0]"), std::string::npos);
 }
 
 TEST_F(GltfFiles, accessorIndexOutOfRangeIsAnError) {
   const std::string document =
       replaced(triangleDocument(R"([{"mesh": 0}])", dataUri(triangleBuffer())), R"("POSITION": 0)", R"("POSITION": 7)");
   const std::string message = loadError(write("badaccessor.gltf", document));
-  EXPECT_NE(message.find("accessor 7"), std::string::npos) << message;
+  EXPECT_NE(message.find("accessors[7]"), std::string::npos) << message;
 }
 
 TEST_F(GltfFiles, indexBeyondTheVerticesIsAnError) {
@@ -395,6 +408,222 @@ TEST_F(GltfFiles, undecodableImageIsAnError) {
   document = replaced(document, R"("indices": 1})", R"("indices": 1, "material": 0})");
   const std::string message = loadError(write("noimage.gltf", document));
   EXPECT_NE(message.find("absent.png"), std::string::npos) << message;
+}
+
+// ---- Hostile files: one line naming the object, or a scene that renders finite ----
+
+// The triangle with a normal and texture coordinates per corner: positions (36 bytes), normals (36), texture
+// coordinates (24), then three 16-bit indices and 2 bytes of padding.
+std::string triangleWithAttributes(const std::array<glm::vec3, 3>& normals, const std::array<glm::vec2, 3>& uvs) {
+  std::string bytes;
+  append<float>(bytes, {0, 0, 0, 1, 0, 0, 0, 1, 0});
+  for (const glm::vec3& normal : normals) append<float>(bytes, {normal.x, normal.y, normal.z});
+  for (const glm::vec2& uv : uvs) append<float>(bytes, {uv.x, uv.y});
+  append<uint16_t>(bytes, {0, 1, 2, 0});
+  return R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+  "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}, "indices": 3}]}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"},
+                {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC3"},
+                {"bufferView": 2, "componentType": 5126, "count": 3, "type": "VEC2"},
+                {"bufferView": 3, "componentType": 5123, "count": 3, "type": "SCALAR"}],
+  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 36},
+                  {"buffer": 0, "byteOffset": 72, "byteLength": 24}, {"buffer": 0, "byteOffset": 96, "byteLength": 6}],
+  "buffers": [{"byteLength": 104, "uri": ")" +
+         dataUri(bytes) + "\"}]}";
+}
+
+constexpr std::array<glm::vec2, 3> kUvs = {glm::vec2(0.0f), glm::vec2(1.0f, 0.0f), glm::vec2(0.0f, 1.0f)};
+constexpr std::array<glm::vec3, 3> kNormals = {glm::vec3(0, 0, 1), glm::vec3(0, 0, 1), glm::vec3(0, 0, 1)};
+
+// A file, and what the one line refusing it must name.
+struct RefusedFile {
+  std::string name;
+  std::string document;
+  std::string named;
+};
+
+class HostileGltfFiles : public GltfFiles {
+ protected:
+  void expectRefused(const std::vector<RefusedFile>& files) {
+    for (const RefusedFile& file : files) {
+      SCOPED_TRACE(file.name);
+      const std::string message = loadError(write(file.name + ".gltf", file.document));
+      EXPECT_NE(message.find(file.named), std::string::npos) << message;
+    }
+  }
+};
+
+TEST_F(HostileGltfFiles, valuesThatWouldRenderNonFiniteAreRefusedNamingTheObject) {
+  const std::string triangle = dataUri(triangleBuffer());
+  const std::string lit = litDocument();
+  const float inf = std::numeric_limits<float>::infinity();
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const auto withMaterial = [&](const std::string& material) {
+    return triangleDocument(R"([{"mesh": 0}])", triangle, R"(, "materials": [)" + material + "]");
+  };
+  expectRefused({
+      {"infiniteNormal", triangleWithAttributes({glm::vec3(0, 0, 1), glm::vec3(inf, 0, 0), glm::vec3(0, 0, 1)}, kUvs),
+       "meshes[0].primitives[0].attributes.NORMAL (accessors[1]) element 1 is inf"},
+      {"nanUv", triangleWithAttributes(kNormals, {glm::vec2(0.0f), glm::vec2(nan, 0.0f), glm::vec2(0.0f)}),
+       "attributes.TEXCOORD_0 (accessors[2]) element 1 is nan"},
+      {"emission", withMaterial(R"({"emissiveFactor": [1e30, 0, 0]})"), "materials[0].emissiveFactor[0] is 1e+30"},
+      {"emissiveStrength",
+       withMaterial(
+           R"({"emissiveFactor": [1, 1, 1], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 1e30}}})"),
+       "materials[0].extensions.KHR_materials_emissive_strength.emissiveStrength is 1e+30"},
+      {"baseColour", withMaterial(R"({"pbrMetallicRoughness": {"baseColorFactor": [1e30, 1, 1, 1]}})"),
+       "materials[0].pbrMetallicRoughness.baseColorFactor[0] is 1e+30"},
+      {"projective",
+       triangleDocument(R"([{"mesh": 0, "matrix": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0]}])", triangle),
+       "nodes[0].matrix is not affine"},
+      {"hugeScale", triangleDocument(R"([{"mesh": 0, "scale": [1e30, 1e30, 1e30]}])", triangle),
+       "nodes[0] places a vertex of mesh 'triangle' at (1e+30, 0, 0)"},
+      {"overflowingScales",
+       triangleDocument(R"([{"scale": [1e30, 1, 1], "children": [1]}, {"mesh": 0, "scale": [1e30, 1, 1]}])", triangle),
+       "nodes[1] has a world transform that is not finite"},
+      {"farAway", triangleDocument(R"([{"mesh": 0, "translation": [0, 2e5, 0]}])", triangle),
+       "nodes[0] lies at (0, 200000, 0)"},
+      {"beyondFloat", triangleDocument(R"([{"mesh": 0, "translation": [1e300, 0, 0]}])", triangle),
+       "nodes[0].translation[0] is 1e+300"},
+      {"zeroRotation", triangleDocument(R"([{"mesh": 0, "rotation": [0, 0, 0, 0]}])", triangle),
+       "nodes[0].rotation has length 0"},
+      {"tinyFieldOfView", replaced(lit, R"("yfov": 0.9)", R"("yfov": 1e-30)"), "cameras[0].perspective.yfov is 1e-30"},
+      {"flatCamera", replaced(lit, R"("translation": [0, 1, 5], "camera": 0)", R"("scale": [1, 0, 1], "camera": 0)"),
+       "nodes[3] holds a camera"},
+      {"brightLight", replaced(lit, R"("intensity": 8)", R"("intensity": 1e10)"),
+       "extensions.KHR_lights_punctual.lights[0].intensity is 1e+10"},
+      {"flatSpot", replaced(lit, R"("translation": [0, 4, 0])", R"("scale": [1, 1, 0])"),
+       "nodes[1] holds a spot light"},
+  });
+}
+
+TEST_F(HostileGltfFiles, valuesGltfForbidsAreRefusedNamingTheObject) {
+  const std::string lit = litDocument();
+  const std::string spot = R"("spot": {"innerConeAngle": 0.2, "outerConeAngle": 0.6})";
+  const std::string camera = R"("perspective": {"yfov": 0.9, "znear": 0.1})";
+  expectRefused({
+      {"innerBeyondOuter", replaced(lit, spot, R"("spot": {"innerConeAngle": 0.7, "outerConeAngle": 0.6})"),
+       "lights[0].spot.innerConeAngle 0.7 is larger than its outerConeAngle 0.6"},
+      {"innerBeyondDefaultOuter", replaced(lit, spot, R"("spot": {"innerConeAngle": 1})"),
+       "lights[0].spot.innerConeAngle 1"},
+      {"outerAtRightAngle", replaced(lit, spot, R"("spot": {"outerConeAngle": 1.5707963267948966})"),
+       "lights[0].spot.outerConeAngle is 1.5708"},
+      {"negativeIntensity", replaced(lit, R"("intensity": 8)", R"("intensity": -8)"), "lights[0].intensity is -8"},
+      {"negativeColour", replaced(lit, R"("color": [1, 0.5, 0.25])", R"("color": [1, -0.5, 0.25])"),
+       "lights[0].color[1] is -0.5"},
+      {"zeroRange", replaced(lit, R"("range": 12)", R"("range": 0)"), "lights[0].range is 0"},
+      {"zeroFieldOfView", replaced(lit, camera, R"("perspective": {"yfov": 0, "znear": 0.1})"),
+       "cameras[0].perspective.yfov is 0"},
+      {"negativeFieldOfView", replaced(lit, camera, R"("perspective": {"yfov": -1, "znear": 0.1})"),
+       "perspective.yfov is -1"},
+      {"zeroNear", replaced(lit, camera, R"("perspective": {"yfov": 0.9, "znear": 0})"),
+       "cameras[0].perspective.znear is 0"},
+      {"zeroAspect", replaced(lit, camera, R"("perspective": {"yfov": 0.9, "znear": 0.1, "aspectRatio": 0})"),
+       "cameras[0].perspective.aspectRatio is 0"},
+      {"negativeAspect", replaced(lit, camera, R"("perspective": {"yfov": 0.9, "znear": 0.1, "aspectRatio": -1.5})"),
+       "perspective.aspectRatio is -1.5"},
+      {"unknownRequiredExtension",
+       replaced(lit, R"("asset": {"version": "2.0"},)",
+                R"("asset": {"version": "2.0"}, "extensionsRequired": ["KHR_draco_mesh_compression"],)"),
+       "extensionsRequired lists KHR_draco_mesh_compression"},
+  });
+  // An extension this loader reads may be required.
+  const std::string required =
+      replaced(lit, R"("asset": {"version": "2.0"},)",
+               R"("asset": {"version": "2.0"}, "extensionsRequired": ["KHR_lights_punctual"],)");
+  EXPECT_EQ(loadGltf(write("requiresLights.gltf", required)).lights.size(), 1u);
+}
+
+TEST_F(HostileGltfFiles, membersOfTheWrongTypeAreRefusedInsteadOfDefaulted) {
+  // tinygltf turns each of these into its default without a word: no field of view, no mesh, no transform.
+  const std::string lit = litDocument();
+  const std::string triangle = dataUri(triangleBuffer());
+  expectRefused({
+      {"textFieldOfView", replaced(lit, R"("yfov": 0.9)", R"("yfov": "wide")"),
+       R"(cameras[0].perspective.yfov must be a number, not "wide")"},
+      {"fractionalIndex", triangleDocument(R"([{"mesh": 0.5}])", triangle), "nodes[0].mesh must be a whole number"},
+      {"negativeIndex", triangleDocument(R"([{"mesh": -1}])", triangle), "nodes[0].mesh must be a whole number"},
+      {"textTranslation", triangleDocument(R"([{"mesh": 0, "translation": "far"}])", triangle),
+       "nodes[0].translation must be an array"},
+      {"shortScale", triangleDocument(R"([{"mesh": 0, "scale": [2, 2]}])", triangle),
+       "nodes[0].scale holds 2 numbers, not 3"},
+      {"booleanIntensity", replaced(lit, R"("intensity": 8)", R"("intensity": true)"),
+       "lights[0].intensity must be a number"},
+      {"nodeNotAnObject", triangleDocument(R"([{"mesh": 0}, 7])", triangle), "nodes[1] must be an object, not 7"},
+  });
+}
+
+TEST_F(HostileGltfFiles, aNodeChainTwentyThousandDeepLoads) {
+  // Each node 1 mm along +X from its parent; the last holds the mesh. A recursive walk overflowed the stack.
+  constexpr int kDepth = 20000;
+  std::string nodes = "[";
+  for (int node = 0; node + 1 < kDepth; ++node) {
+    nodes += R"({"translation": [0.001, 0, 0], "children": [)" + std::to_string(node + 1) + "]},";
+  }
+  nodes += R"({"translation": [0.001, 0, 0], "mesh": 0}])";
+  const Scene scene = loadGltf(write("chain.gltf", triangleDocument(nodes, dataUri(triangleBuffer()))));
+  ASSERT_EQ(scene.instances.size(), 1u);
+  EXPECT_NEAR(scene.instances[0].transform[3].x, 0.001f * kDepth, 1e-2f);
+}
+
+TEST_F(HostileGltfFiles, jsonNestedThirtyThousandDeepIsRefusedInGltfAndGlb) {
+  // The parsers recurse once per level of nesting: this overflowed the stack inside tinygltf.
+  const std::string deep = std::string(30000, '[') + std::string(30000, ']');
+  const std::string document = triangleDocument(R"([{"mesh": 0, "extras": )" + deep + "}]", dataUri(triangleBuffer()));
+  EXPECT_NE(loadError(write("deep.gltf", document)).find("nested more than 128 levels"), std::string::npos);
+  EXPECT_NE(loadError(write("deep.glb", glbFile(document, ""))).find("nested more than 128 levels"), std::string::npos);
+  // Brackets inside strings are text, not nesting.
+  const std::string named = triangleDocument(R"([{"mesh": 0, "name": ")" + deep + R"("}])", dataUri(triangleBuffer()));
+  EXPECT_EQ(loadGltf(write("named.gltf", named)).instances.size(), 1u);
+}
+
+TEST_F(HostileGltfFiles, glbOfAnotherVersionOrWithChunksPastItsEndIsRefused) {
+  const std::string document = triangleDocument(R"([{"mesh": 0}])", dataUri(triangleBuffer()));
+  EXPECT_EQ(loadGltf(write("version2.glb", glbFile(document, ""))).instances.size(), 1u);
+  EXPECT_NE(loadError(write("version1.glb", glbFile(document, "", 1))).find("GLB version 1"), std::string::npos);
+  EXPECT_NE(loadError(write("version3.glb", glbFile(document, "", 3))).find("GLB version 3"), std::string::npos);
+  // A binary chunk that claims 4 bytes more than the file holds.
+  std::string glb = glbFile(document, std::string(8, '\0'));
+  const size_t binLength = glb.size() - 8 - 8;
+  glb[binLength] = 12;
+  EXPECT_NE(loadError(write("longbin.glb", glb)).find("second chunk of 12 bytes reaches past its end"),
+            std::string::npos);
+}
+
+TEST_F(HostileGltfFiles, referencesLeadingOutOfTheFilesFolderAreRefused) {
+  // A viewer of a downloaded file must not read what the file names elsewhere, even a valid buffer.
+  const fs::path outside = folder_.parent_path() / ("ssvgi_outside_" + folder_.filename().string() + ".bin");
+  std::ofstream(outside, std::ios::binary) << triangleBuffer();
+  fs::create_directories(folder_ / "data");
+  fs::create_symlink(outside, folder_ / "data" / "link.bin");
+  write("data/inside.bin", triangleBuffer());
+  const auto withBuffer = [](const std::string& uri) { return triangleDocument(R"([{"mesh": 0}])", uri); };
+  expectRefused({
+      {"passwd", withBuffer("../../../../etc/passwd"),
+       "the URI '../../../../etc/passwd' leads outside the file's folder"},
+      {"sibling", withBuffer("../" + outside.filename().string()), "leads outside the file's folder"},
+      {"escaped", withBuffer("%2E%2E/" + outside.filename().string()), "leads outside the file's folder"},
+      {"symlink", withBuffer("data/link.bin"), "the URI 'data/link.bin' leads outside the file's folder"},
+      {"folder", withBuffer("data"), "the URI 'data' names " + (folder_ / "data").string() + ": is a folder"},
+  });
+  fs::remove(outside);
+  // Files in the folder or below it are read, whichever way the URI gets there.
+  EXPECT_EQ(loadGltf(write("below.gltf", withBuffer("data/inside.bin"))).instances.size(), 1u);
+  EXPECT_EQ(loadGltf(write("roundabout.gltf", withBuffer("data/../data/inside.bin"))).instances.size(), 1u);
+}
+
+TEST_F(HostileGltfFiles, odderValuesLoadAsSomethingFinite) {
+  // Normals of 1e30 keep their direction; a normal of zero length takes its triangle's face normal (+Z here).
+  const Scene huge =
+      loadGltf(write("hugeNormals.gltf",
+                     triangleWithAttributes({glm::vec3(1e30f, 0, 0), glm::vec3(0, 3e38f, 0), glm::vec3(0.0f)}, kUvs)));
+  ASSERT_EQ(huge.meshes.size(), 1u);
+  expectNear(huge.meshes[0].vertices[0].normal, {1.0f, 0.0f, 0.0f});
+  expectNear(huge.meshes[0].vertices[1].normal, {0.0f, 1.0f, 0.0f});
+  expectNear(huge.meshes[0].vertices[2].normal, {0.0f, 0.0f, 1.0f});
+  // A node scaled to nothing (glTF's way to hide one) is not drawn; its sibling is.
+  const std::string nodes = R"([{"children": [1, 2]}, {"mesh": 0}, {"mesh": 0, "scale": [0, 1, 1]}])";
+  EXPECT_EQ(loadGltf(write("hidden.gltf", triangleDocument(nodes, dataUri(triangleBuffer())))).instances.size(), 1u);
 }
 
 }  // namespace

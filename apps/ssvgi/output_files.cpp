@@ -3,29 +3,39 @@
 #include <unistd.h>
 
 #include <cstdio>
-#include <fstream>
 #include <stdexcept>
 
 namespace ssvgi::cli {
 
-void writeRenderedImages(const std::filesystem::path& out, const RenderedImages& images, const nlohmann::json& stats) {
+void prepareOutputDirectory(const std::filesystem::path& out) {
   std::error_code error;
+  if (std::filesystem::exists(out, error) && !std::filesystem::is_directory(out, error))
+    throw std::runtime_error("--out " + out.string() + ": is a file, not a directory");
   std::filesystem::create_directories(out, error);
   if (error) throw std::runtime_error("--out " + out.string() + ": cannot create the directory (" + error.message() + ")");
-  renderer::writePng(out / "final.png", images.finalRadiance.width, images.finalRadiance.height, images.tonemapped);
-  renderer::writeExr(out / "final.exr", images.finalRadiance);
-  renderer::writeExr(out / "irradiance_direct.exr", images.directIrradiance);
-  renderer::writeExr(out / "irradiance_indirect.exr", images.indirectIrradiance);
-  renderer::writeExr(out / "albedo.exr", images.albedo);
-  renderer::writeExr(out / "normal.exr", images.normal);
-  renderer::writeExr(out / "depth.exr", images.viewDistance);
-  std::ofstream(out / "stats.json") << stats.dump(2) << "\n";
+  try {
+    renderer::StagedFiles probe;  // never committed: its file is removed
+    probe.writeText(out / ".ssvgi-write-test", "");
+  } catch (const renderer::ImageIoError& writeError) {
+    throw std::runtime_error("--out " + out.string() + ": cannot write into the directory (" + writeError.what() + ")");
+  }
 }
 
-void writeDebugImage(const std::filesystem::path& out, const std::string& name, const renderer::FloatImage& radiance,
-                     const std::vector<uint8_t>& tonemapped) {
-  renderer::writePng(out / (name + ".png"), radiance.width, radiance.height, tonemapped);
-  renderer::writeExr(out / (name + ".exr"), radiance);
+void writeRenderedImages(const std::filesystem::path& out, const RenderedImages& images, const nlohmann::json& stats) {
+  renderer::StagedFiles files;
+  files.writePng(out / "final.png", images.finalRadiance.width, images.finalRadiance.height, images.tonemapped);
+  files.writeExr(out / "final.exr", images.finalRadiance);
+  files.writeExr(out / "irradiance_direct.exr", images.directIrradiance);
+  files.writeExr(out / "irradiance_indirect.exr", images.indirectIrradiance);
+  files.writeExr(out / "albedo.exr", images.albedo);
+  files.writeExr(out / "normal.exr", images.normal);
+  files.writeExr(out / "depth.exr", images.viewDistance);
+  for (const auto& [name, debug] : images.debugImages) {
+    files.writePng(out / (name + ".png"), debug.radiance.width, debug.radiance.height, debug.tonemapped);
+    files.writeExr(out / (name + ".exr"), debug.radiance);
+  }
+  files.writeText(out / "stats.json", stats.dump(2) + "\n");
+  files.commit();
 }
 
 nlohmann::json sceneStats(const gpu::Device& device, const SceneOptions& options, const ResolvedScene& resolved) {

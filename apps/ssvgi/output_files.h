@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -23,15 +24,17 @@ struct RenderedImages {
   renderer::FloatImage normal;              // normal.exr
   renderer::FloatImage viewDistance;        // depth.exr: metres from the camera, 0 where there is no surface
   std::vector<uint8_t> tonemapped;          // final.png: RGBA8, sRGB
+  std::map<std::string, renderer::Renderer::DebugImage> debugImages;  // NAME.png (tonemapped) and NAME.exr (linear)
 };
 
-// Writes the images and stats.json into `out` (created if needed). Throws std::runtime_error naming the directory
-// when it cannot be created; image files throw renderer::ImageIoError.
-void writeRenderedImages(const std::filesystem::path& out, const RenderedImages& images, const nlohmann::json& stats);
+// Creates `out` if needed and checks that files can be written into it: called before any rendering work, so that a
+// bad --out costs no render. Throws std::runtime_error with one line naming --out.
+void prepareOutputDirectory(const std::filesystem::path& out);
 
-// A debug image as `out`/`name`.png (tonemapped) and `out`/`name`.exr (linear); `out` must exist.
-void writeDebugImage(const std::filesystem::path& out, const std::string& name, const renderer::FloatImage& radiance,
-                     const std::vector<uint8_t>& tonemapped);
+// Writes the images and stats.json into `out` (prepared by prepareOutputDirectory) all or none, as
+// renderer::StagedFiles does: an error half-way, or a killed process, leaves the files already there as they were.
+// Throws renderer::ImageIoError naming the file that could not be written.
+void writeRenderedImages(const std::filesystem::path& out, const RenderedImages& images, const nlohmann::json& stats);
 
 // The names of what writeRenderedImages writes, for the commands' closing line.
 inline constexpr const char* kRenderedFileList =

@@ -31,6 +31,7 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 
 int runReference(const ReferenceOptions& options) {
   const ResolvedScene resolved = resolveScene(options.scene);
+  prepareOutputDirectory(options.out);
   gpu::Device device(gpu::DeviceDesc{options.scene.device, options.scene.validation});
 
   // The scene as `render` shows it at that time, so that the two can be compared pixel by pixel.

@@ -74,6 +74,8 @@ int runRender(const RenderOptions& options) {
   std::optional<renderer::Camera> debugCamera;
   if (!options.debugCamera.empty()) debugCamera = parseCamera(options.debugCamera, "--debug-camera", resolved.camera);
 
+  prepareOutputDirectory(options.out);
+
   gpu::Device device(gpu::DeviceDesc{options.scene.device, options.scene.validation});
   renderer::RendererSettings settings;
   settings.width = resolved.width;
@@ -91,15 +93,15 @@ int runRender(const RenderOptions& options) {
     drawProgress(label, frame + 1, options.frames);
   }
 
-  writeRenderedImages(options.out,
-                      RenderedImages{renderer.finalRadiance(), renderer.directIrradiance(),
-                                     renderer.indirectIrradiance(), renderer.albedo(), renderer.normal(),
-                                     renderer.viewDistance(), renderer.tonemapped()},
-                      statsJson(device, options, resolved, settings, renderer));
+  // The stats before the debug views, whose passes are not the frame's.
+  const nlohmann::json stats = statsJson(device, options, resolved, settings, renderer);
+  RenderedImages images{renderer.finalRadiance(), renderer.directIrradiance(), renderer.indirectIrradiance(),
+                        renderer.albedo(),        renderer.normal(),           renderer.viewDistance(),
+                        renderer.tonemapped()};
   for (const std::string& name : options.debugViews) {
-    const auto debug = renderer.giDebugView(kDebugViews.at(name), debugCamera);
-    writeDebugImage(options.out, "debug_" + name, debug.radiance, debug.tonemapped);
+    images.debugImages["debug_" + name] = renderer.giDebugView(kDebugViews.at(name), debugCamera);
   }
+  writeRenderedImages(options.out, images, stats);
 
   if (options.scene.validation && device.validationErrorCount() > 0) {
     std::fprintf(stderr, "ssvgi: %u Vulkan validation errors\n", device.validationErrorCount());
