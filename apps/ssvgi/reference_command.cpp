@@ -103,8 +103,10 @@ CommandRunner addReferenceCommand(CLI::App& app) {
                       "Animation time in seconds (moving object, sun cycle, camera path); render's last frame of "
                       "--frames N is at (N - 1)/30")
       ->capture_default_str()
-      ->check(CLI::Range(0.0f, 1.0e6f));
-  command->add_option("--exposure", options->exposure, "Multiplier on radiance before tonemapping")->capture_default_str();
+      ->check(kFiniteNumber & CLI::Range(0.0f, 1.0e6f));
+  command->add_option("--exposure", options->exposure, "Multiplier on radiance before tonemapping")
+      ->capture_default_str()
+      ->check(kFiniteNumber & CLI::NonNegativeNumber);
   command->add_option("--out", options->out, "Output directory")->capture_default_str();
   return [options] { return runReference(*options); };
 }

@@ -7,6 +7,7 @@
 #include <glm/gtc/constants.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <functional>
 #include <sstream>
@@ -30,6 +31,7 @@ std::vector<float> parseNumbers(const std::string& text, size_t count, const std
     } catch (const std::exception&) {
       throw std::runtime_error(option + " " + text + ": '" + item + "' is not a number");
     }
+    if (!std::isfinite(values.back())) throw std::runtime_error(option + " " + text + ": '" + item + "' is not finite");
   }
   if (values.size() != count)
     throw std::runtime_error(option + " " + text + ": expected " + std::to_string(count) + " comma-separated numbers");
@@ -114,6 +116,7 @@ ResolvedScene resolveScene(const SceneOptions& options) {
     scene.sunCycle.reset();
   } else if (!options.sun.empty()) {
     const auto v = parseNumbers(options.sun, 3, "--sun");
+    if (v[2] < 0.0f) throw std::runtime_error("--sun " + options.sun + ": the illuminance must not be negative");
     scene.sun.enabled = true;
     scene.sun.direction = renderer::sunDirection(v[0], v[1]);
     scene.sun.illuminance = glm::vec3(v[2]);
@@ -129,6 +132,8 @@ ResolvedScene resolveScene(const SceneOptions& options) {
     scene.sky.kind = renderer::SkyKind::Default;
   } else if (options.sky.rfind("uniform:", 0) == 0) {
     const auto v = parseNumbers(options.sky.substr(8), 3, "--sky uniform:");
+    if (v[0] < 0.0f || v[1] < 0.0f || v[2] < 0.0f)
+      throw std::runtime_error("--sky " + options.sky + ": the radiance must not be negative");
     scene.sky.kind = renderer::SkyKind::Uniform;
     scene.sky.uniformRadiance = {v[0], v[1], v[2]};
   } else if (!options.sky.empty()) {

@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
@@ -28,6 +29,17 @@ struct SceneOptions {
 };
 
 void addSceneOptions(CLI::App& command, SceneOptions& options);
+
+// A CLI11 check that refuses NaN and infinities (CLI::Range lets NaN through: every comparison with it is false).
+inline const CLI::Validator kFiniteNumber(
+    [](const std::string& text) {
+      try {
+        return std::isfinite(std::stod(text)) ? std::string() : "not a finite number: " + text;
+      } catch (const std::exception&) {
+        return "not a number: " + text;
+      }
+    },
+    "FINITE");
 
 // The scene with every option applied, the view to render it from and the image size. Throws std::runtime_error with
 // one line naming the bad option or file.
