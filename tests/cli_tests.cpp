@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <utility>
 
@@ -290,6 +291,74 @@ TEST_F(CliReference, renderedDirectLightIsWithinFivePercentOfTheReference) {
   const auto result = nlohmann::json::parse(run.output);
   EXPECT_LT(result["relativeMeanAbsoluteError"].get<double>(), 0.05) << run.output;
   EXPECT_GT(result["validPixels"].get<uint64_t>(), kSize * kSize / 2) << run.output;
+}
+
+TEST_F(CliReference, compareRefusesItsOwnFinalImageCutByOneByteWithOneLine) {
+  // A truncated EXR freed its image twice in tinyexr's error path (SIGABRT) before the image reader forgot it.
+  ASSERT_EQ(renderRun().exitCode, 0) << renderRun().output;
+  const fs::path cut = directory("cut") / "final.exr";
+  fs::create_directories(cut.parent_path());
+  fs::copy_file(renderOut() / "final.exr", cut, fs::copy_options::overwrite_existing);
+  fs::resize_file(cut, fs::file_size(cut) - 1);
+  const CliRun run = runCli("compare " + cut.string() + " " + (renderOut() / "final.exr").string());
+  fs::remove_all(cut.parent_path());
+  EXPECT_EQ(run.exitCode, 1) << run.output;
+  EXPECT_NE(run.output.find("final.exr"), std::string::npos) << run.output;
+  EXPECT_EQ(lineCount(run.output), 1u) << run.output;
+}
+
+TEST(Cli, compareOfADeviceReturnsAtOnceWithOneLine) {
+  // /dev/zero never ends: read whole, it hung.
+  const CliRun run = runCli("compare /dev/zero /dev/zero");
+  EXPECT_EQ(run.exitCode, 1) << run.output;
+  EXPECT_NE(run.output.find("is not a regular file"), std::string::npos) << run.output;
+}
+
+TEST(Cli, anUnusableOutDirectoryIsRefusedBeforeAnyRendering) {
+  const fs::path file = freshDirectory("out-is-a-file");
+  { std::ofstream(file) << "x"; }
+  const CliRun onAFile = runCli("render --scene cornell --size 8x8 --frames 1 --out " + file.string());
+  EXPECT_EQ(onAFile.exitCode, 1) << onAFile.output;
+  EXPECT_NE(onAFile.output.find("--out " + file.string() + ": is a file"), std::string::npos) << onAFile.output;
+  EXPECT_EQ(onAFile.output.find("rendering"), std::string::npos) << "it rendered first: " << onAFile.output;
+  fs::remove(file);
+  const CliRun underNull = runCli("render --scene cornell --size 8x8 --frames 1 --out /dev/null/out");
+  EXPECT_EQ(underNull.exitCode, 1) << underNull.output;
+  EXPECT_NE(underNull.output.find("--out /dev/null/out"), std::string::npos) << underNull.output;
+}
+
+TEST(Cli, renderWritesAllItsFilesOrNoneOfThem) {
+  // final.png is a directory: the render cannot place it, so it places nothing — the stats.json of an earlier render
+  // stays as it was, and no staged file is left behind.
+  const fs::path out = freshDirectory("all-or-none");
+  fs::create_directories(out / "final.png");
+  { std::ofstream(out / "stats.json") << "earlier"; }
+  const CliRun run = runCli("render --scene cornell --size 8x8 --frames 1 --gi off --out " + out.string());
+  EXPECT_EQ(run.exitCode, 1) << run.output;
+  EXPECT_NE(run.output.find("final.png"), std::string::npos) << run.output;
+  std::ifstream stats(out / "stats.json");
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(stats), {}), "earlier");
+  for (const auto& entry : fs::directory_iterator(out))
+    EXPECT_EQ(entry.path().filename().string().find(".partial"), std::string::npos) << entry.path();
+  fs::remove_all(out);
+}
+
+TEST(Cli, aGltfBufferOutsideTheFilesFolderIsRefused) {
+  // A viewer of untrusted files must not read /etc/passwd as vertex data because a glTF said so.
+  const fs::path directory = freshDirectory("escaping-uri");
+  fs::create_directories(directory);
+  std::ifstream original(SSVGI_SHARED_DIR "/scenes/cornell-box/CornellBox-Original.gltf");
+  std::string text((std::istreambuf_iterator<char>(original)), {});
+  const std::string uri = "CornellBox-Original.bin";
+  ASSERT_NE(text.find(uri), std::string::npos);
+  text.replace(text.find(uri), uri.size(), "../../../../../../etc/passwd");
+  { std::ofstream(directory / "escape.gltf") << text; }
+  const CliRun run = runCli("render --scene " + (directory / "escape.gltf").string() + " --size 8x8 --frames 1 --out " +
+                            (directory / "out").string());
+  fs::remove_all(directory);
+  EXPECT_EQ(run.exitCode, 1) << run.output;
+  EXPECT_NE(run.output.find("leads outside the file's folder"), std::string::npos) << run.output;
+  EXPECT_EQ(lineCount(run.output), 1u) << run.output;
 }
 
 TEST(Cli, referenceRefusesZeroSamplesPerPixel) {
