@@ -6,14 +6,17 @@
 #include "gpu_test_device.h"
 #include "voxel_readback.h"
 #include "shared/gi_frame.h"
+#include "shared/probe_interface.h"
 #include "shared/sampling.h"
 #include "shared/voxel_interface.h"
 #include "ssvgi/ssvgi.h"
 
 #include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/packing.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 #include <map>
@@ -90,10 +93,10 @@ struct HostFrame {
         }
       }
     }
-    gpu::uploadImage(device, depth, std::as_bytes(std::span(depths)));
     depthValues = depths;
-    gpu::uploadImage(device, color, std::as_bytes(std::span(colors)));
-    gpu::uploadImage(device, normal, std::as_bytes(std::span(normals)));
+    colorValues = colors;
+    normalValues = normals;
+    upload(device);
     const float* matrix = glm::value_ptr(viewProjection);
     std::copy(matrix, matrix + 16, view.viewProjection.begin());
     const glm::vec3 eye = glm::inverse(viewMatrix)[3];
@@ -110,7 +113,16 @@ struct HostFrame {
   glm::mat4 viewProjection;
   std::vector<PixelSurface> surfaces;  // per pixel, rows from the top
   std::vector<float> depthValues;      // the depth image's values
+  std::vector<float> colorValues;      // rgba per pixel
+  std::vector<float> normalValues;     // xyz0 per pixel
   View view;
+
+  // Uploads the images' values (after a test has changed them).
+  void upload(gpu::Device& device) {
+    gpu::uploadImage(device, depth, std::as_bytes(std::span(depthValues)));
+    gpu::uploadImage(device, color, std::as_bytes(std::span(colorValues)));
+    gpu::uploadImage(device, normal, std::as_bytes(std::span(normalValues)));
+  }
 };
 
 renderer::Camera lookingDown(glm::vec3 position, float fovDegrees = 30.0f) {
@@ -657,6 +669,55 @@ TEST_F(VoxelScene, nonFiniteOrSingularViewsAndFarAwayCamerasAreRefused) {
   EXPECT_NE(dispatchWith(frame.view, {badView}).message.find("FrameDesc::extraViews[0].camera.viewProjection"),
             std::string::npos);
   EXPECT_FALSE(dispatchWith(frame.view)) << "the context refuses good frames after bad ones";
+}
+
+TEST_F(VoxelScene, nonFinitePixelsInTheHostsImagesLeaveNothingNonFiniteAndAreForgottenWithinThirtyTwoFrames) {
+  // SPEC §1: a NaN reaching ssvgi through an image must not poison its voxels and probes for good. For 8 frames the
+  // host's frames carry +∞ in every pixel's red (light too bright for the half floats ssvgi stores: its probes' SH
+  // overflowed to ∞), and NaN or ±∞ in colour, depth or normal in every 7th pixel; every voxel, probe and output texel
+  // must stay finite meanwhile, and 32 clean frames later the floor's voxels hold the floor's colour again.
+  create(smallSettings());
+  const HostFrame clean(device(), lookingDown({0.5f, 6.0f, 0.5f}), {kFloor});
+  HostFrame poisoned(device(), lookingDown({0.5f, 6.0f, 0.5f}), {kFloor});
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  for (size_t pixel = 0; pixel < size_t(kSize) * kSize; ++pixel) poisoned.colorValues[pixel * 4] = inf;
+  for (size_t pixel = 0; pixel < size_t(kSize) * kSize; pixel += 7) {
+    switch ((pixel / 7) % 4) {
+      case 0: poisoned.colorValues[pixel * 4 + 1] = nan; break;
+      case 1: poisoned.colorValues[pixel * 4 + 2] = -inf; break;
+      case 2: poisoned.depthValues[pixel] = nan; break;
+      default: poisoned.normalValues[pixel * 4 + 2] = -inf; break;
+    }
+  }
+  poisoned.upload(device());
+  auto expectAllFinite = [&](const char* when) {
+    SCOPED_TRACE(when);
+    for (const auto& [coordinate, voxel] : occupiedVoxels(readState())) {
+      const glm::vec3 radiance = shader::unpackR11G11B10F(voxel.radiance);
+      for (int c = 0; c < 3; ++c) ASSERT_TRUE(std::isfinite(radiance[c])) << "a voxel";
+    }
+    for (const shader::Probe& probe : gpu::readBufferAs<shader::Probe>(device(), gi::probeVolumeOf(*context_).probes())) {
+      const shader::Sh2Rgb radiance = shader::probeRadianceSh(probe);
+      for (const glm::vec4& channel : {radiance.r, radiance.g, radiance.b})
+        for (int c = 0; c < 4; ++c) ASSERT_TRUE(std::isfinite(channel[c])) << "a probe";
+    }
+    const auto output = gpu::readImage(device(), gi::gatherTargetsOf(*context_).output());
+    for (size_t i = 0; i < output.size() / 2; ++i) {
+      uint16_t half = 0;
+      std::memcpy(&half, output.data() + 2 * i, 2);
+      ASSERT_TRUE(std::isfinite(glm::unpackHalf1x16(half))) << "output value " << i;
+    }
+  };
+  run(poisoned, 8);
+  expectAllFinite("with the non-finite pixels");
+  run(clean, 32);
+  expectAllFinite("after them");
+  uint32_t floorVoxels = 0;
+  for (const auto& [coordinate, voxel] : occupiedVoxels(readState())) {
+    ++floorVoxels;
+    EXPECT_NEAR(shader::unpackR11G11B10F(voxel.radiance).x, kFloor.radiance.x, kFloor.radiance.x / 64.0f);
+  }
+  EXPECT_GT(floorVoxels, 100u);
 }
 
 // Pool index of the live brick at a world brick coordinate, if any.

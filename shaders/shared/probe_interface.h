@@ -152,7 +152,8 @@ SSVGI_INLINE vec3 probeRayDirection(uint firstDirection, uint ray) {
 
 // SH2 with half-float coefficients, two per uint.
 SSVGI_INLINE uvec2 packSh2Half(vec4 coefficients) {
-  return uvec2(packHalf2x16(vec2(coefficients.x, coefficients.y)), packHalf2x16(vec2(coefficients.z, coefficients.w)));
+  return uvec2(packHalf2x16(vec2(finiteHalf(coefficients.x), finiteHalf(coefficients.y))),
+               packHalf2x16(vec2(finiteHalf(coefficients.z), finiteHalf(coefficients.w))));
 }
 SSVGI_INLINE vec4 unpackSh2Half(uvec2 packed) {
   vec2 low = unpackHalf2x16(packed.x);

@@ -117,12 +117,22 @@ SSVGI_INLINE float unpackVoxelPlane(uint code) { return (float(code - 1u) / 254.
 // every level lies wholly inside or wholly outside the volume and toroidal slots never alias.
 SSVGI_CONSTANT(int, kScrollStepBricks, 4);
 
+// The largest half float. What ssvgi stores in half floats goes through finiteHalf: a NaN or an infinity that reaches
+// it from a host's image or from light too bright for the format must not stay in a voxel, a probe or the output.
+SSVGI_CONSTANT(float, kHalfMax, 65504.0f);
+SSVGI_INLINE float finiteHalf(float value) {
+  // Written so that NaN fails every comparison and becomes 0.
+  return abs(value) <= kHalfMax ? value : (value > 0.0f ? kHalfMax : (value < 0.0f ? -kHalfMax : 0.0f));
+}
+SSVGI_INLINE vec3 finiteHalf(vec3 value) { return vec3(finiteHalf(value.x), finiteHalf(value.y), finiteHalf(value.z)); }
+
 // Radiance in R11G11B10F (SPEC §4.1): each channel is a half float with the sign dropped and the mantissa cut to
-// 6 (R, G) or 5 (B) bits, rounded to nearest. Negative values become 0, values past the format's range its maximum.
+// 6 (R, G) or 5 (B) bits, rounded to nearest. Negative values and NaN become 0, values past the format's range (and
+// +∞) its maximum.
 SSVGI_INLINE uint packSmallFloat(float value, uint mantissaBits) {
   uint dropped = 10u - mantissaBits;
   float largest = mantissaBits == 6u ? 65024.0f : 64512.0f;  // (2 - 2^-mantissaBits) · 2^15
-  uint halfBits = SSVGI_HALF_BITS(clamp(value, 0.0f, largest));
+  uint halfBits = SSVGI_HALF_BITS(value > 0.0f ? min(value, largest) : 0.0f);
   return (halfBits + (1u << (dropped - 1u))) >> dropped;
 }
 SSVGI_INLINE float unpackSmallFloat(uint bits, uint mantissaBits) { return SSVGI_HALF_FLOAT(bits << (10u - mantissaBits)); }

@@ -24,6 +24,7 @@ void main() {
   }
   vec3 normal = normalize(texelFetch(normalBuffer, pixel, 0).xyz);
   vec3 position = reconstructPosition(frame.inverseViewProjection, vec2(pixel), vec2(frame.sizes.xy), depth);
-  imageStore(tileIrradiance, ivec2(tile),
-             probeIrradiance(position, normal, hashToUnitCube(uvec3(tile, frameIndex)).x, true));
+  vec4 irradiance = probeIrradiance(position, normal, hashToUnitCube(uvec3(tile, frameIndex)).x, true);
+  // A host pixel whose depth or normal is not finite gives no light rather than a NaN.
+  imageStore(tileIrradiance, ivec2(tile), vec4(finiteHalf(irradiance.rgb), irradiance.a));
 }

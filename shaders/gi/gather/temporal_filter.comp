@@ -50,5 +50,5 @@ void main() {
   TileNeighbourhood neighbourhood = tileNeighbourhood(surface, pixel);
   vec3 lowest = min(neighbourhood.lowest, current.rgb), highest = max(neighbourhood.highest, current.rgb);
   vec3 filtered = mix(clamp(reprojected.rgb, lowest, highest), current.rgb, kTemporalBlend);
-  imageStore(outputIrradiance, halfPixel, vec4(filtered, current.a));
+  imageStore(outputIrradiance, halfPixel, vec4(finiteHalf(filtered), current.a));
 }

@@ -15,5 +15,5 @@ void main() {
   ivec2 pixel = 2 * halfPixel;
   float depth = texelFetch(depthBuffer, pixel, 0).r;
   vec3 irradiance = depth > 0.0 ? tileNeighbourhood(currentSurface(pixel, depth), pixel).blended : vec3(0.0);
-  imageStore(outputIrradiance, halfPixel, vec4(irradiance, max(depth, 0.0)));
+  imageStore(outputIrradiance, halfPixel, vec4(finiteHalf(irradiance), depth > 0.0 ? finiteHalf(depth) : 0.0));
 }
