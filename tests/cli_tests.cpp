@@ -444,6 +444,8 @@ INSTANTIATE_TEST_SUITE_P(
                       BadInvocation{"infiniteCamera", "render --scene cornell --camera inf,1,3,0,1,0,40",
                                     "'inf' is not finite"},
                       BadInvocation{"nanExposure", "render --scene cornell --exposure nan", "--exposure"},
+                      BadInvocation{"negativeExposure", "render --scene cornell --exposure -1",
+                                    "--exposure: -1 is not at least 0"},
                       BadInvocation{"nanReferenceTime", "reference --scene cornell --spp 1 --time nan", "--time"},
                       BadInvocation{"missingDevice", "render --scene cornell --device 42", "--device 42"},
                       BadInvocation{"unknownGiSetting", "render --scene cornell --gi-set voxelSise=0.5",

@@ -106,7 +106,7 @@ CommandRunner addReferenceCommand(CLI::App& app) {
       ->check(kFiniteNumber & CLI::Range(0.0f, 1.0e6f));
   command->add_option("--exposure", options->exposure, "Multiplier on radiance before tonemapping")
       ->capture_default_str()
-      ->check(kFiniteNumber & CLI::NonNegativeNumber);
+      ->check(kNonNegativeNumber);
   command->add_option("--out", options->out, "Output directory")->capture_default_str();
   return [options] { return runReference(*options); };
 }

@@ -126,7 +126,7 @@ CommandRunner addRenderCommand(CLI::App& app) {
   addGiOptions(*command, options->giOptions);
   command->add_option("--exposure", options->exposure, "Multiplier on radiance before tonemapping")
       ->capture_default_str()
-      ->check(kFiniteNumber & CLI::NonNegativeNumber);
+      ->check(kNonNegativeNumber);
   command->add_option("--debug", options->debugViews,
                       "Also write ssvgi's view of the last frame, ray-traced through its voxels from the camera: "
                       "voxels (stored radiance), bricks (a colour per brick) or probes (level-0 probes as spheres lit "

@@ -31,7 +31,7 @@ CommandRunner addCameraCutScenario(CLI::App& scenario) {
   command->add_option("--tolerance", cut->cut.recoveryTolerance,
                       "Recovered once the relative mean absolute difference stays below this")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(kPositiveNumber);
   return [options, cut] {
     return runScenario("cut", *options, [&](gpu::Device& device, const ResolvedScene& resolved,
                                             const bench::ScenarioRendering& rendering) {

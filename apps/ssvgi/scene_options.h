@@ -9,6 +9,8 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -30,16 +32,30 @@ struct SceneOptions {
 
 void addSceneOptions(CLI::App& command, SceneOptions& options);
 
-// A CLI11 check that refuses NaN and infinities (CLI::Range lets NaN through: every comparison with it is false).
-inline const CLI::Validator kFiniteNumber(
-    [](const std::string& text) {
-      try {
-        return std::isfinite(std::stod(text)) ? std::string() : "not a finite number: " + text;
-      } catch (const std::exception&) {
-        return "not a number: " + text;
-      }
-    },
-    "FINITE");
+// CLI11 checks for numbers that refuse NaN and infinities (CLI::Range lets NaN through: every comparison with it is
+// false) and say their bound in a few characters (CLI::NonNegativeNumber prints the largest double, 309 digits).
+inline CLI::Validator finiteNumber(double lowest, bool lowestAllowed, const std::string& name) {
+  return CLI::Validator(
+      [=](const std::string& text) {
+        double value = 0.0;
+        try {
+          value = std::stod(text);
+        } catch (const std::exception&) {
+          return "not a number: " + text;
+        }
+        if (!std::isfinite(value)) return "not a finite number: " + text;
+        if (value < lowest || (!lowestAllowed && value == lowest)) {
+          char bound[32];
+          std::snprintf(bound, sizeof(bound), "%g", lowest);
+          return text + " is not " + (lowestAllowed ? "at least " : "above ") + bound;
+        }
+        return std::string();
+      },
+      name);
+}
+inline const CLI::Validator kFiniteNumber = finiteNumber(-std::numeric_limits<double>::max(), true, "FINITE");
+inline const CLI::Validator kNonNegativeNumber = finiteNumber(0.0, true, "NONNEGATIVE");
+inline const CLI::Validator kPositiveNumber = finiteNumber(0.0, false, "POSITIVE");
 
 // The scene with every option applied, the view to render it from and the image size. Throws std::runtime_error with
 // one line naming the bad option or file.
