@@ -443,6 +443,8 @@ INSTANTIATE_TEST_SUITE_P(
                                     "the radiance must not be negative"},
                       BadInvocation{"infiniteCamera", "render --scene cornell --camera inf,1,3,0,1,0,40",
                                     "'inf' is not finite"},
+                      BadInvocation{"tinyFieldOfView", "render --scene cornell --camera 0,1,3,0,1,0,1e-30",
+                                    "the field of view must be in [0.01, 179] degrees"},
                       BadInvocation{"nanExposure", "render --scene cornell --exposure nan", "--exposure"},
                       BadInvocation{"negativeExposure", "render --scene cornell --exposure -1",
                                     "--exposure: -1 is not at least 0"},

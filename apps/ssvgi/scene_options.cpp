@@ -86,7 +86,9 @@ renderer::Camera parseCamera(const std::string& text, const std::string& option,
   const auto v = parseNumbers(text, 7, option);
   camera.position = {v[0], v[1], v[2]};
   camera.target = {v[3], v[4], v[5]};
-  if (v[6] <= 0.0f || v[6] >= 180.0f) throw std::runtime_error(option + ": the field of view must be in (0, 180) degrees");
+  // Below a hundredth of a degree the projection is no longer invertible in float.
+  if (v[6] < 0.01f || v[6] > 179.0f)
+    throw std::runtime_error(option + ": the field of view must be in [0.01, 179] degrees");
   camera.verticalFov = glm::radians(v[6]);
   if (glm::length(camera.target - camera.position) <= 0.0f)
     throw std::runtime_error(option + ": position and target must differ");
