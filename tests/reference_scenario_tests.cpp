@@ -178,10 +178,9 @@ bench::IndirectErrorResult offScreenLightError(gpu::Device& device, const char* 
   return result;
 }
 
-// Measured 2026-12-02 on lavapipe: relative MAE 15.6 %, mean ratio 0.91, converged at frame 160 (reference noise floor
-// 2.4 %); without the sun's view there is no indirect light in the view at all (MAE 100 %, ratio 0).
-TEST_F(ReferenceScenario, theGalleryLitByASunlitWallBehindTheCameraIsWithinTwentyFivePercentOfTheReference) {
-  const bench::IndirectErrorResult result = offScreenLightError(device(), "gallery");
+// The bound for these scenes at the tests' size: relative MAE within 25 %, the mean within 0.8–1.25 of the
+// reference's, converged, and the reference's own noise well below the bound.
+void expectWithinTwentyFivePercent(const bench::IndirectErrorResult& result) {
   EXPECT_TRUE(result.convergence.converged);
   EXPECT_LT(result.referenceNoiseFloor, 0.08);
   EXPECT_LT(result.comparison.relativeMeanAbsoluteError, 0.25);
@@ -189,17 +188,18 @@ TEST_F(ReferenceScenario, theGalleryLitByASunlitWallBehindTheCameraIsWithinTwent
   EXPECT_LT(result.meanRatio, 1.25);
 }
 
+// Measured 2026-12-02 on lavapipe: relative MAE 15.6 %, mean ratio 0.91, converged at frame 160 (reference noise floor
+// 2.4 %); without the sun's view there is no indirect light in the view at all (MAE 100 %, ratio 0).
+TEST_F(ReferenceScenario, theGalleryLitByASunlitWallBehindTheCameraIsWithinTwentyFivePercentOfTheReference) {
+  expectWithinTwentyFivePercent(offScreenLightError(device(), "gallery"));
+}
+
 // Not met yet: measured 2026-12-02, 5.7× the reference's light (relative MAE 479 %; 7.8× at 640×360). The capture
 // around the camera fills the roof above and behind it, but space no view has observed (the far wall behind the
 // column, the floor behind the red block) still counts as open sky for the probes' rays, and the closed hall's walls
 // multiply what comes in (SPEC §6.4, "unknown is not sky", is the remedy).
 TEST_F(ReferenceScenario, DISABLED_theHallLitThroughItsRoofIsWithinTwentyFivePercentOfTheReference) {
-  const bench::IndirectErrorResult result = offScreenLightError(device(), "hall");
-  EXPECT_TRUE(result.convergence.converged);
-  EXPECT_LT(result.referenceNoiseFloor, 0.08);
-  EXPECT_LT(result.comparison.relativeMeanAbsoluteError, 0.25);
-  EXPECT_GT(result.meanRatio, 0.8);
-  EXPECT_LT(result.meanRatio, 1.25);
+  expectWithinTwentyFivePercent(offScreenLightError(device(), "hall"));
 }
 
 }  // namespace

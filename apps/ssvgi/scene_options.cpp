@@ -225,22 +225,18 @@ void addGiOptions(CLI::App& command, GiOptions& options) {
                      "Override one GI setting after the tier and the scene's detail scale, as NAME=VALUE (X,Y,Z for "
                      "volumeBricks and probeGrid); may be repeated. Names: " + names);
   // The views beyond the camera (SPEC §6.3; renderer::ExtraViewSettings).
-  const auto viewSize = CLI::Range(0u, 4096u);
-  command.add_option("--sun-view", options.extraViews.sunViewSize,
-                     "Give ssvgi the sun's view (an orthographic reflective shadow map over the voxel volume, texels "
-                     "a voxel wide), this many pixels per side; 0: none")
-      ->capture_default_str()
-      ->check(viewSize);
-  command.add_option("--surround-views", options.extraViews.surroundViewSize,
-                     "Give ssvgi a capture around the camera (six 90° views from its position), this many pixels per "
-                     "side; 0: none")
-      ->capture_default_str()
-      ->check(viewSize);
-  command.add_option("--light-views", options.extraViews.lightViewSize,
-                     "Give ssvgi the views of the scene's local lights (six per point light, one per spot), this many "
-                     "pixels per side; 0: none")
-      ->capture_default_str()
-      ->check(viewSize);
+  const auto addViewSize = [&](const char* name, uint32_t& size, const std::string& what) {
+    command.add_option(name, size, "Give ssvgi " + what + ", this many pixels per side; 0: none")
+        ->capture_default_str()
+        ->check(CLI::Range(0u, 4096u));
+  };
+  addViewSize("--sun-view", options.extraViews.sunViewSize,
+              "the sun's view (an orthographic reflective shadow map over the voxel volume, texels a voxel wide; 256 "
+              "recommended)");
+  addViewSize("--surround-views", options.extraViews.surroundViewSize,
+              "a capture around the camera (six 90° views from its position; 64 recommended)");
+  addViewSize("--light-views", options.extraViews.lightViewSize,
+              "the views of the scene's local lights (six per point light, one per spot)");
   command.add_option("--views-per-frame", options.extraViews.viewsPerFrame,
                      "Extra views rendered per frame; when there are more, they take turns")
       ->capture_default_str()
