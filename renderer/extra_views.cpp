@@ -101,7 +101,8 @@ ExtraViews::ExtraViews(gpu::Device& device, const Scene& scene, const ExtraViewS
   for (Kind kind : {Kind::Sun, Kind::Surround, Kind::Light}) {
     const auto count = uint32_t(std::count_if(sources_.begin(), sources_.end(),
                                               [kind](const Source& source) { return source.kind == kind; }));
-    for (uint32_t i = 0; i < std::min(count, settings.viewsPerFrame); ++i) targets_.emplace_back(kind, device, sizeOf(kind));
+    for (uint32_t i = 0; i < std::min(count, settings.viewsPerFrame); ++i)
+      targets_.emplace_back(kind, device, sizeOf(kind));
   }
   if (const uint32_t size = maxViewSize(); size > 0) {
     directIrradiance_ = storageImage(device, "extra view direct irradiance", VK_FORMAT_R32G32B32A32_SFLOAT, size);

@@ -106,6 +106,11 @@ SSVGI_CONSTANT(uint, kVoxelExtraViewsShift, 30u);
 // voxel the lit frame has lit only once it has seen it this many times since — a surface the camera stops looking at
 // takes the views' light again within a few of their renders.
 SSVGI_CONSTANT(uint, kVoxelExtraViewsBeforeWrite, 3u);
+// An extra view's texels are about a voxel wide and move by a fraction of one from render to render: each render
+// samples the voxel at another point, of its surface or — where two meet in it, a floor and a wall — of either. Its
+// writes are averaged, an exponential window of about 1/this many renders, rather than each replacing the last, which
+// flickered; the lit frame's light, finer and already filtered, replaces.
+SSVGI_CONSTANT(float, kVoxelExtraViewRadianceBlend, 0.25f);
 SSVGI_CONSTANT(float, kVoxelPlaneRange, 0.875f);
 SSVGI_INLINE uint packVoxelPlane(float offsetVoxels) {
   float unit = clamp(offsetVoxels / kVoxelPlaneRange, -1.0f, 1.0f) * 0.5f + 0.5f;

@@ -35,8 +35,6 @@ vec3 injectedRadiance(ivec2 texel, vec3 surface, vec3 normal) {
   return radiance + albedo * (1.0 / kPi) * probeIrradiance(surface, normal, noise, false).rgb;
 }
 
-const float kExtraViewRadianceBlend = 0.25;
-
 shared uint occupancyLow;
 shared uint occupancyHigh;
 
@@ -86,7 +84,8 @@ void main() {
       nearestDepth = max(nearestDepth, texelFetch(litDepth, neighbour, 0).r);
     }
     vec3 nearestSurface = reconstructPosition(frame.litInverseViewProjection, pixel - 0.5, litSize, nearestDepth);
-    bool inFront = dot(nearestSurface - samplePoint, viewRayDirection(frame.litInverseViewProjection, ndc.xy)) > clearMargin;
+    vec3 viewDirection = viewRayDirection(frame.litInverseViewProjection, ndc.xy);
+    bool inFront = dot(nearestSurface - samplePoint, viewDirection) > clearMargin;
     vec3 held = heldSurfacePoint(surface, normal);
     // Seeing through one point of a voxel proves only that point empty. A voxel that the surface seen there passes
     // through (its tangent plane cuts the voxel's box) may hold that surface elsewhere: at a grazing view most of
@@ -118,16 +117,15 @@ void main() {
       bool writes = fromCamera || !occupied || extraViews >= kVoxelExtraViewsBeforeWrite;
       uint surfaceBits = voxel.surfaceAndLastHit & ((1u << kVoxelLastHitShift) - 1u);
       if (writes) {
-        // An extra view's texels are about a voxel wide and move by a fraction of one from render to render: each
-        // render samples the voxel at another point, of its surface or — where two meet in it, a floor and a wall —
-        // of either. They are averaged (an exponential window of about 1/kExtraViewRadianceBlend renders) rather than
-        // each replacing the last, which would flicker; the lit frame's light, finer and already filtered, replaces.
+        // An extra view's writes are averaged (kVoxelExtraViewRadianceBlend); the lit frame's replace.
         vec3 radiance = injectedRadiance(texel, surface, normal);
-        if (!fromCamera && occupied) radiance = mix(unpackR11G11B10F(voxel.radiance), radiance, kExtraViewRadianceBlend);
+        if (!fromCamera && occupied)
+          radiance = mix(unpackR11G11B10F(voxel.radiance), radiance, kVoxelExtraViewRadianceBlend);
         voxel.radiance = packR11G11B10F(radiance);
         // A valid sample sets the voxel's surface (normal and plane); a refresh keeps it.
         float planeOffset = dot(surface - (voxelMin + 0.5 * voxelSize), normal) / voxelSize;
-        if (holdsSurface) surfaceBits = packOctahedralNormal(normal) | (packVoxelPlane(planeOffset) << kVoxelPlaneShift);
+        if (holdsSurface)
+          surfaceBits = packOctahedralNormal(normal) | (packVoxelPlane(planeOffset) << kVoxelPlaneShift);
       }
       extraViews = fromCamera ? 0u : (writes ? kVoxelExtraViewsBeforeWrite : extraViews + 1u);
       // Seeing its surface resets the seen-through counter.
