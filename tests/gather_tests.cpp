@@ -284,7 +284,7 @@ class GatherOverConstantProbes : public GatherFilters {
         const glm::ivec3 coordinate = shader::probeWorldCoordinate(slot, volume.levelOrigin(level, position), dimensions);
         probes_.push_back(shader::makeProbe({radiance, radiance, radiance}, unitSh, unitSh,
                                             shader::packProbeState(1, 0, shader::kProbeStateActive),
-                                            shader::probeCoordinateTag(coordinate)));
+                                            shader::packProbeTag(coordinate, 1.0f, 0.0f)));
       }
     }
     gpu::uploadBuffer(device(), volume.probes(), std::as_bytes(std::span(probes_)));
@@ -355,7 +355,7 @@ TEST_F(GatherOverConstantProbes, probeDebugViewShowsEachProbeAsASphereLitByItsSh
 
   const gi::ProbeVolume& volume = gi::probeVolumeOf(context);
   shader::Probe& probe = probes_[shader::probeSlotIndex(glm::ivec3(0, 0, 3), glm::ivec3(16, 8, 16))];  // level 0
-  ASSERT_EQ(probe.tag, shader::probeCoordinateTag(glm::ivec3(0, 0, 3)));
+  ASSERT_TRUE(shader::probeHoldsCoordinate(probe, glm::ivec3(0, 0, 3)));
   probe.state = shader::packProbeState(1, 0, shader::kProbeStateInvalid);
   gpu::uploadBuffer(device(), volume.probes(), std::as_bytes(std::span(probes_)));
   EXPECT_EQ(probeColour(), glm::vec3(1.0f, 0.0f, 1.0f)) << "invalid: magenta";

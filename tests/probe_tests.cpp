@@ -269,7 +269,7 @@ class ProbeCache : public testing::GpuTest {
   shader::Probe probeAt(const std::vector<shader::Probe>& probes, uint32_t level, glm::vec3 position) const {
     const glm::ivec3 coordinate(glm::round(position / spacing(level)));
     const shader::Probe& probe = probes[level * probesPerLevel() + shader::probeSlotIndex(coordinate, probeGrid())];
-    EXPECT_EQ(probe.tag, shader::probeCoordinateTag(coordinate)) << "level " << level;
+    EXPECT_TRUE(shader::probeHoldsCoordinate(probe, coordinate)) << "level " << level;
     return probe;
   }
 
@@ -290,10 +290,10 @@ bool isActive(const shader::Probe& probe) {
 bool wasTraced(const shader::Probe& probe) {
   return shader::probePlacement(probe.state) != shader::kProbeStateNeverTraced;
 }
-// The Y coordinate of a probe from its tag's 10 bits (the scenes lie within ±512 probes of the world origin).
+// The Y coordinate of a probe from its tag's 8 bits (the scenes lie within ±128 probes of the world origin).
 int tagY(uint32_t tag) {
-  const int y = int((tag >> 10) & 0x3ffu);
-  return y >= 512 ? y - 1024 : y;
+  const int y = int((tag >> 8) & 0xffu);
+  return y >= 128 ? y - 256 : y;
 }
 
 // The mean of an SH2 over the sphere: L00 / (4π·Y00).

@@ -56,7 +56,8 @@ struct Probe {
   uint distanceSh;      // hit distance SH2 (m, clamped, see above) over the level's distance range, packProbeUnitSh
   uint normalDotSh;     // normal-dot SH2 (dot(-ray, hit normal), +1 for a miss), packProbeUnitSh
   uint state;           // the state word (below)
-  uint tag;             // tag of its world probe coordinate (probeCoordinateTag)
+  uint tag;             // bits 0–23: tag of its world probe coordinate (probeCoordinateTag); bits 24–31: the share of
+                        // its rays that found something known (probeKnownFraction)
 };
 SSVGI_CHECK_SIZE(Probe, 40);
 
@@ -102,10 +103,24 @@ SSVGI_INLINE vec3 probeWorldPosition(ivec3 worldProbe, float spacing, uint state
   return vec3(worldProbe) * spacing + offset;
 }
 
-// 10 bits of each axis of a world probe coordinate. A stale slot holds a probe a multiple of the dimensions away on
-// some axis; it carries the same tag only when that distance is also a multiple of 1024 probes (kilometres).
+// 8 bits of each axis of a world probe coordinate. A stale slot holds a probe a multiple of the dimensions away on
+// some axis; it carries the same tag only when that distance is also a multiple of 256 probes (768 probes with the
+// high tier's 48, 768 m at level 0).
 SSVGI_INLINE uint probeCoordinateTag(ivec3 worldProbe) {
-  return uint(worldProbe.x & 0x3ff) | (uint(worldProbe.y & 0x3ff) << 10u) | (uint(worldProbe.z & 0x3ff) << 20u);
+  return uint(worldProbe.x & 0xff) | (uint(worldProbe.y & 0xff) << 8u) | (uint(worldProbe.z & 0xff) << 16u);
+}
+SSVGI_CONSTANT(uint, kProbeTagMask, 0xffffffu);
+SSVGI_CONSTANT(uint, kProbeKnownShift, 24u);
+SSVGI_INLINE bool probeHoldsCoordinate(Probe probe, ivec3 worldProbe) {
+  return (probe.tag & kProbeTagMask) == probeCoordinateTag(worldProbe);
+}
+// Unknown is not sky (SPEC §6.4): the share of a probe's rays, blended over its updates like its SH, that found a voxel
+// or the sky through space a view has observed, rather than space no view has. 8 bits, rounded with a dither as
+// packProbeUnitSh rounds.
+SSVGI_INLINE float probeKnownFraction(Probe probe) { return float(probe.tag >> kProbeKnownShift) / 255.0f; }
+SSVGI_INLINE uint packProbeTag(ivec3 worldProbe, float knownFraction, float dither) {
+  uint known = min(uint(floor(clamp(knownFraction, 0.0f, 1.0f) * 255.0f + dither)), 255u);
+  return probeCoordinateTag(worldProbe) | (known << kProbeKnownShift);
 }
 
 // Index of a probe within its level: its toroidal slot, linearised.
@@ -126,7 +141,7 @@ SSVGI_INLINE ivec3 probeWorldCoordinate(uint slotIndex, ivec3 origin, ivec3 dime
 // slot holds this world probe (its tag), the probe is active (not inside geometry) and it has been traced since it
 // last started afresh (m > 0; a probe just moved by its virtual offset still holds what it saw from inside).
 SSVGI_INLINE bool probeIsUsable(Probe probe, ivec3 worldProbe) {
-  return probe.tag == probeCoordinateTag(worldProbe) && probePlacement(probe.state) == kProbeStateActive &&
+  return probeHoldsCoordinate(probe, worldProbe) && probePlacement(probe.state) == kProbeStateActive &&
          probeHistoryCount(probe.state) > 0u;
 }
 

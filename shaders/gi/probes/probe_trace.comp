@@ -237,7 +237,7 @@ void main() {
   uint state = stored.state;
   // History, offset and placement count only if this slot has held this probe (a slot that scrolled to another probe
   // is stale). An invalid probe keeps its history count but has no offset: it is traced from its grid position.
-  bool ownsSlot = probePlacement(state) != kProbeStateNeverTraced && stored.tag == probeCoordinateTag(probe);
+  bool ownsSlot = probePlacement(state) != kProbeStateNeverTraced && probeHoldsCoordinate(stored, probe);
   uint historyCount = ownsSlot ? probeHistoryCount(state) : 0u;
   // The probe's radiance so far: what this update blends into, and the reservoirs' control variate.
   Sh2Rgb history = historyCount > 0u ? probeRadianceSh(stored) : Sh2Rgb(vec4(0.0), vec4(0.0), vec4(0.0));
@@ -380,5 +380,5 @@ void main() {
                            ? (firstDirection + rays.candidates) % (rays.candidates * kProbeStratumDirectionCount)
                            : (firstDirection + raysPerProbe) % kProbeRayDirectionCount;
   uint nextState = packProbeState(min(historyCount + 1u, update.settings.y), nextDirection, placement, offsetCode);
-  probes[probeIndex] = makeProbe(radiance, distanceSh, normalDotSh, nextState, probeCoordinateTag(probe));
+  probes[probeIndex] = makeProbe(radiance, distanceSh, normalDotSh, nextState, packProbeTag(probe, 1.0, dither));
 }
