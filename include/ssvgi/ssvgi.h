@@ -86,6 +86,11 @@ struct Settings {
   // deviations of its usual difference shortens the probe's history in proportion (shared/probe_interface.h), so a
   // light switched on or off is followed in a few updates. 0: off (plain α = 1/(m+1)).
   float probeChangeThreshold = 2.0f;
+  // Unknown is not sky (SPEC §6.4): ssvgi keeps which brick cells of its volume the camera and the extra views have
+  // seen through or into. A probe ray that enters one no view has observed has found neither a surface nor the sky:
+  // it takes what the probe already holds for its direction, and the probe's confidence falls. Off: every ray that
+  // meets no voxel sees the sky, also through a roof that was never on screen.
+  bool skyOnlyThroughObservedSpace = true;
 };
 
 Settings settingsForTier(QualityTier tier);

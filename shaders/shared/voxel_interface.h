@@ -28,7 +28,9 @@ SSVGI_CONSTANT(uint, kBindOccupancyGrid, 4u);   // bit volumes of levels 2–4 (
 // (slot 5 is the GiFrame uniform of gi_frame.h)
 SSVGI_CONSTANT(uint, kBindPoolState, 6u);       // BrickPoolState + free list (brick_pool.glsl; allocating passes only)
 SSVGI_CONSTANT(uint, kBindChangedCells, 7u);    // IndirectList of brick cells whose occupancy may have changed
-SSVGI_CONSTANT(uint, kBindFirstPassSlot, 8u);
+SSVGI_CONSTANT(uint, kBindObservedSpace, 8u);   // bit volumes of the observed space (below), laid out as the
+                                                // occupancy grid's levels 2–4
+SSVGI_CONSTANT(uint, kBindFirstPassSlot, 9u);
 // SceneVoxelization's own slots lie past the gather's (shared/gather_interface.h), whose constants and probes it also
 // binds: the light of the probes completes views lit by direct light only (SPEC §6.3).
 SSVGI_CONSTANT(uint, kBindInjectionColor, kBindFirstPassSlot + 8u);   // the view's radiance (sampled)
@@ -44,9 +46,18 @@ struct VoxelVolume {
   vec4 voxelSize;           // x: voxel size (m); y: brick size (m); z: 1 / brick size; w: unused
   uvec4 gridWordOffsets;    // x, y, z: first uint of occupancy levels 2, 3, 4 in the grid bit buffer; w: total words
   uvec4 settings;           // x: frames a voxel may be seen through before it is cleared; y: injections an empty
-                            // brick is kept; z, w: unused
+                            // brick is kept; z: 1 when probe rays see the sky only through observed space
+                            // (Settings::skyOnlyThroughObservedSpace); w: unused
+  ivec4 previousOriginBrick;  // xyz: originBrick of the last frame (VolumeScroll forgets what scrolled in); w: unused
 };
-SSVGI_CHECK_SIZE(VoxelVolume, 80);
+SSVGI_CHECK_SIZE(VoxelVolume, 96);
+
+// Observed space (SPEC §6.4, "unknown is not sky"): which brick cells of the volume a view — the camera or an extra
+// view — has observed, by seeing through them (known empty) or into them (they hold the surface it saw). Three bit
+// volumes in the occupancy grid's layout (VoxelVolume::gridWordOffsets): at level 2 a bit per brick cell, set once
+// observed; at levels 3 and 4 a bit per 2×2×2 and 4×4×4 bricks, set once all of them are, so that a ray crosses
+// observed space at the occupancy grid's pace. ObservedSpace sets them, VolumeScroll clears the cells that scroll in.
+// A probe ray that enters an unobserved cell holding no voxel has found neither a surface nor the sky.
 
 // A brick of the pool.
 struct Brick {

@@ -160,6 +160,7 @@ class ContextImplementation final : public Context {
         hizBuild_(device_),
         volumeScroll_(device_),
         brickAllocate_(device_),
+        observedSpace_(device_),
         brickCulling_(device_),
         sceneVoxelization_(device_),
         buildOctree_(device_),
@@ -345,6 +346,7 @@ class ContextImplementation final : public Context {
                                       hiz_, visibleBricks_};
     hizBuild_.record(commands, inputs, view.frame, view.hizLevels);
     brickAllocate_.record(commands, scene_, inputs, glm::uvec2(view.frame.sizes), desc_.settings.allocationPixelStride);
+    observedSpace_.record(commands, scene_, inputs, glm::uvec2(view.frame.sizes));
     const shader::IndirectList empty{0, 1, 1, 0};
     commands.updateBuffer(visibleBricks_, 0, &empty, sizeof(empty));
     brickCulling_.record(commands, scene_, inputs);
@@ -382,6 +384,7 @@ class ContextImplementation final : public Context {
         commands.fillBuffer(scene_.bricks(), 0);
         commands.fillBuffer(scene_.poolState(), 0);
         commands.fillBuffer(scene_.occupancyGrid(), 0);
+        commands.fillBuffer(scene_.observedSpace(), 0);  // nothing observed yet
         commands.fillBuffer(probes_.probes(), 0);  // every probe kProbeStateNeverTraced
         commands.fillBuffer(probes_.reservoirs(), 0);  // every reservoir empty
         commands.fillBuffer(probes_.changes(), 0);
@@ -456,6 +459,7 @@ class ContextImplementation final : public Context {
   gi::HiZBuild hizBuild_;
   gi::VolumeScroll volumeScroll_;
   gi::BrickAllocate brickAllocate_;
+  gi::ObservedSpace observedSpace_;
   gi::BrickCulling brickCulling_;
   gi::SceneVoxelization sceneVoxelization_;
   gi::BuildOctree buildOctree_;

@@ -72,7 +72,8 @@ vec4 gatherLevel(uint level, vec3 position, vec3 normal, bool testVisibility) {
       // virtual offset may put it on either side), and through a closed door the lit room's probes would light the
       // dark one (`ssvgi scenario leak`). A voxel within half a voxel of the biased point is the point's own surface.
       if (testVisibility) {
-        VoxelHit blocker = traceVoxelsHierarchical(probePosition, fromProbe / pointDistance, pointDistance);
+        VoxelHit blocker = traceVoxelsHierarchical(probePosition, fromProbe / pointDistance, pointDistance,
+                                                      kCrossUnobservedSpace);
         if (blocker.hit && blocker.distance < pointDistance - 0.5 * volume.voxelSize.x) continue;
       }
     }

@@ -71,6 +71,12 @@ shared float clampScale[kProbeTraceGroupSize];
 shared float trimmedLuminance[kProbeTraceGroupSize];
 // The history count this update blends with (followChange), for every thread: the reservoirs forget as much.
 shared uint blendedHistoryCount;
+// Unknown is not sky (SPEC §6.4): what the probe holds for the directions in which its rays enter space no view has
+// observed — its history, or, for a probe that starts afresh, the coarser level's radiance it starts from (black
+// without one) — so that such rays teach it neither darkness nor sky; and how many of its rays found something known.
+shared vec4 heldRadiance[3];
+shared bool startsFromCoarserLevel;
+shared uint knownRays;
 
 vec3 skyRadiance(vec3 direction) {
   vec4 basis = sh2Basis(direction);
@@ -103,7 +109,7 @@ bool coarserLevelRadiance(ivec3 probe, vec3 position, out Sh2Rgb radiance) {
     float separation = distance(coarserPosition, position);
     if (separation > 0.5 * volume.voxelSize.x &&
         traceVoxelsHierarchical(coarserPosition, (position - coarserPosition) / separation,
-                                separation - 0.5 * volume.voxelSize.x).hit)
+                                separation - 0.5 * volume.voxelSize.x, kCrossUnobservedSpace).hit)
       continue;
     Sh2Rgb coarserRadiance = probeRadianceSh(candidate);
     radiance.r += weight * coarserRadiance.r;
@@ -257,6 +263,17 @@ void main() {
   uint reservoirSlot = probeIndex * kProbeStrata + stratum;
   uint reservoir = keepsReservoirs && ray < raysPerProbe && historyCount > 0u ? reservoirs[reservoirSlot] : 0u;
 
+  if (ray == 0u) {
+    Sh2Rgb start;
+    startsFromCoarserLevel = historyCount == 0u && coarserLevelRadiance(probe, origin, start);
+    Sh2Rgb held = historyCount > 0u ? history : start;
+    heldRadiance[0] = held.r;
+    heldRadiance[1] = held.g;
+    heldRadiance[2] = held.b;
+    knownRays = 0u;
+  }
+  barrier();
+
   for (uint sh = 0u; sh < kSh2PerProbe; ++sh) partialSums[sh][ray] = vec4(0.0);
   rayRadiance[ray] = vec3(0.0);
   if (ray < raysPerProbe) {
@@ -273,8 +290,17 @@ void main() {
       direction = probeRayDirection(firstDirection, ray);
       uniformWeight = update.distances.w;
     }
-    VoxelHit hit = traceVoxelsHierarchical(origin, direction, update.distances.y);
-    vec3 radiance = hit.hit ? hit.radiance : skyRadiance(direction);
+    bool stopsAtUnobserved = volume.settings.z != 0u;
+    VoxelHit hit = traceVoxelsHierarchical(origin, direction, update.distances.y, stopsAtUnobserved);
+    vec3 radiance;
+    if (hit.unobserved) {
+      vec4 basis = sh2Basis(direction);
+      radiance = max(vec3(dot(heldRadiance[0], basis), dot(heldRadiance[1], basis), dot(heldRadiance[2], basis)),
+                     vec3(0.0));
+    } else {
+      radiance = hit.hit ? hit.radiance : skyRadiance(direction);
+      atomicAdd(knownRays, 1u);
+    }
     // A miss meets no surface, front or back: +1 (a front face head-on) keeps it from suggesting the probe is inside
     // geometry, which is what negative values will tell the virtual offset.
     float normalDot = hit.hit ? dot(-direction, hit.normal) : 1.0;
@@ -360,9 +386,8 @@ void main() {
   // probe's own position and spacing), it takes the first trace whole. A stale slot may hold anything: no history.
   float alpha = 1.0 / float(historyCount + 1u);
   float radianceAlpha = alpha;
-  Sh2Rgb startRadiance;
-  if (storedCount == 0u && coarserLevelRadiance(probe, origin, startRadiance)) {
-    history = startRadiance;
+  if (startsFromCoarserLevel) {
+    history = Sh2Rgb(heldRadiance[0], heldRadiance[1], heldRadiance[2]);
     radianceAlpha = 0.5;
   }
   Sh2Rgb radiance = Sh2Rgb(mix(history.r, partialSums[0][0], radianceAlpha),
@@ -380,5 +405,8 @@ void main() {
                            ? (firstDirection + rays.candidates) % (rays.candidates * kProbeStratumDirectionCount)
                            : (firstDirection + raysPerProbe) % kProbeRayDirectionCount;
   uint nextState = packProbeState(min(historyCount + 1u, update.settings.y), nextDirection, placement, offsetCode);
-  probes[probeIndex] = makeProbe(radiance, distanceSh, normalDotSh, nextState, packProbeTag(probe, 1.0, dither));
+  float knownFraction = float(knownRays) / float(raysPerProbe);
+  float knownHistory = historyCount > 0u ? probeKnownFraction(stored) : knownFraction;
+  uint tag = packProbeTag(probe, mix(knownHistory, knownFraction, alpha), dither);
+  probes[probeIndex] = makeProbe(radiance, distanceSh, normalDotSh, nextState, tag);
 }

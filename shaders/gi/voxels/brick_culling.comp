@@ -8,8 +8,8 @@
 layout(local_size_x = 64) in;
 
 layout(binding = kBindPoolState) buffer PoolBlock { BrickPoolState pool; };
-layout(binding = 8) readonly buffer HiZ { float hiz[]; };
-layout(binding = 9) buffer VisibleBricks {
+layout(binding = kBindFirstPassSlot) readonly buffer HiZ { float hiz[]; };
+layout(binding = kBindFirstPassSlot + 1u) buffer VisibleBricks {
   IndirectList visible;
   uint visibleBricks[];
 };

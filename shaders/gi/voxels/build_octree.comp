@@ -25,12 +25,7 @@ void main() {
   uint entry = gl_GlobalInvocationID.x;
   if (entry >= changed.count) return;
   uint cell = changedCells[entry];
-  ivec3 dimensions = volumeDimensions();
-  ivec3 slot = ivec3(int(cell) % dimensions.x, (int(cell) / dimensions.x) % dimensions.y,
-                     int(cell) / (dimensions.x * dimensions.y));
-  // The world brick whose toroidal slot this is: the one inside the volume.
-  ivec3 origin = volume.originBrick.xyz;
-  ivec3 worldBrick = origin + wrapCoordinate(slot - origin, dimensions);
+  ivec3 worldBrick = worldBrickOfCell(cell);
   ivec3 worldCell = worldBrick >> (level - kFirstGridLevel);
 
   bool occupied = false;

@@ -3,11 +3,12 @@
 // Level 0 is half the depth's resolution. A buffer rather than a mipmapped image: BrickCulling picks the level per
 // brick, and a buffer needs no descriptor arrays or min/max samplers, which mobile GPUs may lack (SPEC §2).
 #include "gi/gi_frame.glsl"
+#include "shared/voxel_interface.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(binding = 8) uniform sampler2D depthBuffer;
-layout(binding = 9) buffer HiZ { float hiz[]; };
+layout(binding = kBindFirstPassSlot) uniform sampler2D depthBuffer;
+layout(binding = kBindFirstPassSlot + 1u) buffer HiZ { float hiz[]; };
 layout(push_constant) uniform Push { uint level; } push;
 
 float source(ivec2 texel, uvec4 sourceLevel) {

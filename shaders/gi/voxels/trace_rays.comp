@@ -19,8 +19,10 @@ void main() {
   vec3 origin = rays[index].originAndMaxDistance.xyz;
   float maxDistance = rays[index].originAndMaxDistance.w;
   vec3 direction = rays[index].direction.xyz;
-  VoxelHit hit = kTraceMethod == kTraceMethodFlat ? traceVoxelsFlat(origin, direction, maxDistance)
-                                                  : traceVoxelsHierarchical(origin, direction, maxDistance);
+  bool stopsAtUnobserved = rays[index].direction.w != 0.0;
+  VoxelHit hit = kTraceMethod == kTraceMethodFlat
+                     ? traceVoxelsFlat(origin, direction, maxDistance, stopsAtUnobserved)
+                     : traceVoxelsHierarchical(origin, direction, maxDistance, stopsAtUnobserved);
   hits[index] = VoxelTraceHit(vec4(hit.radiance, hit.distance), vec4(hit.normal, 0.0),
-                              uvec4(hit.brick, hit.voxelIndex, hit.reads, 0u));
+                              uvec4(hit.brick, hit.voxelIndex, hit.reads, hit.unobserved ? 1u : 0u));
 }

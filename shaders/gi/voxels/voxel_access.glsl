@@ -23,8 +23,24 @@ layout(binding = kBindBrickLookup) SSVGI_VOXEL_ACCESS buffer BrickLookup { uint 
 layout(binding = kBindBricks) SSVGI_VOXEL_ACCESS buffer Bricks { Brick bricks[]; };
 layout(binding = kBindVoxels) SSVGI_VOXEL_ACCESS buffer Voxels { Voxel voxels[]; };
 layout(binding = kBindOccupancyGrid) SSVGI_OCCUPANCY_GRID_ACCESS buffer OccupancyGrid { uint occupancyGrid[]; };
+// Observed space (voxel_interface.h): written by ObservedSpace and VolumeScroll, which define
+// SSVGI_OBSERVED_SPACE_WRITABLE (with the atomics' results read coherently).
+#ifdef SSVGI_OBSERVED_SPACE_WRITABLE
+layout(binding = kBindObservedSpace) coherent buffer ObservedSpace { uint observedSpace[]; };
+#else
+layout(binding = kBindObservedSpace) readonly buffer ObservedSpace { uint observedSpace[]; };
+#endif
 
 ivec3 volumeDimensions() { return volume.dimensionsBricks.xyz; }
+
+// The world brick whose toroidal cell (brickCellIndex) this is: the one inside the volume.
+ivec3 worldBrickOfCell(uint cell) {
+  ivec3 dimensions = volumeDimensions();
+  ivec3 slot = ivec3(int(cell) % dimensions.x, (int(cell) / dimensions.x) % dimensions.y,
+                     int(cell) / (dimensions.x * dimensions.y));
+  ivec3 origin = volume.originBrick.xyz;
+  return origin + wrapCoordinate(slot - origin, dimensions);
+}
 
 // The world brick containing a world position.
 ivec3 worldBrickOf(vec3 position) { return ivec3(floor(position * volume.voxelSize.z)); }
@@ -55,6 +71,13 @@ uvec2 gridBitAddress(uint level, ivec3 worldCell) {
   uint index = brickCellIndex(worldCell, dimensions);
   uint offset = level == 2u ? volume.gridWordOffsets.x : (level == 3u ? volume.gridWordOffsets.y : volume.gridWordOffsets.z);
   return uvec2(offset + (index >> 5u), 1u << (index & 31u));
+}
+
+// Whether a cell of a grid level in world units has been observed: at level 2 the brick cell, at levels 3 and 4 all
+// of its brick cells.
+bool cellObserved(uint level, ivec3 worldCell) {
+  uvec2 address = gridBitAddress(level, worldCell);
+  return (observedSpace[address.x] & address.y) != 0u;
 }
 
 bool gridOccupied(uint level, ivec3 worldCell) {

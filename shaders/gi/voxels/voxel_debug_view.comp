@@ -17,7 +17,7 @@ void main() {
   vec3 origin = push.camera.position.xyz;
   vec3 direction = debugViewDirection(push.camera, pixel);
   float range = length(vec3(volume.dimensionsBricks.xyz)) * volume.voxelSize.y;  // crosses the whole volume
-  VoxelHit hit = traceVoxelsHierarchical(origin, direction, range);
+  VoxelHit hit = traceVoxelsHierarchical(origin, direction, range, kCrossUnobservedSpace);
   vec3 colour = vec3(0.0);
   if (hit.hit) {
     if (push.camera.sizeAndMode.z == 0u) {

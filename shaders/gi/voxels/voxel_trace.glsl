@@ -26,6 +26,8 @@ struct VoxelHit {
   vec3 radiance;    // the voxel's radiance; black for a miss or when the ray meets the voxel from behind
   vec3 normal;      // the voxel's stored unit normal; zero for a miss
   uint reads;       // buffer loads made (brick lookups, occupancy masks, grid words, the hit voxel): the cost statistic
+  bool unobserved;  // no hit: the ray entered, at `distance`, a brick cell no view has observed and that holds no
+                    // voxel (only for a trace that stops there; SPEC §6.4)
 };
 
 const int kVoxelLevel = 0;
@@ -194,16 +196,47 @@ bool gridCellOccupied(int level, ivec3 voxel, inout CachedGridWords cached, inou
   return (cached.bits[slot] & address.y) != 0u;
 }
 
-// Whether the level-`level` cell holding the walk's voxel has any occupied voxel: grid levels from the grid (except
-// for the brick already at hand), finer ones from the brick's mask.
-bool cellOccupied(VoxelWalk walk, int level, inout CachedBrick brick, inout CachedGridWords grid, inout uint reads) {
+bool gridCellObserved(int level, ivec3 voxel, inout CachedGridWords cached, inout uint reads) {
+  ivec3 worldCell = (voxel + volume.originBrick.xyz * int(kBrickSizeVoxels)) >> level;
+  uvec2 address = gridBitAddress(uint(level), worldCell);
+  int slot = level - kBrickLevel;
+  if (cached.address[slot] != address.x) {
+    cached.address[slot] = address.x;
+    cached.bits[slot] = observedSpace[address.x];
+    reads += 1u;
+  }
+  return (cached.bits[slot] & address.y) != 0u;
+}
+
+// Whether the brick cell a walk is in holds no voxel and has not been observed (the flat DDA's test; the hierarchical
+// one makes it from its grid words).
+bool brickUnobserved(VoxelWalk walk, CachedBrick brick, inout CachedGridWords observed, inout uint reads) {
+  return all(equal(brick.mask, uvec2(0u))) && !gridCellObserved(kBrickLevel, walk.voxel, observed, reads);
+}
+
+// What a cell of the walk holds for the hierarchical DDA: nothing it must look into, something (an occupied voxel
+// in it, or — for a trace that stops at unobserved space — an unobserved brick cell), or, at the brick level, no voxel
+// and no observation.
+const uint kCellEmpty = 0u;
+const uint kCellOccupied = 1u;
+const uint kCellUnobserved = 2u;
+
+// What the level-`level` cell holding the walk's voxel holds: grid levels from the grid (except for the brick
+// already at hand), finer ones from the brick's mask.
+uint cellContents(VoxelWalk walk, int level, bool stopsAtUnobserved, inout CachedBrick brick,
+                  inout CachedGridWords grid, inout CachedGridWords observed, inout uint reads) {
   if (level >= kBrickLevel) {
-    if (level == kBrickLevel && isCached(brick, walk.voxel >> kBrickLevel)) return any(notEqual(brick.mask, uvec2(0u)));
-    return gridCellOccupied(level, walk.voxel, grid, reads);
+    bool occupied = level == kBrickLevel && isCached(brick, walk.voxel >> kBrickLevel)
+                        ? any(notEqual(brick.mask, uvec2(0u)))
+                        : gridCellOccupied(level, walk.voxel, grid, reads);
+    if (occupied) return kCellOccupied;
+    if (!stopsAtUnobserved || gridCellObserved(level, walk.voxel, observed, reads)) return kCellEmpty;
+    return level == kBrickLevel ? kCellUnobserved : kCellOccupied;
   }
   loadBrick(brick, walk.voxel >> kBrickLevel, reads);
   ivec3 inBrick = voxelInBrick(walk.voxel);
-  return level == kVoxelLevel ? voxelBitSet(brick.mask, inBrick) : blockOccupied(brick.mask, inBrick);
+  bool occupied = level == kVoxelLevel ? voxelBitSet(brick.mask, inBrick) : blockOccupied(brick.mask, inBrick);
+  return occupied ? kCellOccupied : kCellEmpty;
 }
 
 // Moves the walk past the level-`level` cell it is in: to the voxel the ray reaches by the first crossing of the
@@ -231,8 +264,18 @@ bool stepOverCell(inout VoxelWalk walk, int level) {
 }
 
 VoxelHit voxelMiss(float maxDistance, uint reads) {
-  return VoxelHit(false, maxDistance, kInvalidBrick, 0u, vec3(0.0), vec3(0.0), reads);
+  return VoxelHit(false, maxDistance, kInvalidBrick, 0u, vec3(0.0), vec3(0.0), reads, false);
 }
+
+VoxelHit unobservedSpace(float distance, uint reads) {
+  return VoxelHit(false, distance, kInvalidBrick, 0u, vec3(0.0), vec3(0.0), reads, true);
+}
+
+// What a trace does where it enters space no view has observed (SPEC §6.4): stop there (the probes' rays, which
+// must not take it for the sky), or go on as through empty space (every other use: a visibility test between two
+// points, a debug view).
+const bool kStopAtUnobservedSpace = true;
+const bool kCrossUnobservedSpace = false;
 
 // How far in front of a voxel's surface plane (in voxels) a ray still meets it: the plane's 8-bit quantisation (0.007)
 // and the depth buffer's error, with room to spare.
@@ -266,11 +309,11 @@ VoxelHit voxelHitAt(VoxelWalk walk, CachedBrick cached, vec3 direction, uint rea
   }
   // A ray that meets the surface from behind sees no light, so thin walls do not pass light (SPEC §4.4).
   vec3 radiance = dot(normal, direction) > 0.0 ? vec3(0.0) : unpackR11G11B10F(voxel.radiance);
-  return VoxelHit(true, walk.distance, cached.index, voxelIndex, radiance, normal, reads);
+  return VoxelHit(true, walk.distance, cached.index, voxelIndex, radiance, normal, reads, false);
 }
 
 // The flat voxel DDA: every voxel along the ray in turn, reading each brick's lookup and mask once.
-VoxelHit traceVoxelsFlat(vec3 origin, vec3 direction, float maxDistance) {
+VoxelHit traceVoxelsFlat(vec3 origin, vec3 direction, float maxDistance, bool stopsAtUnobserved) {
   VoxelWalk walk;
   if (!beginVoxelWalk(origin, direction, maxDistance, walk)) return voxelMiss(maxDistance, 0u);
   ivec3 size = volumeSizeVoxels();
@@ -278,9 +321,13 @@ VoxelHit traceVoxelsFlat(vec3 origin, vec3 direction, float maxDistance) {
   for (int axis = 0; axis < 3; ++axis)
     nextCrossing[axis] = crossingDistance(walk, axis, exitPlane(walk.voxel[axis], kVoxelLevel, walk.step[axis]));
   CachedBrick cached = noCachedBrick();
+  CachedGridWords observed = noCachedGridWords();
   uint reads = 0u;
   for (;;) {
+    bool newBrick = !isCached(cached, walk.voxel >> kBrickLevel);
     loadBrick(cached, walk.voxel >> kBrickLevel, reads);
+    if (stopsAtUnobserved && newBrick && brickUnobserved(walk, cached, observed, reads))
+      return unobservedSpace(walk.distance, reads);
     if (voxelBitSet(cached.mask, voxelInBrick(walk.voxel))) {
       VoxelHit hit = voxelHitAt(walk, cached, direction, reads);
       if (hit.hit) return hit;
@@ -300,11 +347,12 @@ VoxelHit traceVoxelsFlat(vec3 origin, vec3 direction, float maxDistance) {
 // over it and go a level up; when it is occupied, go a level down; an occupied voxel ends the trace. One refinement
 // of the talk's rule saves reads without skipping any cell: after a step the walk goes up only if the parent cell's
 // occupancy is unknown — it is known (occupied) while the walk is still inside a cell it came down from.
-VoxelHit traceVoxelsHierarchical(vec3 origin, vec3 direction, float maxDistance) {
+VoxelHit traceVoxelsHierarchical(vec3 origin, vec3 direction, float maxDistance, bool stopsAtUnobserved) {
   VoxelWalk walk;
   if (!beginVoxelWalk(origin, direction, maxDistance, walk)) return voxelMiss(maxDistance, 0u);
   CachedBrick cached = noCachedBrick();
   CachedGridWords grid = noCachedGridWords();
+  CachedGridWords observed = noCachedGridWords();
   uint reads = 0u;
   // The talk starts at the finest level; starting at the coarsest settles the common case, a ray leaving open space,
   // with one read of a 4 m cell and costs an occupied start only the grid words on the way down, which later steps
@@ -312,7 +360,9 @@ VoxelHit traceVoxelsHierarchical(vec3 origin, vec3 direction, float maxDistance)
   int level = kTopLevel;
   uint knownOccupiedLevels = 0u;  // bit L: the walk came down from its current level-L cell
   for (;;) {
-    if (cellOccupied(walk, level, cached, grid, reads)) {
+    uint contents = cellContents(walk, level, stopsAtUnobserved, cached, grid, observed, reads);
+    if (contents == kCellUnobserved) return unobservedSpace(walk.distance, reads);
+    if (contents == kCellOccupied) {
       if (level != kVoxelLevel) {
         knownOccupiedLevels |= 1u << uint(level);
         --level;

@@ -48,6 +48,17 @@ class BrickAllocate {
   gpu::ComputePipeline pipeline_;
 };
 
+// ObservedSpace: the brick cells the view saw through or into (SPEC §6.4).
+class ObservedSpace {
+ public:
+  explicit ObservedSpace(gpu::Device& device);
+  void record(gpu::CommandList& commands, const VoxelScene& scene, const VoxelFrameInputs& inputs,
+              glm::uvec2 depthSize);
+
+ private:
+  gpu::ComputePipeline pipeline_;
+};
+
 // BrickCulling: the live bricks in view and not occluded, as a list with its indirect dispatch.
 class BrickCulling {
  public:

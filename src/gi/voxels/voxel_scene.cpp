@@ -11,6 +11,12 @@ constexpr VkBufferUsageFlags kStorage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
 
 uint32_t gridWords(glm::uvec3 dimensions) { return (dimensions.x * dimensions.y * dimensions.z + 31u) / 32u; }
 
+// Bit volumes of grid levels 2–4 over the volume's brick cells (the occupancy grid, the observed space).
+VkDeviceSize gridBytes(const Settings& settings) {
+  const glm::uvec3 dimensions(settings.volumeBricks[0], settings.volumeBricks[1], settings.volumeBricks[2]);
+  return 4 * VkDeviceSize(gridWords(dimensions) + gridWords(dimensions / 2u) + gridWords(dimensions / 4u));
+}
+
 }  // namespace
 
 VoxelScene::VoxelScene(gpu::Device& device, const Settings& settings, uint32_t framesInFlight)
@@ -22,10 +28,8 @@ VoxelScene::VoxelScene(gpu::Device& device, const Settings& settings, uint32_t f
               kStorage),
       voxels_(device, "ssvgi brick pool voxels",
               VkDeviceSize(settings.brickPoolCapacity) * shader::kVoxelsPerBrick * sizeof(shader::Voxel), kStorage),
-      occupancyGrid_(device, "ssvgi occupancy grid", 4 * [&] {
-        const glm::uvec3 dimensions(settings.volumeBricks[0], settings.volumeBricks[1], settings.volumeBricks[2]);
-        return gridWords(dimensions) + gridWords(dimensions / 2u) + gridWords(dimensions / 4u);
-      }(), kStorage),
+      occupancyGrid_(device, "ssvgi occupancy grid", gridBytes(settings), kStorage),
+      observedSpace_(device, "ssvgi observed space", gridBytes(settings), kStorage),
       poolState_(device, "ssvgi brick pool state and free list",
                  sizeof(shader::BrickPoolState) + VkDeviceSize(settings.brickPoolCapacity) * 4, kStorage),
       changedCells_(device, "ssvgi changed brick cells",
@@ -40,7 +44,8 @@ VoxelScene::VoxelScene(gpu::Device& device, const Settings& settings, uint32_t f
                                  1.0f / (settings.voxelSize * shader::kBrickSizeVoxels), 0.0f);
   const uint32_t level2 = gridWords(dimensions), level3 = gridWords(dimensions / 2u), level4 = gridWords(dimensions / 4u);
   current_.gridWordOffsets = glm::uvec4(0, level2, level2 + level3, level2 + level3 + level4);
-  current_.settings = glm::uvec4(settings.invalidFramesToClear, settings.emptyFramesToRelease, 0, 0);
+  current_.settings = glm::uvec4(settings.invalidFramesToClear, settings.emptyFramesToRelease,
+                                 settings.skyOnlyThroughObservedSpace ? 1u : 0u, 0u);
 }
 
 gpu::Bindings VoxelScene::bindings() const {
@@ -50,6 +55,7 @@ gpu::Bindings VoxelScene::bindings() const {
       .buffer(shader::kBindBricks, bricks_)
       .buffer(shader::kBindVoxels, voxels_)
       .buffer(shader::kBindOccupancyGrid, occupancyGrid_)
+      .buffer(shader::kBindObservedSpace, observedSpace_)
       .buffer(shader::kBindPoolState, poolState_)
       .buffer(shader::kBindChangedCells, changedCells_);
 }
@@ -67,6 +73,7 @@ shader::VoxelVolume VoxelScene::place(glm::vec3 cameraPosition, uint32_t frameIn
   const glm::ivec3 cameraBrick = glm::ivec3(glm::floor(cameraPosition / (brickSize * float(step)))) * step;
   const glm::ivec3 origin = cameraBrick - dimensions / 2;
   scrolled = !placed_ || origin != glm::ivec3(current_.originBrick);
+  current_.previousOriginBrick = placed_ ? glm::ivec4(glm::ivec3(current_.originBrick), 0) : glm::ivec4(origin, 0);
   placed_ = true;
   current_.originBrick = glm::ivec4(origin, int(frameIndex));
   currentVolume_ = frameIndex % volumes_.size();

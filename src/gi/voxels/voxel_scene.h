@@ -25,6 +25,7 @@ class VoxelScene {
   const gpu::Buffer& bricks() const { return bricks_; }
   const gpu::Buffer& voxels() const { return voxels_; }
   const gpu::Buffer& occupancyGrid() const { return occupancyGrid_; }
+  const gpu::Buffer& observedSpace() const { return observedSpace_; }
   const gpu::Buffer& poolState() const { return poolState_; }   // BrickPoolState, then the free list (uint[capacity])
   const gpu::Buffer& changedCells() const { return changedCells_; }  // uint count, then brick cell indices
   uint32_t cellCount() const;
@@ -41,6 +42,7 @@ class VoxelScene {
   gpu::Buffer bricks_;
   gpu::Buffer voxels_;
   gpu::Buffer occupancyGrid_;
+  gpu::Buffer observedSpace_;
   gpu::Buffer poolState_;
   gpu::Buffer changedCells_;
   shader::VoxelVolume current_{};
