@@ -210,7 +210,7 @@ std::vector<ssvgi::ExtraView> ExtraViews::record(gpu::CommandList& commands, con
     directLighting_.record(commands, target.frameConstants, lights, shadows, target.gbuffer, pointSampler,
                            directIrradiance_, viewDistance_);
     composite_.record(commands, target.frameConstants, target.gbuffer, pointSampler, directIrradiance_,
-                      noIndirect_.view(), target.radiance, indirectUsed_);
+                      noIndirect_.view(), noIndirect_.view(), target.radiance, indirectUsed_);
     for (const gpu::Image* image :
          {&target.radiance, &target.gbuffer.depth, &target.gbuffer.normal, &target.gbuffer.albedo})
       commands.use(*image, gpu::Usage::ComputeSampled);

@@ -166,13 +166,16 @@ void Renderer::render(const AnimatedState& state) {
       lastExtraViews_ = extraViews_->record(commands, frame, gpuScene_, lights_, shadows_, pointSampler_.handle());
       recordGi(commands, frame);
     }
-    VkImageView indirect = indirectIrradiance_.view();
-    if (giLighting)
+    // Without the GI's light the composite binds the black image for both, and reads neither.
+    VkImageView indirect = indirectIrradiance_.view(), confidence = indirectIrradiance_.view();
+    if (giLighting) {
       indirect = gi_->output().view;  // left by dispatch() ready for compute reads (ssvgi::OutputImage)
-    else
+      confidence = gi_->confidence().view;
+    } else {
       commands.use(indirectIrradiance_, gpu::Usage::ComputeSampled);
+    }
     composite_.record(commands, frameConstants_, gbuffer, pointSampler_.handle(), directIrradiance_, indirect,
-                      finalRadiance, indirectUsed_);
+                      confidence, finalRadiance, indirectUsed_);
     tonemap_.record(commands, frameConstants_, finalRadiance, tonemapped_);
   });
   timings_ = profiler_.resolve();
@@ -250,6 +253,12 @@ FloatImage readFloatImage(gpu::Device& device, const gpu::Image& image, uint32_t
 FloatImage Renderer::finalRadiance() { return readFloatImage(device_, finalRadiance_[(frameIndex_ + 1) & 1u], 3); }
 FloatImage Renderer::directIrradiance() { return readFloatImage(device_, directIrradiance_, 3); }
 FloatImage Renderer::indirectIrradiance() { return readFloatImage(device_, indirectUsed_, 3); }
+FloatImage Renderer::confidence() {
+  const FloatImage used = readFloatImage(device_, indirectUsed_, 4);
+  FloatImage result{used.width, used.height, 1, std::vector<float>(size_t(used.width) * used.height)};
+  for (size_t i = 0; i < result.pixels.size(); ++i) result.pixels[i] = used.pixels[i * 4 + 3];
+  return result;
+}
 FloatImage Renderer::albedo() { return readFloatImage(device_, gbuffers_[(frameIndex_ + 1) & 1u].albedo, 3); }
 FloatImage Renderer::normal() { return readFloatImage(device_, gbuffers_[(frameIndex_ + 1) & 1u].normal, 3); }
 FloatImage Renderer::viewDistance() { return readFloatImage(device_, viewDistance_, 1); }

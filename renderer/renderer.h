@@ -72,6 +72,9 @@ class Renderer {
   FloatImage finalRadiance();       // linear HDR, rgb
   FloatImage directIrradiance();    // E_direct, rgb
   FloatImage indirectIrradiance();  // E_indirect each pixel was shaded with, rgb
+  // The GI's confidence in that E_indirect (ssvgi::Context::confidence(), sampled as the composite samples E), one
+  // channel, 0–1; 0 where nothing was drawn and everywhere when the GI's light is not composited.
+  FloatImage confidence();
   FloatImage albedo();              // rgb
   FloatImage normal();              // xyz, zero where there is no surface
   FloatImage viewDistance();        // metres from the camera, zero where there is no surface

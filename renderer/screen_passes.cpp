@@ -32,7 +32,8 @@ Composite::Composite(gpu::Device& device) : pipeline_(device, shaders::composite
 
 void Composite::record(gpu::CommandList& commands, const gpu::Buffer& frameConstants, const GBuffer& gbuffer,
                        VkSampler pointSampler, const gpu::Image& directIrradiance, VkImageView indirectIrradiance,
-                       const gpu::Image& finalRadiance, const gpu::Image& indirectUsed) {
+                       VkImageView indirectConfidence, const gpu::Image& finalRadiance,
+                       const gpu::Image& indirectUsed) {
   auto scope = commands.scope("renderer: Composite");
   commands.dispatch(pipeline_,
                     gpu::Bindings()
@@ -43,6 +44,7 @@ void Composite::record(gpu::CommandList& commands, const gpu::Buffer& frameConst
                         .sampled(shader::kBindCompositeNormal, gbuffer.normal, pointSampler)
                         .image(shader::kBindCompositeDirect, directIrradiance)
                         .externalSampled(shader::kBindCompositeIndirect, indirectIrradiance, pointSampler)
+                        .externalSampled(shader::kBindCompositeConfidence, indirectConfidence, pointSampler)
                         .image(shader::kBindCompositeFinal, finalRadiance)
                         .image(shader::kBindCompositeIndirectUsed, indirectUsed),
                     pixels(finalRadiance));

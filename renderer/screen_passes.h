@@ -18,14 +18,16 @@ class DirectLighting {
   gpu::ComputePipeline pipeline_;
 };
 
-// Composite: final = emission + albedo/π · (E_direct + E_indirect), the sky behind (SPEC §3). `indirectIrradiance` is a
-// half-resolution image (ssvgi's output) that the caller has made ready for compute reads: it is bound untracked.
+// Composite: final = emission + albedo/π · (E_direct + E_indirect), the sky behind (SPEC §3). `indirectIrradiance` and
+// `indirectConfidence` are half-resolution images (ssvgi's output and confidence) that the caller has made ready for
+// compute reads: they are bound untracked. `indirectUsed` receives the E_indirect each pixel was shaded with and, in
+// alpha, its confidence.
 class Composite {
  public:
   explicit Composite(gpu::Device& device);
   void record(gpu::CommandList& commands, const gpu::Buffer& frameConstants, const GBuffer& gbuffer,
               VkSampler pointSampler, const gpu::Image& directIrradiance, VkImageView indirectIrradiance,
-              const gpu::Image& finalRadiance, const gpu::Image& indirectUsed);
+              VkImageView indirectConfidence, const gpu::Image& finalRadiance, const gpu::Image& indirectUsed);
 
  private:
   gpu::ComputePipeline pipeline_;

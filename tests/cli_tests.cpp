@@ -65,6 +65,10 @@ TEST(Cli, renderWritesEveryImageAndStatsForTheLastFrame) {
   }
   const auto depth = renderer::readExr(out / "depth.exr");
   EXPECT_EQ(depth.channels, 1u);
+  const auto confidence = renderer::readExr(out / "confidence.exr");
+  EXPECT_EQ(confidence.width, 64u);
+  EXPECT_EQ(confidence.channels, 1u);
+  for (float v : confidence.pixels) ASSERT_EQ(v, 0.0f) << "GI off: ssvgi knows nothing";
 
   // With GI off there is no indirect light at all, and the box's ceiling light lights something directly.
   float indirectMax = 0.0f, directMax = 0.0f, distanceMax = 0.0f;
@@ -113,6 +117,35 @@ TEST(Cli, debugViewsAreSeenFromTheDebugCamera) {
   for (float v : renderer::readExr(away / "debug_voxels.exr").pixels) awayMax = std::max(awayMax, v);
   EXPECT_GT(ownMax, 0.0f);
   EXPECT_EQ(awayMax, 0.0f);
+}
+
+TEST(Cli, renderWritesTheConfidenceAndItsDebugView) {
+  const fs::path out = freshDirectory("confidence");
+  const CliRun run =
+      runCli("render --scene cornell --size 32x32 --frames 4 --debug confidence --validation --out " + out.string());
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  EXPECT_NE(run.output.find("confidence.exr"), std::string::npos) << run.output;
+  const auto confidence = renderer::readExr(out / "confidence.exr");
+  ASSERT_EQ(confidence.channels, 1u);
+  float highest = 0.0f;
+  for (float v : confidence.pixels) {
+    ASSERT_GE(v, 0.0f);
+    ASSERT_LE(v, 1.0f);
+    highest = std::max(highest, v);
+  }
+  EXPECT_GT(highest, 0.5f);  // probes lit the box
+  // The debug view: grey where a ray meets a voxel, dark blue (0, 0, 0.25) where it meets none.
+  const auto debug = renderer::readExr(out / "debug_confidence.exr");
+  ASSERT_EQ(debug.channels, 3u);
+  uint32_t grey = 0;
+  for (size_t pixel = 0; pixel < debug.pixels.size() / 3; ++pixel) {
+    const float r = debug.pixels[pixel * 3], g = debug.pixels[pixel * 3 + 1], b = debug.pixels[pixel * 3 + 2];
+    if (r == 0.0f && g == 0.0f && b == 0.25f) continue;
+    EXPECT_EQ(r, g);
+    EXPECT_EQ(g, b);
+    grey += r > 0.5f ? 1u : 0u;
+  }
+  EXPECT_GT(grey, 0u);
 }
 
 TEST(Cli, rendersTheSharedCornellBoxGltfFromItsOwnCamera) {

@@ -10,6 +10,7 @@
 #include "gpu_test_device.h"
 #include "path_tracer.h"
 #include "renderer.h"
+#include "scene_geometry.h"
 #include "shared/gather_interface.h"
 #include "shared/gi_frame.h"
 #include "ssvgi/ssvgi.h"
@@ -20,6 +21,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <functional>
 #include <set>
 #include <vector>
 
@@ -76,7 +78,7 @@ TestView viewFrom(glm::vec3 position) {
       const glm::vec4 far = inverse * glm::vec4(shader::giPixelToNdc(glm::vec2(x, y), glm::vec2(kSize)), 0.5f, 1.0f);
       const glm::vec3 direction = glm::normalize(glm::vec3(far) / far.w - position);
       const float nearT = (kNearWallZ - position.z) / direction.z;
-      const bool near = position.x + nearT * direction.x < 0.0f;
+      const bool near = nearT > 0.0f && position.x + nearT * direction.x < 0.0f;  // behind a camera past it: unseen
       const float viewZ = position.z - (near ? kNearWallZ : kFarWallZ);  // distance along the view axis
       view.depth.push_back(kNear / viewZ);
       view.normal.emplace_back(0.0f, 0.0f, 1.0f, 0.0f);
@@ -243,16 +245,18 @@ TEST_F(GatherFilters, upsampleAndTemporalFilterDoNotBlurAcrossADepthEdge) {
 
 // A GI context whose every probe of every level is active with radiance L everywhere (set by the test), dispatched
 // once more over them from a camera at `position` looking along −Z. No lit frame: nothing is injected and no probe is
-// traced, so the test's probes stay.
+// traced, so the test's probes stay. Each probe's known fraction (SPEC §6.4) is `known(level, world coordinate)`.
 class GatherOverConstantProbes : public GatherFilters {
  protected:
   static constexpr float kRadiance = 0.8f;
+  using KnownFraction = std::function<float(uint32_t level, glm::ivec3 coordinate)>;
 
-  Context& dispatchOverConstantProbes(glm::vec3 position) {
+  Context& dispatchOverConstantProbes(glm::vec3 position, const KnownFraction& known = {},
+                                      std::array<uint32_t, 3> probeGrid = {16, 8, 16}) {
     Settings settings;
     settings.volumeBricks = {16, 8, 16};
     settings.brickPoolCapacity = 256;
-    settings.probeGrid = {16, 8, 16};
+    settings.probeGrid = probeGrid;
     auto created = Context::create(testing::gpuTestContextDesc(settings, kSize));
     EXPECT_TRUE(created.ok()) << created.error().message;
     context_ = std::move(created.value());
@@ -270,6 +274,7 @@ class GatherOverConstantProbes : public GatherFilters {
       ++frame.frameIndex;
     };
     EXPECT_EQ(context_->output().view, VkImageView(VK_NULL_HANDLE));
+    EXPECT_EQ(context_->confidence().view, VkImageView(VK_NULL_HANDLE));
     dispatch();  // the first frame clears the probe volume
 
     const gi::ProbeVolume& volume = gi::probeVolumeOf(*context_);
@@ -284,7 +289,8 @@ class GatherOverConstantProbes : public GatherFilters {
         const glm::ivec3 coordinate = shader::probeWorldCoordinate(slot, volume.levelOrigin(level, position), dimensions);
         probes_.push_back(shader::makeProbe({radiance, radiance, radiance}, unitSh, unitSh,
                                             shader::packProbeState(1, 0, shader::kProbeStateActive),
-                                            shader::packProbeTag(coordinate, 1.0f, 0.0f)));
+                                            shader::packProbeTag(coordinate, known ? known(level, coordinate) : 1.0f,
+                                                                 0.5f)));  // rounded to the nearest 1/255
       }
     }
     gpu::uploadBuffer(device(), volume.probes(), std::as_bytes(std::span(probes_)));
@@ -299,6 +305,14 @@ class GatherOverConstantProbes : public GatherFilters {
     camera.position = {position.x, position.y, position.z};
     camera.width = camera.height = kSize;
     return camera;
+  }
+
+  // The confidence output, one value per half-resolution texel, as its 8 bits hold it (0–255).
+  std::vector<uint8_t> confidenceTexels() {
+    const auto bytes = gpu::readImage(device(), gi::gatherTargetsOf(*context_).confidence());
+    std::vector<uint8_t> texels(bytes.size());
+    std::memcpy(texels.data(), bytes.data(), bytes.size());
+    return texels;
   }
 
   std::unique_ptr<Context> context_;
@@ -367,6 +381,62 @@ TEST_F(GatherOverConstantProbes, probeDebugViewShowsEachProbeAsASphereLitByItsSh
   EXPECT_NE(probeColour(), glm::vec3(kRadiance)) << "never traced: not drawn, the ray goes on";
 }
 
+TEST_F(GatherOverConstantProbes, theConfidenceIsTheProbesKnownFractionWhereTheyAllKnowAsMuch) {
+  // Walls 2 and 8 m away; every probe found something known with 153 of 255 rays' worth.
+  constexpr uint32_t kKnown = 153;
+  Context& context =
+      dispatchOverConstantProbes({0.5f, 0.5f, 3.5f}, [](uint32_t, glm::ivec3) { return kKnown / 255.0f; });
+  // The tiles keep it in alpha as a half float (2^-11 relative), the output in 8 bits: a step at most either way,
+  // for the half float's rounding and a conversion to 8 bits that Vulkan lets truncate.
+  const auto tiles = gpu::readImage(device(), gi::gatherTargetsOf(context).tileIrradiance());
+  for (size_t tile = 0; tile < tiles.size() / 8; ++tile) {
+    uint16_t alpha = 0;
+    std::memcpy(&alpha, tiles.data() + tile * 8 + 6, sizeof(alpha));
+    ASSERT_NEAR(glm::unpackHalf1x16(alpha), kKnown / 255.0f, 1.0f / 2048.0f) << "tile " << tile;
+  }
+  const std::vector<uint8_t> texels = confidenceTexels();
+  ASSERT_EQ(texels.size(), size_t(kSize / 2) * (kSize / 2));
+  for (size_t texel = 0; texel < texels.size(); ++texel)  // every pixel of this view shows a wall
+    ASSERT_NEAR(int(texels[texel]), int(kKnown), 1) << "texel " << texel;
+
+  const OutputImage confidence = context.confidence();
+  EXPECT_EQ(confidence.view, gi::gatherTargetsOf(context).confidence().view());
+  EXPECT_EQ(confidence.format, VK_FORMAT_R8_UNORM);
+  EXPECT_EQ(confidence.layout, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  EXPECT_EQ(confidence.width, kSize / 2);
+  EXPECT_EQ(confidence.height, kSize / 2);
+}
+
+TEST_F(GatherOverConstantProbes, theConfidenceFollowsTheProbesThatKnowAcrossAWall) {
+  // The far wall (z = −8) 4 m ahead fills the view, x in [−1.8, 2.8] m; the probes at x ≤ 0 know everything, those at
+  // x ≥ 1 nothing. A point with x < 0 has only knowing probes around it, one with x > 1 only unknowing ones, and the
+  // gather's weights and Upsample's blend are symmetric about x = 0.5 between them. 16 probes in y keep every point
+  // of the wall well inside level 0 (no dither into level 1).
+  const glm::vec3 position(0.5f, 0.5f, -4.0f);
+  dispatchOverConstantProbes(position, [](uint32_t, glm::ivec3 probe) { return probe.x <= 0 ? 1.0f : 0.0f; },
+                             {16, 16, 16});
+  const std::vector<uint8_t> texels = confidenceTexels();
+  const TestView view = viewFrom(position);
+  const glm::mat4 inverse = glm::inverse(view.viewProjection);
+  uint32_t knownSide = 0, unknownSide = 0;
+  for (size_t texel = 0; texel < texels.size(); ++texel) {
+    const uint32_t x = 2 * uint32_t(texel % (kSize / 2)), y = 2 * uint32_t(texel / (kSize / 2));  // pixel 2h
+    const glm::vec4 world = inverse * glm::vec4(shader::giPixelToNdc(glm::vec2(x, y), glm::vec2(kSize)),
+                                                view.depth[size_t(y) * kSize + x], 1.0f);
+    const float worldX = world.x / world.w;
+    const float confidence = texels[texel] / 255.0f;
+    if (worldX < 0.0f) {
+      ++knownSide;
+      EXPECT_GT(confidence, 0.5f) << "texel " << texel << " at x = " << worldX;
+    } else if (worldX > 1.0f) {
+      ++unknownSide;
+      EXPECT_LT(confidence, 0.5f) << "texel " << texel << " at x = " << worldX;
+    }
+  }
+  EXPECT_GE(knownSide, 4u * (kSize / 2));  // at least four columns on each side
+  EXPECT_GE(unknownSide, 4u * (kSize / 2));
+}
+
 class GatherMemory : public testing::GpuTest {};
 
 TEST_F(GatherMemory, theFinalGatherImagesAt1080pFitTheirTenMegabyteBudget) {
@@ -383,9 +453,11 @@ TEST_F(GatherMemory, theFinalGatherImagesAt1080pFitTheirTenMegabyteBudget) {
   for (const ResourceMemory& resource : created.value()->stats().memory)
     if (resource.name.rfind("ssvgi gather", 0) == 0 && resource.name != "ssvgi gather constants")
       gatherImageBytes += resource.bytes;
-  // The tile irradiance (480×270 rgba16f) and the output and history (960×540 rgba16f each): 9.33 MB of pixels, plus
-  // whatever alignment the driver adds.
-  EXPECT_GE(gatherImageBytes, 480u * 270 * 8 + 2u * 960 * 540 * 8);
+  // The tile irradiance (480×270 rgba16f), the output and history (960×540 rgba16f each) and the confidence (960×540
+  // r8): 9,849,600 bytes of pixels (9.39 MiB), plus whatever alignment the driver adds.
+  std::printf("gather images at 1920x1080: %llu bytes\n", static_cast<unsigned long long>(gatherImageBytes));
+  RecordProperty("gatherImageBytes", std::to_string(gatherImageBytes));
+  EXPECT_GE(gatherImageBytes, 480u * 270 * 8 + 2u * 960 * 540 * 8 + 960u * 540);
   EXPECT_LE(gatherImageBytes, 10u * 1024 * 1024);
 }
 
@@ -465,6 +537,73 @@ TEST_F(GatherCornell, theFloorBesideTheRedWallGetsRedderIndirectLightLikeInTheRe
   // Probes half a metre apart blur the walls' light over the floor, so ssvgi keeps only part of the reference's bleed
   // (measured 2026-11-22: ssvgi 1.73, reference 2.16); at least half of its excess over grey.
   EXPECT_GT(bleed - 1.0, 0.5 * (referenceBleed - 1.0));
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// The confidence through the renderer (SPEC §6.4).
+
+class GatherConfidence : public testing::GpuTest {};
+
+// A closed box, interior 4 × 2.5 × 4 m, lit by a point light, the camera inside. The capture around the camera (SPEC
+// §6.3) shows every wall within a few frames: nothing inside the box is unobserved, so every probe ray that stays in
+// it finds something known. Today ProbeTrace counts every ray as known (the known fraction is 1), so this holds as
+// soon as the gather finds probes for a pixel; it becomes a test of unknown-is-not-sky when ProbeTrace measures the
+// fraction (the probes outside the walls know little, and the gather must not lean on them).
+TEST_F(GatherConfidence, aFullyObservedClosedBoxIsConfidentEverywhere) {
+  renderer::Scene scene;
+  scene.name = "closed box";
+  scene.materials.push_back({"white", glm::vec3(0.7f)});
+  renderer::MeshBuilder walls;
+  constexpr float kWall = 0.2f;
+  const glm::vec3 low(-2.0f, 0.0f, -2.0f), high(2.0f, 2.5f, 2.0f);
+  walls.addBox(low - kWall, {high.x + kWall, low.y, high.z + kWall});  // floor
+  walls.addBox({low.x - kWall, high.y, low.z - kWall}, high + kWall);  // ceiling
+  walls.addBox({low.x - kWall, low.y, low.z - kWall}, {low.x, high.y, high.z + kWall});    // −x
+  walls.addBox({high.x, low.y, low.z - kWall}, {high.x + kWall, high.y, high.z + kWall});  // +x
+  walls.addBox({low.x, low.y, low.z - kWall}, {high.x, high.y, low.z});                    // −z
+  walls.addBox({low.x, low.y, high.z}, {high.x, high.y, high.z + kWall});                  // +z
+  scene.meshes.push_back(std::move(walls).build("box", 0));
+  scene.instances.push_back({0, glm::mat4(1.0f)});
+  scene.lights.push_back({.name = "lamp", .position = {0.5f, 2.0f, -0.5f}, .intensity = glm::vec3(4.0f)});
+  renderer::Camera camera;
+  camera.position = {0.0f, 1.3f, 1.2f};
+  camera.target = {0.3f, 1.0f, -2.0f};
+  scene.cameras.push_back(camera);
+
+  renderer::RendererSettings settings;
+  settings.width = settings.height = 64;
+  Settings gi;
+  gi.volumeBricks = {16, 8, 16};  // 16 m of 0.25 m voxels, 16 m of 1 m probes: the box and well beyond
+  gi.brickPoolCapacity = 2048;
+  gi.probeGrid = {16, 8, 16};
+  gi.probeBudget = 1024;
+  settings.gi = gi;
+  settings.extraViews.surroundViewSize = 32;  // its six faces in two frames
+  settings.extraViews.lightViewSize = 0;
+  renderer::Renderer renderer(testing::gpuTestDevice(), scene, settings);
+  for (uint32_t frame = 0; frame < 24; ++frame)  // every probe level updated 8 times
+    renderer.render(renderer::evaluateAnimation(scene, camera, 0.0f));
+
+  const renderer::FloatImage confidence = renderer.confidence();
+  const renderer::FloatImage depth = renderer.depthBuffer();
+  ASSERT_EQ(confidence.channels, 1u);
+  double sum = 0.0;
+  float lowest = 1.0f;
+  uint32_t drawn = 0;
+  for (size_t pixel = 0; pixel < confidence.pixels.size(); ++pixel) {
+    const float value = confidence.pixels[pixel];
+    ASSERT_GE(value, 0.0f);
+    ASSERT_LE(value, 1.0f);
+    if (depth.pixels[pixel] <= 0.0f) continue;
+    ++drawn;
+    sum += value;
+    lowest = std::min(lowest, value);
+  }
+  ASSERT_EQ(drawn, confidence.pixels.size());  // the box fills the view
+  const double mean = sum / drawn;
+  std::printf("closed box: confidence mean %.3f, lowest %.3f\n", mean, lowest);
+  RecordProperty("meanConfidence", std::to_string(mean));
+  EXPECT_GE(mean, 0.95);
 }
 
 }  // namespace

@@ -30,6 +30,7 @@ void writeRenderedImages(const std::filesystem::path& out, const RenderedImages&
   files.writeExr(out / "albedo.exr", images.albedo);
   files.writeExr(out / "normal.exr", images.normal);
   files.writeExr(out / "depth.exr", images.viewDistance);
+  if (images.confidence) files.writeExr(out / "confidence.exr", *images.confidence);
   for (const auto& [name, debug] : images.debugImages) {
     files.writePng(out / (name + ".png"), debug.radiance.width, debug.radiance.height, debug.tonemapped);
     files.writeExr(out / (name + ".exr"), debug.radiance);

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,8 @@ struct RenderedImages {
   renderer::FloatImage normal;              // normal.exr
   renderer::FloatImage viewDistance;        // depth.exr: metres from the camera, 0 where there is no surface
   std::vector<uint8_t> tonemapped;          // final.png: RGBA8, sRGB
+  // confidence.exr (render only): the GI's confidence in the E_indirect composited, one channel 0–1 (SPEC §6.4)
+  std::optional<renderer::FloatImage> confidence;
   std::map<std::string, renderer::Renderer::DebugImage> debugImages;  // NAME.png (tonemapped) and NAME.exr (linear)
 };
 
@@ -36,7 +39,7 @@ void prepareOutputDirectory(const std::filesystem::path& out);
 // Throws renderer::ImageIoError naming the file that could not be written.
 void writeRenderedImages(const std::filesystem::path& out, const RenderedImages& images, const nlohmann::json& stats);
 
-// The names of what writeRenderedImages writes, for the commands' closing line.
+// The names of what writeRenderedImages always writes, for the commands' closing line.
 inline constexpr const char* kRenderedFileList =
     "final.png, final.exr, irradiance_direct.exr, irradiance_indirect.exr, albedo.exr, normal.exr, depth.exr, "
     "stats.json";

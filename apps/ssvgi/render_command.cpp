@@ -20,8 +20,10 @@ namespace {
 
 constexpr float kFrameSeconds = 1.0f / 30.0f;  // animation time step per rendered frame
 
-const std::map<std::string, ssvgi::DebugView> kDebugViews = {
-    {"voxels", ssvgi::DebugView::Voxels}, {"bricks", ssvgi::DebugView::Bricks}, {"probes", ssvgi::DebugView::Probes}};
+const std::map<std::string, ssvgi::DebugView> kDebugViews = {{"voxels", ssvgi::DebugView::Voxels},
+                                                              {"bricks", ssvgi::DebugView::Bricks},
+                                                              {"probes", ssvgi::DebugView::Probes},
+                                                              {"confidence", ssvgi::DebugView::Confidence}};
 
 struct RenderOptions {
   SceneOptions scene;
@@ -98,6 +100,7 @@ int runRender(const RenderOptions& options) {
   RenderedImages images{renderer.finalRadiance(), renderer.directIrradiance(), renderer.indirectIrradiance(),
                         renderer.albedo(),        renderer.normal(),           renderer.viewDistance(),
                         renderer.tonemapped()};
+  images.confidence = renderer.confidence();
   for (const std::string& name : options.debugViews) {
     images.debugImages["debug_" + name] = renderer.giDebugView(kDebugViews.at(name), debugCamera);
   }
@@ -107,7 +110,8 @@ int runRender(const RenderOptions& options) {
     std::fprintf(stderr, "ssvgi: %u Vulkan validation errors\n", device.validationErrorCount());
     return 1;
   }
-  std::printf("wrote %s (%s) on %s\n", options.out.c_str(), kRenderedFileList, device.description().c_str());
+  std::printf("wrote %s (%s, confidence.exr) on %s\n", options.out.c_str(), kRenderedFileList,
+              device.description().c_str());
   return 0;
 }
 
@@ -130,9 +134,10 @@ CommandRunner addRenderCommand(CLI::App& app) {
   command->add_option("--debug", options->debugViews,
                       "Also write ssvgi's view of the last frame, ray-traced through its voxels from the camera: "
                       "voxels (stored radiance), bricks (a colour per brick) or probes (level-0 probes as spheres lit "
-                      "by their SH; magenta invalid, yellow just offset), as DIR/debug_NAME.png and .exr; may be "
-                      "repeated")
-      ->check(CLI::IsMember(std::vector<std::string>{"voxels", "bricks", "probes"}));
+                      "by their SH; magenta invalid, yellow just offset) or confidence (the GI's confidence on the "
+                      "surfaces met, grey from black 0 to white 1; dark blue: no voxel), as DIR/debug_NAME.png and "
+                      ".exr; may be repeated")
+      ->check(CLI::IsMember(std::vector<std::string>{"voxels", "bricks", "probes", "confidence"}));
   command->add_option("--debug-camera", options->debugCamera,
                       "The debug views' camera, PX,PY,PZ,TX,TY,TZ,VFOV_DEG (default: the rendering camera): ssvgi's "
                       "voxels and probes seen from elsewhere, e.g. the surfaces the rendering camera never sees");

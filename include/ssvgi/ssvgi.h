@@ -97,7 +97,8 @@ Settings settingsForTier(QualityTier tier);
 
 struct ContextDesc {
   VkInstance instance = VK_NULL_HANDLE;  // the host's, Vulkan 1.1 or later
-  VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;
+  VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;  // must store R8_UNORM images from shaders (Context::confidence());
+                                                     // create() returns UnsupportedDevice if it cannot
   VkDevice device = VK_NULL_HANDLE;
   bool debugUtilsEnabled = false;  // the host enabled VK_EXT_debug_utils: ssvgi names its objects and labels its
                                    // passes "ssvgi: <PassName>" for RenderDoc / Nsight
@@ -200,16 +201,16 @@ enum class DebugView {
   Bricks,  // brick occupancy: each live brick in a colour of its own
   Probes,  // the finest probe level as small spheres in front of the voxels: white balls lit by each probe's SH
            // irradiance; magenta: invalid (inside geometry); yellow: just moved by its virtual offset, not yet traced
+  Confidence,  // the confidence (Context::confidence()) the gather gives each surface a ray meets in the voxels, in
+               // grey from black (0) to white (1); dark blue where the ray meets no voxel
 };
 
-// ssvgi's result (SPEC §3), owned by the context: the indirect irradiance E(n) of the last dispatched frame at half
-// resolution, filtered and ready to sample at full resolution. The host composites albedo/π · E.
-//   - Texel h holds E at full-resolution pixel 2h (its depth and normal); rgb: E, W/m²; a: that pixel's depth
-//     (0 where nothing was drawn; E is 0 there too).
+// An image of ssvgi's results (SPEC §3), owned by the context, at half resolution: texel h stands for full-resolution
+// pixel 2h (its depth and normal), ready to sample at full resolution as E is.
 //   - After the commands of dispatch() it is in `layout` with its writes visible to compute shaders. A host that
 //     samples it in another stage adds its own barrier; the host never writes it, and its reads must be complete or
-//     ordered before the next dispatch() (two images alternate as output and history).
-//   - Query it after each dispatch(): the image changes from frame to frame. The frame's result covers the top-left
+//     ordered before the next dispatch() (which writes it, or the other of two images that alternate).
+//   - Query it after each dispatch(): the image may change from frame to frame. The frame's result covers the top-left
 //     width × height texels of an image of ceil(maxWidth/2) × ceil(maxHeight/2).
 struct OutputImage {
   VkImage image = VK_NULL_HANDLE;
@@ -228,8 +229,22 @@ class Context {
   // Records the GI of one frame into `commandBuffer` (SPEC §4 order).
   virtual Error dispatch(const FrameDesc& frame, VkCommandBuffer commandBuffer) = 0;
 
-  // The image the last dispatch() writes its result into (see OutputImage); nothing (null handles) before the first.
+  // ssvgi's result: the indirect irradiance E(n) of the last dispatch(), filtered (see OutputImage); nothing (null
+  // handles) before the first. The host composites albedo/π · E. R16G16B16A16_SFLOAT: rgb E, W/m²; a: the depth of
+  // the texel's pixel (0 where nothing was drawn; E is 0 there too).
   virtual OutputImage output() const = 0;
+
+  // How much ssvgi knows where it lit each texel of output() (SPEC §6.4), for a host that blends to a fallback —
+  // baked or ambient light — where ssvgi knows little: e.g. E_used = mix(E_fallback, E, confidence). R8_UNORM, the
+  // same size, texels and contract as output() (see OutputImage); nothing before the first dispatch().
+  //   - 1: every ray of the probes that lit the texel met a surface or the sky through space some view has observed
+  //     (the camera's frames, FrameDesc::extraViews); 0: the probes know nothing of their surroundings — their rays
+  //     met only space no view has observed, where unknown is not sky — or no probe lit the texel. Where nothing was
+  //     drawn it is 0.
+  //   - It is the known fraction of the probes the gather used for E, weighted as their light is, each probe's
+  //     fraction blended over its updates as its light is, and upsampled with E's weights. It is not temporally
+  //     filtered as E is: near a probe level's boundary it flickers a little from frame to frame.
+  virtual OutputImage confidence() const = 0;
 
   // Records a debug view into `target`, an rgba32f storage image of the view's size that ssvgi leaves in
   // VK_IMAGE_LAYOUT_GENERAL (it must be in GENERAL or UNDEFINED before).

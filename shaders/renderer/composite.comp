@@ -3,6 +3,8 @@
 // E_indirect is black: there is no ambient term at all. With GI on it is ssvgi's half-resolution output, whose texel h
 // holds full-resolution pixel 2h; each pixel blends the 2×2 texels around it edge-aware (SPEC §4.6 "Shading"): bilinear
 // weights times how well each texel's pixel lies on this pixel's surface, so light does not bleed across silhouettes.
+// ssvgi's confidence (SPEC §6.4) is sampled with the same weights and kept beside the E_indirect used, for the
+// renderer's confidence.exr; the composite does not blend to a fallback (it has none: GI off means no ambient at all).
 #include "shared/renderer_interface.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -14,6 +16,7 @@ layout(binding = kBindCompositeEmission) uniform sampler2D emissionBuffer;
 layout(binding = kBindCompositeNormal) uniform sampler2D normalBuffer;
 layout(binding = kBindCompositeDirect, rgba32f) readonly uniform image2D directIrradiance;
 layout(binding = kBindCompositeIndirect) uniform sampler2D indirectIrradiance;
+layout(binding = kBindCompositeConfidence) uniform sampler2D indirectConfidence;
 layout(binding = kBindCompositeFinal, rgba32f) writeonly uniform image2D finalRadiance;
 layout(binding = kBindCompositeIndirectUsed, rgba32f) writeonly uniform image2D indirectUsed;
 
@@ -27,14 +30,19 @@ vec3 worldPosition(ivec2 pixel, float depth) {
   return world.xyz / world.w;
 }
 
-vec3 edgeAwareIndirect(ivec2 pixel, float depth) {
+vec4 indirectTexel(ivec2 texel) {
+  return vec4(texelFetch(indirectIrradiance, texel, 0).rgb, texelFetch(indirectConfidence, texel, 0).r);
+}
+
+// rgb: E_indirect; a: its confidence.
+vec4 edgeAwareIndirect(ivec2 pixel, float depth) {
   vec3 position = worldPosition(pixel, depth);
   vec3 normal = normalize(texelFetch(normalBuffer, pixel, 0).xyz);
   float tolerance = kPlaneTolerance * distance(position, frame.cameraPosition.xyz);
   ivec2 lastTexel = textureSize(indirectIrradiance, 0) - 1;
   ivec2 firstTexel = pixel >> 1;  // the pixel sits at texel coordinate pixel/2: on texel 2h, or halfway to 2h + 2
   vec2 fraction = vec2(pixel & 1) * 0.5;
-  vec3 sum = vec3(0.0);
+  vec4 sum = vec4(0.0);
   float totalWeight = 0.0;
   for (int corner = 0; corner < 4; ++corner) {
     ivec2 offset = ivec2(corner & 1, corner >> 1);
@@ -46,11 +54,11 @@ vec3 edgeAwareIndirect(ivec2 pixel, float depth) {
     float planeDistance = abs(dot(worldPosition(texelPixel, texelDepth) - position, normal));
     float geometry = clamp(1.0 - planeDistance / tolerance, 0.0, 1.0) *
                      pow(max(dot(normal, normalize(texelFetch(normalBuffer, texelPixel, 0).xyz)), 0.0), kNormalPower);
-    sum += bilinear.x * bilinear.y * geometry * texelFetch(indirectIrradiance, texel, 0).rgb;
+    sum += bilinear.x * bilinear.y * geometry * indirectTexel(texel);
     totalWeight += bilinear.x * bilinear.y * geometry;
   }
   // A pixel whose texels all lie on other surfaces (a one-pixel sliver) takes the texel of the 2×2 block it belongs to.
-  return totalWeight > 0.0 ? sum / totalWeight : texelFetch(indirectIrradiance, min(firstTexel, lastTexel), 0).rgb;
+  return totalWeight > 0.0 ? sum / totalWeight : indirectTexel(min(firstTexel, lastTexel));
 }
 
 void main() {
@@ -58,7 +66,7 @@ void main() {
   if (any(greaterThanEqual(pixel, ivec2(frame.viewportSize.xy)))) return;
 
   vec3 radiance;
-  vec3 indirect = vec3(0.0);
+  vec4 indirect = vec4(0.0);
   float depth = texelFetch(depthBuffer, pixel, 0).r;
   if (depth <= 0.0) {
     vec4 world = frame.inverseViewProjection * vec4(pixelToNdc(vec2(pixel), frame.viewportSize), 1.0, 1.0);
@@ -67,9 +75,9 @@ void main() {
   } else {
     vec3 albedo = texelFetch(albedoBuffer, pixel, 0).rgb;
     if (frame.lightCountAndExposure.z > 0.0) indirect = edgeAwareIndirect(pixel, depth);
-    vec3 irradiance = imageLoad(directIrradiance, pixel).rgb + indirect;
+    vec3 irradiance = imageLoad(directIrradiance, pixel).rgb + indirect.rgb;
     radiance = texelFetch(emissionBuffer, pixel, 0).rgb + albedo * (1.0 / kPi) * irradiance;
   }
   imageStore(finalRadiance, pixel, vec4(radiance, 1.0));
-  imageStore(indirectUsed, pixel, vec4(indirect, 1.0));
+  imageStore(indirectUsed, pixel, indirect);
 }

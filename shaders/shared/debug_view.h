@@ -26,6 +26,12 @@ struct ProbeDebugViewPush {
 };
 SSVGI_CHECK_SIZE(ProbeDebugViewPush, 128);
 
+// ConfidenceDebugView: the confidence the gather gives the surfaces the camera's rays meet in the voxels.
+struct ConfidenceDebugViewPush {
+  DebugViewCamera camera;
+};
+SSVGI_CHECK_SIZE(ConfidenceDebugViewPush, 96);
+
 // The unit direction of the camera ray through a pixel's centre (rows top to bottom).
 SSVGI_INLINE vec3 debugViewDirection(DebugViewCamera camera, uvec2 pixel) {
   vec2 uv = (vec2(pixel) + vec2(0.5f)) / vec2(camera.sizeAndMode.x, camera.sizeAndMode.y);

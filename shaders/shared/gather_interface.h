@@ -5,7 +5,13 @@
 // TemporalFilter work at half resolution. A half-resolution pixel p stands for full-resolution pixel 2p: it takes that
 // pixel's depth and normal, so every filter weight compares real G-buffer samples. A tile's geometry is likewise that
 // of the pixel it sampled, read from the host's depth and normal rather than stored (SPEC §5's 10 MB for the gather's
-// images: at 1920×1080 the tile irradiance and the two half-resolution images, output and history, take 9.3 MB).
+// images: at 1920×1080 the tile irradiance, the two half-resolution images, output and history, and the
+// half-resolution confidence take 9.85 MB, 9.39 MiB).
+//
+// Confidence (SPEC §6.4): beside E, the gather carries how much the probes it used know of their surroundings — their
+// known fraction (probeKnownFraction), weighted exactly as their light is. FinalGather writes it into the tile
+// irradiance's alpha, Upsample blends it with E's joint-bilateral weights into an R8 half-resolution image, and
+// TemporalFilter leaves it: it has no history (see temporal_filter.comp).
 #ifndef SSVGI_SHARED_GATHER_INTERFACE_H
 #define SSVGI_SHARED_GATHER_INTERFACE_H
 
@@ -46,9 +52,11 @@ SSVGI_CONSTANT(uint, kBindGatherConstants, kBindFirstPassSlot);            // Ga
 SSVGI_CONSTANT(uint, kBindGatherDepth, kBindFirstPassSlot + 1u);           // the host's current depth (sampled)
 SSVGI_CONSTANT(uint, kBindGatherNormal, kBindFirstPassSlot + 2u);          // the host's current world normal (sampled)
 SSVGI_CONSTANT(uint, kBindGatherProbes, kBindFirstPassSlot + 3u);          // Probe[] (probe_interface.h)
-SSVGI_CONSTANT(uint, kBindGatherTileIrradiance, kBindFirstPassSlot + 4u);  // rgba16f, 1/4: rgb E; a: 1 where sampled
+SSVGI_CONSTANT(uint, kBindGatherTileIrradiance, kBindFirstPassSlot + 4u);  // rgba16f, 1/4: rgb E; a: confidence
 SSVGI_CONSTANT(uint, kBindGatherHistory, kBindFirstPassSlot + 5u);         // rgba16f, 1/2: last output
 SSVGI_CONSTANT(uint, kBindGatherOutput, kBindFirstPassSlot + 6u);          // rgba16f, 1/2: rgb E; a: depth
+SSVGI_CONSTANT(uint, kBindGatherConfidence, kBindFirstPassSlot + 7u);      // r8, 1/2: confidence 0–1
+SSVGI_CONSTANT(uint, kBindGatherDebugTarget, kBindFirstPassSlot + 8u);     // rgba32f: ConfidenceDebugView's image
 
 // What the gather passes know of this frame beyond GiFrame (uniform buffer, one per frame in flight).
 struct GatherConstants {

@@ -93,8 +93,10 @@ SSVGI_CONSTANT(uint, kBindCompositeEmission, 3u);
 SSVGI_CONSTANT(uint, kBindCompositeDirect, 4u);      // E_direct
 SSVGI_CONSTANT(uint, kBindCompositeIndirect, 5u);    // E_indirect (from the GI; black until it exists or when off)
 SSVGI_CONSTANT(uint, kBindCompositeFinal, 6u);       // out: linear HDR radiance, rgba32f
-SSVGI_CONSTANT(uint, kBindCompositeIndirectUsed, 7u); // out: the E_indirect each pixel was shaded with, rgba32f
+SSVGI_CONSTANT(uint, kBindCompositeIndirectUsed, 7u); // out: the E_indirect each pixel was shaded with, rgba32f;
+                                                      // a: the GI's confidence there (0 with GI off)
 SSVGI_CONSTANT(uint, kBindCompositeNormal, 8u);       // G-buffer world normal (edge-aware sampling of E_indirect)
+SSVGI_CONSTANT(uint, kBindCompositeConfidence, 9u);   // the GI's confidence of E_indirect (ssvgi::Context::confidence)
 // Tonemap (tonemap.comp):
 SSVGI_CONSTANT(uint, kBindTonemapFrame, 0u);
 SSVGI_CONSTANT(uint, kBindTonemapInput, 1u);

@@ -1,4 +1,5 @@
 // The GI context: owns the passes and their resources and records a frame in the order of SPEC §4.
+#include "gather/confidence_debug_view.h"
 #include "gather/gather_passes.h"
 #include "gpu/command_list.h"
 #include "gpu/profiler.h"
@@ -115,6 +116,19 @@ Error validateSettings(const ContextDesc& desc) {
   return {};
 }
 
+// What ssvgi needs of the device beyond Vulkan 1.1 compute. The confidence output is R8_UNORM, written by a shader:
+// a storage format of Vulkan's extended set (shaderStorageImageExtendedFormats lists it; its SPIR-V capability needs
+// no feature enabled), which desktop and current mobile GPUs store.
+Error checkDevice(VkPhysicalDevice physicalDevice) {
+  VkFormatProperties properties{};
+  vkGetPhysicalDeviceFormatProperties(physicalDevice, VK_FORMAT_R8_UNORM, &properties);
+  const VkFormatFeatureFlags needed = VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT | VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT;
+  if ((properties.optimalTilingFeatures & needed) != needed)
+    return {Status::UnsupportedDevice,
+            "the device cannot write VK_FORMAT_R8_UNORM storage images (the confidence output, Context::confidence())"};
+  return {};
+}
+
 // A view's matrix must map the world to clip space invertibly and its position lie where float coordinates still
 // resolve a voxel: NaN or 1e30 there would send every pass's loops over the volume astray.
 Error validateViewGeometry(const View& view, const std::string& name) {
@@ -172,7 +186,8 @@ class ContextImplementation final : public Context {
         upsample_(device_),
         temporalFilter_(device_),
         voxelDebugView_(device_),
-        probeDebugView_(device_) {
+        probeDebugView_(device_),
+        confidenceDebugView_(device_) {
     for (uint32_t i = 0; i < desc.framesInFlight; ++i) {
       perFrame_.push_back(std::make_unique<PerFrame>(device_));
     }
@@ -192,17 +207,15 @@ class ContextImplementation final : public Context {
       gpu::CommandList commands(device_, commandBuffer, slot.descriptors);
       if (view == DebugView::Probes)
         probeDebugView_.record(commands, scene_, probes_, lastCameraPosition_, camera, target, targetView);
+      else if (view == DebugView::Confidence)
+        confidenceDebugView_.record(commands, scene_, gather_, probes_.probes(), camera, target, targetView);
       else
         voxelDebugView_.record(commands, scene_, view, camera, target, targetView);
     });
   }
 
-  OutputImage output() const override {
-    if (!dispatched_) return {};
-    const gpu::Image& image = gather_.output();
-    return {image.handle(), image.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, image.desc().format,
-            gather_.halfSize().x, gather_.halfSize().y};
-  }
+  OutputImage output() const override { return outputImage(gather_.output()); }
+  OutputImage confidence() const override { return outputImage(gather_.confidence()); }
 
   const gi::VoxelScene& voxelScene() const { return scene_; }
   const gi::ProbeVolume& probeVolume() const { return probes_; }
@@ -266,6 +279,13 @@ class ContextImplementation final : public Context {
     info.magFilter = info.minFilter = VK_FILTER_NEAREST;
     info.addressModeU = info.addressModeV = info.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
     return info;
+  }
+
+  // A gather image as OutputImage describes it to the host: left in SHADER_READ_ONLY_OPTIMAL by record().
+  OutputImage outputImage(const gpu::Image& image) const {
+    if (!dispatched_) return {};
+    return {image.handle(), image.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, image.desc().format,
+            gather_.halfSize().x, gather_.halfSize().y};
   }
 
   // The pyramid of the largest view: the camera's frame or an extra view.
@@ -435,7 +455,8 @@ class ContextImplementation final : public Context {
     finalGather_.record(commands, gatherInputs, gather_, scene_, probes_.probes());    // 10. FinalGather
     upsample_.record(commands, gatherInputs, gather_);                                 // 11. Upsample
     temporalFilter_.record(commands, gatherInputs, gather_);                           // 12. TemporalFilter
-    commands.use(gather_.output(), gpu::Usage::ComputeSampled);  // the output's contract (OutputImage)
+    commands.use(gather_.output(), gpu::Usage::ComputeSampled);  // the outputs' contract (OutputImage)
+    commands.use(gather_.confidence(), gpu::Usage::ComputeSampled);
 
     commands.copyBuffer(scene_.poolState(), slot.statsReadback, sizeof(shader::BrickPoolState));
     commands.use(slot.statsReadback, gpu::Usage::HostRead);
@@ -472,6 +493,7 @@ class ContextImplementation final : public Context {
   gi::TemporalFilter temporalFilter_;
   gi::VoxelDebugView voxelDebugView_;
   gi::ProbeDebugView probeDebugView_;
+  gi::ConfidenceDebugView confidenceDebugView_;
   glm::vec3 lastCameraPosition_{0.0f};  // where the last dispatch centred the voxel and probe volumes
   uint32_t lastSlot_ = 0;
   bool dispatched_ = false;
@@ -482,6 +504,7 @@ class ContextImplementation final : public Context {
 
 Result<std::unique_ptr<Context>> Context::create(const ContextDesc& desc) {
   if (Error error = validateSettings(desc)) return error;
+  if (Error error = checkDevice(desc.physicalDevice)) return error;
   try {
     return std::unique_ptr<Context>(std::make_unique<ContextImplementation>(desc));
   } catch (const gpu::GpuError& error) {

@@ -173,6 +173,8 @@ bool isDepthFormat(VkFormat format) {
 
 uint32_t bytesPerTexel(VkFormat format) {
   switch (format) {
+    case VK_FORMAT_R8_UNORM:
+      return 1;
     case VK_FORMAT_R8G8B8A8_UNORM:
     case VK_FORMAT_R8G8B8A8_SRGB:
     case VK_FORMAT_R32_SFLOAT:

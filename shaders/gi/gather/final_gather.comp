@@ -3,6 +3,8 @@
 // temporal jitter; output indirect light + normal + depth"): one thread per 4×4 tile samples the probe volume at one
 // pixel of its tile, a different one each frame (gatherSampleOffset), with the talk's three leak remedies and a voxel
 // visibility test. The tile's normal and depth are that pixel's in the host's G-buffer, where Upsample reads them.
+// Beside E it stores the tile's confidence (SPEC §6.4): the known fraction of the probes it used, weighted as their
+// light is; 0 where no probe contributed or nothing was drawn.
 #include "gi/gi_frame.glsl"
 #include "gi/gather/probe_irradiance.glsl"
 
@@ -24,7 +26,8 @@ void main() {
   }
   vec3 normal = normalize(texelFetch(normalBuffer, pixel, 0).xyz);
   vec3 position = reconstructPosition(frame.inverseViewProjection, vec2(pixel), vec2(frame.sizes.xy), depth);
-  vec4 irradiance = probeIrradiance(position, normal, hashToUnitCube(uvec3(tile, frameIndex)).x, true);
-  // A host pixel whose depth or normal is not finite gives no light rather than a NaN.
-  imageStore(tileIrradiance, ivec2(tile), vec4(finiteHalf(irradiance.rgb), irradiance.a));
+  GatheredLight light = probeLight(position, normal, hashToUnitCube(uvec3(tile, frameIndex)).x, true);
+  // A host pixel whose depth or normal is not finite gives no light rather than a NaN, and no confidence.
+  float confidence = light.confidence >= 0.0 ? min(light.confidence, 1.0) : 0.0;  // a NaN fails the test
+  imageStore(tileIrradiance, ivec2(tile), vec4(finiteHalf(light.irradiance), confidence));
 }

@@ -48,6 +48,7 @@ const float kSameSurfaceWeight = 0.5;
 // This frame's tile samples around a surface pixel (FinalGather sampled pixel t·4 + offset of tile t).
 struct TileNeighbourhood {
   vec3 blended;  // Upsample's result: bilinear in the sample grid × geometry weights (joint bilateral)
+  float confidence;  // the tiles' confidence blended with the same weights (0 where no tile's sample is on the surface)
   vec3 lowest;   // the range of the bilinear taps on the pixel's surface (none: lowest > highest)
   vec3 highest;
 };
@@ -57,7 +58,7 @@ TileNeighbourhood tileNeighbourhood(Surface surface, ivec2 pixel) {
   vec2 tileCoordinate = vec2(pixel - sampleOffset) / float(kGatherTileSize);
   ivec2 firstTile = ivec2(floor(tileCoordinate));
   ivec2 lastTile = ivec2(gather.sizes.xy) - 1;
-  TileNeighbourhood result = TileNeighbourhood(vec3(0.0), vec3(1e30), vec3(0.0));
+  TileNeighbourhood result = TileNeighbourhood(vec3(0.0), 0.0, vec3(1e30), vec3(0.0));
   float totalWeight = 0.0;
   for (int y = -1; y <= 2; ++y)
     for (int x = -1; x <= 2; ++x) {
@@ -71,9 +72,11 @@ TileNeighbourhood tileNeighbourhood(Surface surface, ivec2 pixel) {
                                                 sampleDepth);
       float geometry = planeWeight(surface, samplePosition) *
                        normalWeight(surface, normalize(texelFetch(normalBuffer, samplePixel, 0).xyz));
-      vec3 irradiance = imageLoad(tileIrradiance, tile).rgb;
+      vec4 tileSample = imageLoad(tileIrradiance, tile);  // rgb E; a: confidence
+      vec3 irradiance = tileSample.rgb;
       vec2 tent = max(vec2(1.0) - abs(vec2(tile) - tileCoordinate), vec2(kOuterTapWeight));
       result.blended += tent.x * tent.y * geometry * irradiance;
+      result.confidence += tent.x * tent.y * geometry * tileSample.a;
       totalWeight += tent.x * tent.y * geometry;
       if (x >= 0 && x <= 1 && y >= 0 && y <= 1 && geometry >= kSameSurfaceWeight) {
         result.lowest = min(result.lowest, irradiance);
@@ -81,6 +84,7 @@ TileNeighbourhood tileNeighbourhood(Surface surface, ivec2 pixel) {
       }
     }
   result.blended = totalWeight > 0.0 ? result.blended / totalWeight : vec3(0.0);
+  result.confidence = totalWeight > 0.0 ? result.confidence / totalWeight : 0.0;
   return result;
 }
 

@@ -30,10 +30,17 @@ uint chooseLevel(vec3 position, float noise) {
   return kProbeLevels;
 }
 
-// Irradiance at a surface point from the 8 probes of a level around it: rgb, and a = 1 when any probe contributed.
+// What the probes around a surface point give it.
+struct GatheredLight {
+  vec3 irradiance;   // E(n), W/m²
+  float confidence;  // the probes' known fraction (SPEC §6.4), weighted as their light is; 0 when none contributed
+  bool found;        // some probe contributed
+};
+
+// Irradiance at a surface point from the 8 probes of a level around it, and their confidence.
 // `testVisibility`: leave out a probe with a voxel between it and the point (a voxel trace per probe). Only a pass that
 // does not write the voxels may trace them.
-vec4 gatherLevel(uint level, vec3 position, vec3 normal, bool testVisibility) {
+GatheredLight gatherLevel(uint level, vec3 position, vec3 normal, bool testVisibility) {
   float spacing = gather.probeSpacings[level];
   ivec3 origin = gather.probeOrigins[level].xyz;
   ivec3 dimensions = gather.probeDimensions.xyz;
@@ -44,6 +51,7 @@ vec4 gatherLevel(uint level, vec3 position, vec3 normal, bool testVisibility) {
   ivec3 base = ivec3(floor(grid));
   vec3 fraction = grid - vec3(base);
   vec3 irradiance = vec3(0.0);
+  float known = 0.0;
   float totalWeight = 0.0;
   for (int corner = 0; corner < 8; ++corner) {
     ivec3 offset = ivec3(corner & 1, (corner >> 1) & 1, corner >> 2);
@@ -80,19 +88,28 @@ vec4 gatherLevel(uint level, vec3 position, vec3 normal, bool testVisibility) {
     Sh2Rgb radiance = probeRadianceSh(stored);
     // SH2 rings below zero opposite bright light; negative irradiance is not light.
     irradiance += weight * max(sh2Irradiance(radiance, normal), vec3(0.0));
+    // The same probes with the same weights: the confidence says how much of this E rests on observed space.
+    known += weight * probeKnownFraction(stored);
     totalWeight += weight;
   }
-  return totalWeight > 0.0 ? vec4(irradiance / totalWeight, 1.0) : vec4(0.0);
+  if (totalWeight <= 0.0) return GatheredLight(vec3(0.0), 0.0, false);
+  return GatheredLight(irradiance / totalWeight, known / totalWeight, true);
 }
 
-// Irradiance at a surface point from the finest level that holds it (near a level's boundary, by `noise` in [0, 1), the
-// next coarser one); where a level's probes are stale or untraced, a coarser level (seeded earlier, SPEC §4.5)
-// answers. rgb: E; a: 1 when some probe contributed.
+// Irradiance and confidence at a surface point from the finest level that holds it (near a level's boundary, by
+// `noise` in [0, 1), the next coarser one); where a level's probes are stale or untraced, a coarser level (seeded
+// earlier, SPEC §4.5) answers.
+GatheredLight probeLight(vec3 position, vec3 normal, float noise, bool testVisibility) {
+  GatheredLight light = GatheredLight(vec3(0.0), 0.0, false);
+  for (uint level = chooseLevel(position, noise); level < kProbeLevels && !light.found; ++level)
+    light = gatherLevel(level, position, normal, testVisibility);
+  return light;
+}
+
+// probeLight's irradiance: rgb E; a: 1 when some probe contributed.
 vec4 probeIrradiance(vec3 position, vec3 normal, float noise, bool testVisibility) {
-  vec4 irradiance = vec4(0.0);
-  for (uint level = chooseLevel(position, noise); level < kProbeLevels && irradiance.a == 0.0; ++level)
-    irradiance = gatherLevel(level, position, normal, testVisibility);
-  return irradiance;
+  GatheredLight light = probeLight(position, normal, noise, testVisibility);
+  return vec4(light.irradiance, light.found ? 1.0 : 0.0);
 }
 
 #endif

@@ -4,6 +4,14 @@
 // clamps it to the range of this frame's tile samples on its surface (so moving light does not ghost) and blends the
 // upsampled frame in with kTemporalBlend. It filters the output image in place (each pixel reads only its own texel
 // of it); the result is ssvgi's output: rgb E(n), alpha the depth the history test needs next frame.
+//
+// The confidence (SPEC §6.4) is not filtered here; Upsample's is the output. What E gains from its history is the
+// average of noisy probe estimates and of the 16 jittered sample pixels; the confidence is made of the probes' known
+// fractions, which the probes already blend over their updates as they blend their SH (probe_interface.h), so it lacks
+// the first noise and varies smoothly over a surface, where the second does not matter (near a probe level's
+// boundary, where the gather dithers between two levels that know different amounts, it stays noisy). A history would
+// also cost more than SPEC §5 leaves: 8 bits cannot hold a 1/16 blend (a change below 8/255 would never move the
+// stored value), and two R16 images would take the gather's images from 9.85 MB to 11.4 MB at 1920×1080 (10 allowed).
 #include "gather_geometry.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;

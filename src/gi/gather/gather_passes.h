@@ -26,7 +26,7 @@ struct GatherInputs {
   }
 };
 
-// FinalGather: one probe-volume sample per 4×4 tile, with the leak weights → tile irradiance.
+// FinalGather: one probe-volume sample per 4×4 tile, with the leak weights → tile irradiance and confidence.
 class FinalGather {
  public:
   explicit FinalGather(gpu::Device& device);
@@ -38,7 +38,8 @@ class FinalGather {
   gpu::ComputePipeline pipeline_;
 };
 
-// Upsample: joint bilateral upsampling of the tile irradiance to half resolution, into the output image.
+// Upsample: joint bilateral upsampling of the tile irradiance to half resolution, into the output image, and of the
+// tiles' confidence, with the same weights, into the confidence image.
 class Upsample {
  public:
   explicit Upsample(gpu::Device& device);

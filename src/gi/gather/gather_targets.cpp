@@ -25,7 +25,11 @@ GatherTargets::GatherTargets(gpu::Device& device, uint32_t maxWidth, uint32_t ma
       outputs_{storageImage(device, "ssvgi gather output", VK_FORMAT_R16G16B16A16_SFLOAT, divideRoundingUp(maxWidth, 2),
                             divideRoundingUp(maxHeight, 2), VK_IMAGE_USAGE_SAMPLED_BIT),
                storageImage(device, "ssvgi gather output", VK_FORMAT_R16G16B16A16_SFLOAT, divideRoundingUp(maxWidth, 2),
-                            divideRoundingUp(maxHeight, 2), VK_IMAGE_USAGE_SAMPLED_BIT)} {
+                            divideRoundingUp(maxHeight, 2), VK_IMAGE_USAGE_SAMPLED_BIT)},
+      // The host samples it too (Context::confidence()). R8, a storage format of Vulkan's extended set: every format
+      // all devices can store takes 4 bytes a texel, and 2 MB more would break SPEC §5's 10 MB (ARCHITECTURE.md).
+      confidence_(storageImage(device, "ssvgi gather confidence", VK_FORMAT_R8_UNORM, divideRoundingUp(maxWidth, 2),
+                               divideRoundingUp(maxHeight, 2), VK_IMAGE_USAGE_SAMPLED_BIT)) {
   for (uint32_t i = 0; i < framesInFlight; ++i)
     constants_.emplace_back(device, "ssvgi gather constants", sizeof(shader::GatherConstants),
                             VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryUsage::HostUpload);

@@ -27,10 +27,12 @@ class GatherTargets {
                const ProbeLevels& probes);
 
   const gpu::Buffer& constants() const { return constants_[currentFrame_]; }
-  const gpu::Image& tileIrradiance() const { return tileIrradiance_; }  // rgba16f, 1/4: rgb E; a: 1 where sampled
+  const gpu::Image& tileIrradiance() const { return tileIrradiance_; }  // rgba16f, 1/4: rgb E; a: confidence
   const gpu::Image& history() const { return outputs_[1 - currentOutput_]; }
   // rgba16f, 1/2: rgb E; a: depth. Upsample writes it, TemporalFilter filters it in place.
   const gpu::Image& output() const { return outputs_[currentOutput_]; }
+  // r8, 1/2: the confidence (SPEC §6.4) of the output's E. Upsample writes it; one image, no history.
+  const gpu::Image& confidence() const { return confidence_; }
   glm::uvec2 tiles() const { return {current_.sizes.x, current_.sizes.y}; }
   glm::uvec2 halfSize() const { return {current_.sizes.z, current_.sizes.w}; }
 
@@ -38,6 +40,7 @@ class GatherTargets {
   std::vector<gpu::Buffer> constants_;
   gpu::Image tileIrradiance_;
   std::array<gpu::Image, 2> outputs_;
+  gpu::Image confidence_;
   size_t currentFrame_ = 0;
   uint32_t currentOutput_ = 0;
   bool prepared_ = false;
