@@ -88,7 +88,7 @@ ExtraViews::ExtraViews(gpu::Device& device, const Scene& scene, const ExtraViewS
       indirectUsed_(storageImage(device, "extra view indirect used", VK_FORMAT_R32G32B32A32_SFLOAT, 1)) {
   if (settings.viewsPerFrame == 0 || settings.viewsPerFrame > ssvgi::kMaxExtraViews)
     throw gpu::GpuError("extra views: viewsPerFrame must be in 1.." + std::to_string(ssvgi::kMaxExtraViews));
-  if (settings.sunViewSize > 0 && scene.sun.enabled) sources_.push_back({Kind::Sun, 0});
+  if (settings.sunViewSize > 0) sources_.push_back({Kind::Sun, 0});
   if (settings.surroundViewSize > 0)
     for (uint32_t face = 0; face < kCubeFaces.size(); ++face) sources_.push_back({Kind::Surround, face});
   if (settings.lightViewSize > 0)
@@ -148,7 +148,10 @@ void ExtraViews::viewOf(const Source& source, const shader::FrameConstants& fram
   // is its box's extent across the sun; the texels are a voxel wide, or narrower where the footprint is smaller than
   // the view, and they depend only on the sun's direction: snapping the view's centre to whole texels keeps the texel
   // grid fixed in the world as the camera moves.
-  const glm::vec3 toSun = glm::normalize(glm::vec3(frame.sunDirectionAndEnabled));
+  // Without a sun (none, or below the horizon) the view looks straight down: it still observes the open space above
+  // roofs and yards that the probes' rays cross to the sky (SPEC §6.4), and the surfaces under the sky.
+  const bool sunUp = frame.sunDirectionAndEnabled.w > 0.0f && frame.sunDirectionAndEnabled.y > 0.0f;
+  const glm::vec3 toSun = sunUp ? glm::normalize(glm::vec3(frame.sunDirectionAndEnabled)) : glm::vec3(0.0f, 1.0f, 0.0f);
   const glm::mat4 sunRotation = glm::lookAtRH(glm::vec3(0.0f), -toSun, upFor(toSun));
   // The volume re-centres in steps of kScrollStepBricks bricks: it reaches that much further from the camera.
   const glm::vec3 halfExtent =
@@ -159,14 +162,19 @@ void ExtraViews::viewOf(const Source& source, const shader::FrameConstants& fram
   const float texel = std::min(voxelSize_, 2.0f * std::max(footprint.x, footprint.y) / size);
   const glm::vec3 cameraInSunFrame = glm::vec3(sunRotation * glm::vec4(glm::vec3(frame.cameraPosition), 1.0f));
   const glm::vec2 centre = glm::round(glm::vec2(cameraInSunFrame) / texel) * texel;
-  // Depth: the whole scene, so that whatever shades a surface from the sun lies inside the view.
+  // Depth: the whole scene, so that whatever shades a surface from the sun lies inside the view, and — in front of
+  // it — the whole voxel volume, so that the view observes all the open space its rays cross there (SPEC §6.4).
   float nearest = 1e30f, farthest = -1e30f;
+  const glm::vec3 volumeMin = glm::vec3(frame.cameraPosition) - halfExtent;
+  const glm::vec3 volumeMax = glm::vec3(frame.cameraPosition) + halfExtent;
   for (int corner = 0; corner < 8; ++corner) {
     const glm::vec3 point((corner & 1) ? sceneBounds_.max.x : sceneBounds_.min.x,
                           (corner & 2) ? sceneBounds_.max.y : sceneBounds_.min.y,
                           (corner & 4) ? sceneBounds_.max.z : sceneBounds_.min.z);
+    const glm::vec3 volumeCorner((corner & 1) ? volumeMax.x : volumeMin.x, (corner & 2) ? volumeMax.y : volumeMin.y,
+                                 (corner & 4) ? volumeMax.z : volumeMin.z);
     const float distance = -(sunRotation * glm::vec4(point, 1.0f)).z;
-    nearest = std::min(nearest, distance - kSunViewDepthMargin);
+    nearest = std::min({nearest, distance - kSunViewDepthMargin, -(sunRotation * glm::vec4(volumeCorner, 1.0f)).z});
     farthest = std::max(farthest, distance + kSunViewDepthMargin);
   }
   // The eye at the centre of the near plane.
@@ -192,7 +200,6 @@ std::vector<ssvgi::ExtraView> ExtraViews::record(gpu::CommandList& commands, con
   for (Target& target : targets_) unused.push_back(&target);
   for (uint32_t i = 0; i < count; ++i) {
     Source& source = sources_[(nextSource_ + i) % sources_.size()];
-    if (source.kind == Kind::Sun && frame.sunDirectionAndEnabled.w <= 0.0f) continue;
     const auto slot =
         std::find_if(unused.begin(), unused.end(), [&](const Target* target) { return target->kind == source.kind; });
     Target& target = **slot;

@@ -3,7 +3,9 @@
 // voxels and light:
 //   - the sun's view: an orthographic reflective shadow map along the sun over the voxel volume around the camera,
 //     its texels a voxel wide and snapped to a fixed grid, so that it does not shimmer as the camera moves; it fills
-//     the sunlit surfaces the camera has not seen (a sunlit wall behind the camera);
+//     the sunlit surfaces the camera has not seen (a sunlit wall behind the camera); without a sun above the horizon
+//     it looks straight down, so that the open space above roofs and yards, which the probes' rays cross to reach the
+//     sky, is observed (SPEC §6.4) all the same;
 //   - the capture around the camera: six 90° views from the camera's position (a cube), which fill the ceilings,
 //     floors and walls beside and behind it;
 //   - the local lights' views: six 90° views around a point light, one along a spot light's cone.
@@ -27,14 +29,20 @@ struct ExtraViewSettings {
   // Pixels per side of the sun's view (0: none). Its texels are a voxel wide (ssvgi::Settings::voxelSize), or
   // narrower where the voxel volume's footprint seen from the sun is smaller than the view: it covers that footprint,
   // or the square of this many voxels around the camera where the footprint is larger (256: 64 m at the high tier's
-  // 0.25 m voxels, of its 128 m volume; docs/PERFORMANCE.md has what larger views cost).
-  uint32_t sunViewSize = 256;
-  uint32_t surroundViewSize = 64;  // pixels per side of each face of the capture around the camera; 0: none
+  // 0.25 m voxels, of its 128 m volume; docs/PERFORMANCE.md has what larger views cost). Off by default for now, as
+  // is the capture around the camera: docs/QUALITY.md ("Views beyond the camera") has what they do to the other
+  // scenario figures; kRecommendedSunViewSize and kRecommendedSurroundViewSize are the sizes measured there, with
+  // ssvgi::Settings::skyOnlyThroughObservedSpace on.
+  uint32_t sunViewSize = 0;
+  uint32_t surroundViewSize = 0;   // pixels per side of each face of the capture around the camera; 0: none
   uint32_t lightViewSize = 64;     // pixels per side of each view of a local light; 0: none
   // Views rendered and given to ssvgi per frame, 1..ssvgi::kMaxExtraViews; when there are more (the sun, six faces
   // around the camera, six per point light, one per spot), they take turns.
   uint32_t viewsPerFrame = 4;
 };
+
+inline constexpr uint32_t kRecommendedSunViewSize = 256;
+inline constexpr uint32_t kRecommendedSurroundViewSize = 64;
 
 class ExtraViews {
  public:

@@ -154,6 +154,9 @@ Settings probeTestSettings() {
   settings.volumeBricks = {32, 16, 32};  // around the camera: bricks x −16..15, y −8..7, z −8..23
   settings.brickPoolCapacity = 1024;
   settings.probeGrid = {16, 8, 16};  // level 0 around the camera: probes x −6..9, y −4..3, z 2..17
+  // The scenes are written straight into the brick pool, not seen by a view: the open space around them is each
+  // test's premise, so a ray that meets no voxel sees the sky (ObservedSpace's tests cover space no view has seen).
+  settings.skyOnlyThroughObservedSpace = false;
   return settings;
 }
 

@@ -400,7 +400,10 @@ TEST_F(VoxelScene, anExtraViewLitByDirectLightOnlyTakesTheProbesLightReflectedBy
   // albedo a: the probes above it see L over their upper hemisphere, so E(up) = π·L at the floor, whatever the floor
   // below them reflects (SH2 reconstructs E of a hemisphere step at its axis exactly: π/2·(L+F) + π/2·(L−F)), and the
   // floor's voxels must hold a/π · π·L = a·L. The camera, with no lit frame, only places and traces the probes.
-  create(smallSettings());
+  // The open sky above is the test's premise — no view looks up at it — so rays that meet no voxel see it.
+  Settings settings = smallSettings();
+  settings.skyOnlyThroughObservedSpace = false;
+  create(settings);
   constexpr float kSky = 1.0f, kAlbedo = 0.5f;
   std::array<float, 12> sky{};
   for (int channel = 0; channel < 3; ++channel) sky[channel * 4] = kSky / 0.282095f;  // L00 = L · √(4π)

@@ -575,6 +575,64 @@ TEST_F(VoxelTrace, hierarchicalTraceFindsTheSameFirstHitAsTheFlatDda) {
   EXPECT_GT(boundaryHits, onBoundaries.size() / 10);
 }
 
+// Unknown is not sky (SPEC §6.4): watching observed space, both traces report the same first hit, and whether and
+// where the ray first crossed a brick cell that holds no voxel and that no view observed. The observed bits are
+// random, 70 % of the brick cells; the coarser levels are set where all their bricks are — but for a tenth of them,
+// left unset as a race between two ObservedSpace walks may leave them, which must change nothing but the cost.
+TEST_F(VoxelTrace, watchingObservedSpaceBothTracesAgreeOnTheHitAndOnWhereUnobservedSpaceBegins) {
+  buildRandomScene(3);
+  std::mt19937_64 rng(5);
+  const glm::ivec3 dimensions = cpu_->dimensions();
+  const glm::ivec3 origin = glm::ivec3(cpu_->volume().originBrick);
+  std::vector<uint32_t> observed(cpu_->volume().gridWordOffsets.w, 0u);
+  const auto setBit = [&](uint32_t level, glm::ivec3 worldCell) {
+    const uint32_t shift = level - shader::kFirstGridLevel;
+    const uint32_t index = shader::brickCellIndex(worldCell, dimensions >> int(shift));
+    observed[cpu_->volume().gridWordOffsets[int(shift)] + index / 32] |= 1u << (index % 32);
+  };
+  std::bernoulli_distribution observedCell(0.7), keptSummary(0.9);
+  for (int z = 0; z < dimensions.z; ++z)
+    for (int y = 0; y < dimensions.y; ++y)
+      for (int x = 0; x < dimensions.x; ++x)
+        if (observedCell(rng)) setBit(shader::kFirstGridLevel, origin + glm::ivec3(x, y, z));
+  for (uint32_t level = shader::kFirstGridLevel + 1; level < shader::kOccupancyLevels; ++level) {
+    const int shift = int(level - shader::kFirstGridLevel);
+    for (int z = 0; z < dimensions.z >> shift; ++z)
+      for (int y = 0; y < dimensions.y >> shift; ++y)
+        for (int x = 0; x < dimensions.x >> shift; ++x) {
+          const glm::ivec3 cell = (origin >> shift) + glm::ivec3(x, y, z);
+          bool all = true;
+          for (int child = 0; child < 8; ++child)
+            all = all && gridBit(*cpu_, observed, level - 1, cell * 2 + glm::ivec3(child & 1, (child >> 1) & 1, child >> 2));
+          if (all && keptSummary(rng)) setBit(level, cell);
+        }
+  }
+  gpu::uploadBuffer(device(), scene_->observedSpace(), std::as_bytes(std::span(observed)));
+
+  std::vector<VoxelTraceRay> rays = randomRays(*cpu_, rng, 60'000);
+  for (VoxelTraceRay& ray : rays) ray.direction.w = 1.0f;
+  const TraceRun hierarchical = trace(*hierarchical_, rays);
+  const TraceRun flat = trace(*flat_, rays);
+  size_t mismatches = 0, unobservedMisses = 0, unobservedHits = 0, observedMisses = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const VoxelTraceHit& h = hierarchical.hits[i];
+    const VoxelTraceHit& f = flat.hits[i];
+    const bool same = h.voxel.x == f.voxel.x && h.voxel.y == f.voxel.y && h.voxel.w == f.voxel.w &&
+                      std::abs(h.radianceAndDistance.w - f.radianceAndDistance.w) <= 1e-4f;
+    if (!same && ++mismatches <= 10)
+      ADD_FAILURE() << "ray " << i << ": hierarchical brick " << h.voxel.x << " voxel " << h.voxel.y << " unobserved "
+                    << h.voxel.w << " at " << h.radianceAndDistance.w << ", flat brick " << f.voxel.x << " voxel "
+                    << f.voxel.y << " unobserved " << f.voxel.w << " at " << f.radianceAndDistance.w;
+    if (h.voxel.w != 0) (isHit(h) ? unobservedHits : unobservedMisses) += 1;
+    if (h.voxel.w == 0 && !isHit(h)) ++observedMisses;
+  }
+  EXPECT_EQ(mismatches, 0u) << "of " << rays.size() << " rays";
+  // Every outcome occurs: misses through observed space (the sky), misses and hits beyond unobserved space.
+  EXPECT_GT(unobservedMisses, rays.size() / 50);
+  EXPECT_GT(unobservedHits, rays.size() / 50);
+  EXPECT_GT(observedMisses, rays.size() / 200);
+}
+
 TEST_F(VoxelTrace, bothTracesMatchACpuReferenceDda) {
   buildRandomScene(5);
   std::mt19937_64 rng(6);

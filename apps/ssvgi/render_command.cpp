@@ -23,7 +23,8 @@ constexpr float kFrameSeconds = 1.0f / 30.0f;  // animation time step per render
 const std::map<std::string, ssvgi::DebugView> kDebugViews = {{"voxels", ssvgi::DebugView::Voxels},
                                                               {"bricks", ssvgi::DebugView::Bricks},
                                                               {"probes", ssvgi::DebugView::Probes},
-                                                              {"confidence", ssvgi::DebugView::Confidence}};
+                                                              {"confidence", ssvgi::DebugView::Confidence},
+                                                              {"observed", ssvgi::DebugView::ObservedSpace}};
 
 struct RenderOptions {
   SceneOptions scene;
@@ -135,9 +136,9 @@ CommandRunner addRenderCommand(CLI::App& app) {
                       "Also write ssvgi's view of the last frame, ray-traced through its voxels from the camera: "
                       "voxels (stored radiance), bricks (a colour per brick) or probes (level-0 probes as spheres lit "
                       "by their SH; magenta invalid, yellow just offset) or confidence (the GI's confidence on the "
-                      "surfaces met, grey from black 0 to white 1; dark blue: no voxel), as DIR/debug_NAME.png and "
-                      ".exr; may be repeated")
-      ->check(CLI::IsMember(std::vector<std::string>{"voxels", "bricks", "probes", "confidence"}));
+                      "surfaces met, grey from black 0 to white 1; dark blue: no voxel) or observed (voxels as "
+                      "the probes see them: magenta where a ray crossed unobserved space and met nothing), as DIR/debug_NAME.png and .exr; may be repeated")
+      ->check(CLI::IsMember(std::vector<std::string>{"voxels", "bricks", "probes", "confidence", "observed"}));
   command->add_option("--debug-camera", options->debugCamera,
                       "The debug views' camera, PX,PY,PZ,TX,TY,TZ,VFOV_DEG (default: the rendering camera): ssvgi's "
                       "voxels and probes seen from elsewhere, e.g. the surfaces the rendering camera never sees");

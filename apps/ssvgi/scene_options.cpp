@@ -232,9 +232,10 @@ void addGiOptions(CLI::App& command, GiOptions& options) {
         ->check(CLI::Range(0u, 4096u));
   };
   addViewSize("--sun-view", options.extraViews.sunViewSize,
-              "the sun's view (an orthographic reflective shadow map over the voxel volume, texels a voxel wide)");
+              "the sun's view (an orthographic reflective shadow map over the voxel volume, texels a voxel wide; 256 "
+              "recommended)");
   addViewSize("--surround-views", options.extraViews.surroundViewSize,
-              "a capture around the camera (six 90° views from its position)");
+              "a capture around the camera (six 90° views from its position; 64 recommended)");
   addViewSize("--light-views", options.extraViews.lightViewSize,
               "the views of the scene's local lights (six per point light, one per spot)");
   command.add_option("--views-per-frame", options.extraViews.viewsPerFrame,

@@ -87,10 +87,13 @@ struct Settings {
   // light switched on or off is followed in a few updates. 0: off (plain α = 1/(m+1)).
   float probeChangeThreshold = 2.0f;
   // Unknown is not sky (SPEC §6.4): ssvgi keeps which brick cells of its volume the camera and the extra views have
-  // seen through or into. A probe ray that enters one no view has observed has found neither a surface nor the sky:
-  // it takes what the probe already holds for its direction, and the probe's confidence falls. Off: every ray that
-  // meets no voxel sees the sky, also through a roof that was never on screen.
-  bool skyOnlyThroughObservedSpace = true;
+  // seen through or into. A probe ray that meets no voxel after crossing one no view has observed has found neither
+  // a surface nor the sky: it takes what the probe already holds for its direction, and the probe's confidence
+  // falls. Off: every ray that meets no voxel sees the sky, also through a roof that was never on screen. Turn it on
+  // with views beyond the camera that observe the space around it (FrameDesc::extraViews: a view from the sun or
+  // from above, a capture around the camera): with the camera alone, open space behind it is unknown, and a probe
+  // takes the mean of what its other rays found there (docs/QUALITY.md, "Unknown is not sky").
+  bool skyOnlyThroughObservedSpace = false;
 };
 
 Settings settingsForTier(QualityTier tier);
@@ -203,6 +206,9 @@ enum class DebugView {
            // irradiance; magenta: invalid (inside geometry); yellow: just moved by its virtual offset, not yet traced
   Confidence,  // the confidence (Context::confidence()) the gather gives each surface a ray meets in the voxels, in
                // grey from black (0) to white (1); dark blue where the ray meets no voxel
+  ObservedSpace,  // the voxels' stored radiance, watching observed space as the probes' rays do (SPEC §6.4;
+                  // Settings::skyOnlyThroughObservedSpace): magenta where a ray crossed space no view has observed and
+                  // met nothing (for a probe: neither a surface nor the sky), half magenta on a voxel beyond it
 };
 
 // An image of ssvgi's results (SPEC §3), owned by the context, at half resolution: texel h stands for full-resolution

@@ -12,7 +12,7 @@ struct DebugViewCamera {
 };
 SSVGI_CHECK_SIZE(DebugViewCamera, 96);
 
-// VoxelDebugView: mode 0 the voxels' radiance, 1 a colour per brick.
+// VoxelDebugView: mode 0 the voxels' radiance, 1 a colour per brick, 2 the voxels' radiance up to unobserved space.
 struct VoxelDebugViewPush {
   DebugViewCamera camera;
 };

@@ -16,8 +16,7 @@ SSVGI_CONSTANT(uint, kTraceMethodFlat, 1u);          // voxel by voxel: the base
 
 struct VoxelTraceRay {
   vec4 originAndMaxDistance;  // xyz: world position (m); w: how far to trace (m)
-  vec4 direction;             // xyz: unit direction; w: 1 to stop where the ray enters unobserved space (as the
-                              // probes' rays, SPEC §6.4), 0 to cross it
+  vec4 direction;             // xyz: unit direction; w: 1 to watch observed space (as the probes' rays, SPEC §6.4)
 };
 SSVGI_CHECK_SIZE(VoxelTraceRay, 32);
 
@@ -26,8 +25,8 @@ struct VoxelTraceHit {
                              // where the ray enters the hit voxel, the ray's maximum distance for a miss
   vec4 normal;               // xyz: the hit voxel's normal, zero for a miss; w: unused
   uvec4 voxel;               // x: pool index of the hit voxel's brick, kInvalidBrick for a miss; y: the voxel's bit
-                             // in its brick (voxelBit); z: buffer reads the trace made; w: 1 when the ray stopped
-                             // in unobserved space (its distance: where it entered it), else 0
+                             // in its brick (voxelBit); z: buffer reads the trace made; w: 1 when the ray crossed
+                             // unobserved space before its hit or its end, else 0
 };
 SSVGI_CHECK_SIZE(VoxelTraceHit, 48);
 

@@ -20,7 +20,7 @@ void main() {
   vec3 origin = push.camera.position.xyz;
   vec3 direction = debugViewDirection(push.camera, pixel);
   float range = length(vec3(volume.dimensionsBricks.xyz)) * volume.voxelSize.y;
-  VoxelHit hit = traceVoxelsHierarchical(origin, direction, range);
+  VoxelHit hit = traceVoxelsHierarchical(origin, direction, range, kIgnoreObservedSpace);
   vec3 colour = kNoSurface;
   if (hit.hit) {
     // The voxel's stored normal; a ray that meets it from behind sees the surface's back, facing the ray.

@@ -81,7 +81,7 @@ GatheredLight gatherLevel(uint level, vec3 position, vec3 normal, bool testVisib
       // dark one (`ssvgi scenario leak`). A voxel within half a voxel of the biased point is the point's own surface.
       if (testVisibility) {
         VoxelHit blocker = traceVoxelsHierarchical(probePosition, fromProbe / pointDistance, pointDistance,
-                                                      kCrossUnobservedSpace);
+                                                      kIgnoreObservedSpace);
         if (blocker.hit && blocker.distance < pointDistance - 0.5 * volume.voxelSize.x) continue;
       }
     }

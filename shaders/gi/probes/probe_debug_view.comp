@@ -41,7 +41,7 @@ void main() {
   vec3 origin = push.camera.position.xyz;
   vec3 direction = debugViewDirection(push.camera, pixel);
   float range = length(vec3(volume.dimensionsBricks.xyz)) * volume.voxelSize.y;
-  VoxelHit scene = traceVoxelsHierarchical(origin, direction, range, kCrossUnobservedSpace);
+  VoxelHit scene = traceVoxelsHierarchical(origin, direction, range, kIgnoreObservedSpace);
   vec3 colour = scene.radiance;
   float nearest = scene.distance;
 

@@ -80,7 +80,7 @@ void main() {
   // Traced a voxel past the probe: a probe inside a voxel has that voxel's far side at (or, rounded, just past) its
   // own position.
   VoxelHit surface = traceVoxelsHierarchical(farthest, -direction, max(reach, 0.0) + volume.voxelSize.x,
-                                             kCrossUnobservedSpace);
+                                             kIgnoreObservedSpace);
   // Halfway into the room behind the surface must stay clear of it after rounding each component to a step.
   float room = surface.distance;
   bool escapes = reach > 0.0 && surface.hit && room >= sqrt(3.0) * offsetStep;

@@ -71,12 +71,14 @@ shared float clampScale[kProbeTraceGroupSize];
 shared float trimmedLuminance[kProbeTraceGroupSize];
 // The history count this update blends with (followChange), for every thread: the reservoirs forget as much.
 shared uint blendedHistoryCount;
-// Unknown is not sky (SPEC §6.4): what the probe holds for the directions in which its rays enter space no view has
-// observed — its history, or, for a probe that starts afresh, the coarser level's radiance it starts from (black
-// without one) — so that such rays teach it neither darkness nor sky; and how many of its rays found something known.
+// Unknown is not sky (SPEC §6.4): which rays found neither a surface nor the sky, how many found something known and
+// the mean radiance of those; and what the probe holds — its history, or, for a probe that starts afresh, the coarser
+// level's radiance it starts from (black without one), which it keeps where none of its rays found anything known.
+shared bool rayUnknown[kProbeTraceGroupSize];
+shared uint knownRays;
+shared vec3 knownMeanRadiance;
 shared vec4 heldRadiance[3];
 shared bool startsFromCoarserLevel;
-shared uint knownRays;
 
 vec3 skyRadiance(vec3 direction) {
   vec4 basis = sh2Basis(direction);
@@ -109,7 +111,7 @@ bool coarserLevelRadiance(ivec3 probe, vec3 position, out Sh2Rgb radiance) {
     float separation = distance(coarserPosition, position);
     if (separation > 0.5 * volume.voxelSize.x &&
         traceVoxelsHierarchical(coarserPosition, (position - coarserPosition) / separation,
-                                separation - 0.5 * volume.voxelSize.x, kCrossUnobservedSpace).hit)
+                                separation - 0.5 * volume.voxelSize.x, kIgnoreObservedSpace).hit)
       continue;
     Sh2Rgb coarserRadiance = probeRadianceSh(candidate);
     radiance.r += weight * coarserRadiance.r;
@@ -270,17 +272,18 @@ void main() {
     heldRadiance[0] = held.r;
     heldRadiance[1] = held.g;
     heldRadiance[2] = held.b;
-    knownRays = 0u;
   }
   barrier();
 
   for (uint sh = 0u; sh < kSh2PerProbe; ++sh) partialSums[sh][ray] = vec4(0.0);
   rayRadiance[ray] = vec3(0.0);
+  rayUnknown[ray] = false;
+  vec3 direction = vec3(0.0, 0.0, 1.0);
+  // The projection weight of this ray's distance and normal-dot: 4π/N over the sphere, Ω_s/c per candidate of a
+  // stratum; a re-traced reservoir ray is not uniform and leaves them out.
+  float uniformWeight = 0.0;
+  VoxelHit hit;
   if (ray < raysPerProbe) {
-    vec3 direction;
-    // The projection weight of this ray's distance and normal-dot: 4π/N over the sphere, Ω_s/c per candidate of a
-    // stratum; a re-traced reservoir ray is not uniform and leaves them out.
-    float uniformWeight;
     if (keepsReservoirs) {
       uint sampleIndex = reusesReservoir ? probeReservoirSample(reservoir)
                                          : candidateSample(firstDirection, ray % rays.raysPerStratum);
@@ -290,21 +293,43 @@ void main() {
       direction = probeRayDirection(firstDirection, ray);
       uniformWeight = update.distances.w;
     }
-    bool stopsAtUnobserved = volume.settings.z != 0u;
-    VoxelHit hit = traceVoxelsHierarchical(origin, direction, update.distances.y, stopsAtUnobserved);
-    vec3 radiance;
-    if (hit.unobserved) {
+    bool watchesObservedSpace = volume.settings.z != 0u;
+    hit = traceVoxelsHierarchical(origin, direction, update.distances.y, watchesObservedSpace);
+    rayUnknown[ray] = !hit.hit && hit.unobserved;  // neither a surface nor the sky (SPEC §6.4)
+    rayRadiance[ray] = hit.hit ? hit.radiance : skyRadiance(direction);
+  }
+  barrier();
+  // Unknown is not sky (SPEC §6.4): the estimate is formed over the rays that found something known. A ray into
+  // unobserved space stands for the mean of this update's known rays — for every direction of the probe alike, so
+  // that what the probe learns does not depend on what it held before, which would keep a camera cut's old light in
+  // it for good. A probe none of whose rays found anything known keeps what it holds.
+  if (ray == 0u) {
+    vec3 sum = vec3(0.0);
+    uint count = 0u;
+    for (uint other = 0u; other < raysPerProbe; ++other) {
+      if (rayUnknown[other]) continue;
+      sum += rayRadiance[other];
+      ++count;
+    }
+    knownRays = count;
+    knownMeanRadiance = count > 0u ? sum / float(count) : vec3(0.0);
+  }
+  barrier();
+  if (ray < raysPerProbe) {
+    vec3 radiance = rayRadiance[ray];
+    bool unknown = rayUnknown[ray];
+    if (unknown && knownRays > 0u) {
+      radiance = knownMeanRadiance;
+    } else if (unknown) {
       vec4 basis = sh2Basis(direction);
       radiance = max(vec3(dot(heldRadiance[0], basis), dot(heldRadiance[1], basis), dot(heldRadiance[2], basis)),
                      vec3(0.0));
-    } else {
-      radiance = hit.hit ? hit.radiance : skyRadiance(direction);
-      atomicAdd(knownRays, 1u);
     }
     // A miss meets no surface, front or back: +1 (a front face head-on) keeps it from suggesting the probe is inside
     // geometry, which is what negative values will tell the virtual offset.
     float normalDot = hit.hit ? dot(-direction, hit.normal) : 1.0;
-    float distance = min(hit.distance, update.distances.z);
+    // An unknown ray's distance: how far its way is known to be free.
+    float distance = min(unknown ? hit.unobservedDistance : hit.distance, update.distances.z);
     // L_lm = (4π/N) Σ L(ω_i) Y_lm(ω_i) (SPEC §2): each thread contributes its term.
     vec4 weightedBasis = sh2Basis(direction) * uniformWeight;
     partialSums[0][ray] = radiance.r * weightedBasis;

@@ -19,10 +19,10 @@ void main() {
   vec3 origin = rays[index].originAndMaxDistance.xyz;
   float maxDistance = rays[index].originAndMaxDistance.w;
   vec3 direction = rays[index].direction.xyz;
-  bool stopsAtUnobserved = rays[index].direction.w != 0.0;
+  bool watchesObservedSpace = rays[index].direction.w != 0.0;
   VoxelHit hit = kTraceMethod == kTraceMethodFlat
-                     ? traceVoxelsFlat(origin, direction, maxDistance, stopsAtUnobserved)
-                     : traceVoxelsHierarchical(origin, direction, maxDistance, stopsAtUnobserved);
+                     ? traceVoxelsFlat(origin, direction, maxDistance, watchesObservedSpace)
+                     : traceVoxelsHierarchical(origin, direction, maxDistance, watchesObservedSpace);
   hits[index] = VoxelTraceHit(vec4(hit.radiance, hit.distance), vec4(hit.normal, 0.0),
                               uvec4(hit.brick, hit.voxelIndex, hit.reads, hit.unobserved ? 1u : 0u));
 }

@@ -1,7 +1,9 @@
 #version 450
 // VoxelDebugView: the voxel scene seen from a camera, one ray per pixel through the occupancy hierarchy. Mode 0: the
 // radiance stored in the first voxel hit (black on back faces, as the probes would see it); mode 1: a colour per
-// brick, shaded by the voxel normal so the bricks' shapes read.
+// brick, shaded by the voxel normal so the bricks' shapes read; mode 2: as mode 0, watching observed space as the
+// probes' rays do (SPEC §6.4): magenta where a ray crossed space no view has observed and met nothing (a probe's ray
+// there finds neither a surface nor the sky), half magenta where it met a voxel beyond such space.
 #include "gi/voxels/voxel_trace.glsl"
 #include "shared/sampling.h"
 #include "shared/debug_view.h"
@@ -17,11 +19,12 @@ void main() {
   vec3 origin = push.camera.position.xyz;
   vec3 direction = debugViewDirection(push.camera, pixel);
   float range = length(vec3(volume.dimensionsBricks.xyz)) * volume.voxelSize.y;  // crosses the whole volume
-  VoxelHit hit = traceVoxelsHierarchical(origin, direction, range, kCrossUnobservedSpace);
-  vec3 colour = vec3(0.0);
+  uint mode = push.camera.sizeAndMode.z;
+  VoxelHit hit = traceVoxelsHierarchical(origin, direction, range, mode == 2u);
+  vec3 colour = hit.unobserved ? vec3(1.0, 0.0, 1.0) : vec3(0.0);
   if (hit.hit) {
-    if (push.camera.sizeAndMode.z == 0u) {
-      colour = hit.radiance;
+    if (mode != 1u) {
+      colour = hit.unobserved ? 0.5 * (hit.radiance + vec3(1.0, 0.0, 1.0)) : hit.radiance;
     } else {
       vec3 brickColour = vec3(0.25) + 0.75 * hashToUnitCube(uvec3(bricks[hit.brick].coordinate.xyz + ivec3(1 << 16)));
       colour = brickColour * (0.35 + 0.65 * abs(dot(hit.normal, direction)));

@@ -26,8 +26,10 @@ struct VoxelHit {
   vec3 radiance;    // the voxel's radiance; black for a miss or when the ray meets the voxel from behind
   vec3 normal;      // the voxel's stored unit normal; zero for a miss
   uint reads;       // buffer loads made (brick lookups, occupancy masks, grid words, the hit voxel): the cost statistic
-  bool unobserved;  // no hit: the ray entered, at `distance`, a brick cell no view has observed and that holds no
-                    // voxel (only for a trace that stops there; SPEC §6.4)
+  // For a trace that watches observed space (SPEC §6.4): whether the ray crossed a brick cell that no view has
+  // observed and that holds no voxel, before its hit or its end, and where it first entered one (metres).
+  bool unobserved;
+  float unobservedDistance;
 };
 
 const int kVoxelLevel = 0;
@@ -215,25 +217,28 @@ bool brickUnobserved(VoxelWalk walk, CachedBrick brick, inout CachedGridWords ob
 }
 
 // What a cell of the walk holds for the hierarchical DDA: nothing it must look into, something (an occupied voxel
-// in it, or — for a trace that stops at unobserved space — an unobserved brick cell), or, at the brick level, no voxel
-// and no observation.
+// in it, or — while a trace watches observed space — an unobserved brick cell), or, at the brick level, no voxel and
+// no observation.
 const uint kCellEmpty = 0u;
 const uint kCellOccupied = 1u;
 const uint kCellUnobserved = 2u;
 
 // What the level-`level` cell holding the walk's voxel holds: grid levels from the grid (except for the brick
 // already at hand), finer ones from the brick's mask.
-uint cellContents(VoxelWalk walk, int level, bool stopsAtUnobserved, inout CachedBrick brick,
+uint cellContents(VoxelWalk walk, int level, bool watchesObservedSpace, inout CachedBrick brick,
                   inout CachedGridWords grid, inout CachedGridWords observed, inout uint reads) {
   if (level >= kBrickLevel) {
     bool occupied = level == kBrickLevel && isCached(brick, walk.voxel >> kBrickLevel)
                         ? any(notEqual(brick.mask, uvec2(0u)))
                         : gridCellOccupied(level, walk.voxel, grid, reads);
     if (occupied) return kCellOccupied;
-    if (!stopsAtUnobserved || gridCellObserved(level, walk.voxel, observed, reads)) return kCellEmpty;
+    if (!watchesObservedSpace || gridCellObserved(level, walk.voxel, observed, reads)) return kCellEmpty;
     return level == kBrickLevel ? kCellUnobserved : kCellOccupied;
   }
+  // A walk at a finer level can step straight into the next brick, which no test at the brick level has seen.
+  bool newBrick = !isCached(brick, walk.voxel >> kBrickLevel);
   loadBrick(brick, walk.voxel >> kBrickLevel, reads);
+  if (watchesObservedSpace && newBrick && brickUnobserved(walk, brick, observed, reads)) return kCellUnobserved;
   ivec3 inBrick = voxelInBrick(walk.voxel);
   bool occupied = level == kVoxelLevel ? voxelBitSet(brick.mask, inBrick) : blockOccupied(brick.mask, inBrick);
   return occupied ? kCellOccupied : kCellEmpty;
@@ -264,18 +269,21 @@ bool stepOverCell(inout VoxelWalk walk, int level) {
 }
 
 VoxelHit voxelMiss(float maxDistance, uint reads) {
-  return VoxelHit(false, maxDistance, kInvalidBrick, 0u, vec3(0.0), vec3(0.0), reads, false);
+  return VoxelHit(false, maxDistance, kInvalidBrick, 0u, vec3(0.0), vec3(0.0), reads, false, maxDistance);
 }
 
-VoxelHit unobservedSpace(float distance, uint reads) {
-  return VoxelHit(false, distance, kInvalidBrick, 0u, vec3(0.0), vec3(0.0), reads, true);
-}
+// Whether a trace watches observed space (SPEC §6.4) — the probes' rays, whose misses through space no view has
+// observed are not the sky — or takes every brick cell without voxels for empty (a visibility test between two
+// points, most debug views). A watching trace goes on through unobserved space: a surface it meets beyond is a
+// surface the views did see, and the rays that pass a pillar's blind spot to a sunlit wall find the wall.
+const bool kWatchObservedSpace = true;
+const bool kIgnoreObservedSpace = false;
 
-// What a trace does where it enters space no view has observed (SPEC §6.4): stop there (the probes' rays, which
-// must not take it for the sky), or go on as through empty space (every other use: a visibility test between two
-// points, a debug view).
-const bool kStopAtUnobservedSpace = true;
-const bool kCrossUnobservedSpace = false;
+VoxelHit withObservation(VoxelHit hit, bool unobserved, float unobservedDistance) {
+  hit.unobserved = unobserved;
+  hit.unobservedDistance = unobserved ? unobservedDistance : hit.distance;
+  return hit;
+}
 
 // How far in front of a voxel's surface plane (in voxels) a ray still meets it: the plane's 8-bit quantisation (0.007)
 // and the depth buffer's error, with room to spare.
@@ -309,11 +317,11 @@ VoxelHit voxelHitAt(VoxelWalk walk, CachedBrick cached, vec3 direction, uint rea
   }
   // A ray that meets the surface from behind sees no light, so thin walls do not pass light (SPEC §4.4).
   vec3 radiance = dot(normal, direction) > 0.0 ? vec3(0.0) : unpackR11G11B10F(voxel.radiance);
-  return VoxelHit(true, walk.distance, cached.index, voxelIndex, radiance, normal, reads, false);
+  return VoxelHit(true, walk.distance, cached.index, voxelIndex, radiance, normal, reads, false, walk.distance);
 }
 
 // The flat voxel DDA: every voxel along the ray in turn, reading each brick's lookup and mask once.
-VoxelHit traceVoxelsFlat(vec3 origin, vec3 direction, float maxDistance, bool stopsAtUnobserved) {
+VoxelHit traceVoxelsFlat(vec3 origin, vec3 direction, float maxDistance, bool watchesObservedSpace) {
   VoxelWalk walk;
   if (!beginVoxelWalk(origin, direction, maxDistance, walk)) return voxelMiss(maxDistance, 0u);
   ivec3 size = volumeSizeVoxels();
@@ -323,14 +331,18 @@ VoxelHit traceVoxelsFlat(vec3 origin, vec3 direction, float maxDistance, bool st
   CachedBrick cached = noCachedBrick();
   CachedGridWords observed = noCachedGridWords();
   uint reads = 0u;
+  bool unobserved = false;
+  float unobservedDistance = maxDistance;
   for (;;) {
     bool newBrick = !isCached(cached, walk.voxel >> kBrickLevel);
     loadBrick(cached, walk.voxel >> kBrickLevel, reads);
-    if (stopsAtUnobserved && newBrick && brickUnobserved(walk, cached, observed, reads))
-      return unobservedSpace(walk.distance, reads);
+    if (watchesObservedSpace && !unobserved && newBrick && brickUnobserved(walk, cached, observed, reads)) {
+      unobserved = true;
+      unobservedDistance = walk.distance;
+    }
     if (voxelBitSet(cached.mask, voxelInBrick(walk.voxel))) {
       VoxelHit hit = voxelHitAt(walk, cached, direction, reads);
-      if (hit.hit) return hit;
+      if (hit.hit) return withObservation(hit, unobserved, unobservedDistance);
       reads = hit.reads;
     }
     int axis = firstCrossingAxis(nextCrossing);
@@ -340,14 +352,15 @@ VoxelHit traceVoxelsFlat(vec3 origin, vec3 direction, float maxDistance, bool st
     if (walk.voxel[axis] < 0 || walk.voxel[axis] >= size[axis]) break;
     nextCrossing[axis] = crossingDistance(walk, axis, exitPlane(walk.voxel[axis], kVoxelLevel, walk.step[axis]));
   }
-  return voxelMiss(maxDistance, reads);
+  return withObservation(voxelMiss(maxDistance, reads), unobserved, unobservedDistance);
 }
 
 // The hierarchical DDA (SPEC §4.4, the talk's "Octree Trace"): while the cell at the current level is empty, step
 // over it and go a level up; when it is occupied, go a level down; an occupied voxel ends the trace. One refinement
 // of the talk's rule saves reads without skipping any cell: after a step the walk goes up only if the parent cell's
 // occupancy is unknown — it is known (occupied) while the walk is still inside a cell it came down from.
-VoxelHit traceVoxelsHierarchical(vec3 origin, vec3 direction, float maxDistance, bool stopsAtUnobserved) {
+// A trace that watches observed space looks for unobserved brick cells (cellContents) until it has crossed one.
+VoxelHit traceVoxelsHierarchical(vec3 origin, vec3 direction, float maxDistance, bool watchesObservedSpace) {
   VoxelWalk walk;
   if (!beginVoxelWalk(origin, direction, maxDistance, walk)) return voxelMiss(maxDistance, 0u);
   CachedBrick cached = noCachedBrick();
@@ -359,17 +372,21 @@ VoxelHit traceVoxelsHierarchical(vec3 origin, vec3 direction, float maxDistance,
   // often reuse (in the tests' room scene: 6.3 reads per ray from the top, 6.8 from the voxel level).
   int level = kTopLevel;
   uint knownOccupiedLevels = 0u;  // bit L: the walk came down from its current level-L cell
+  bool unobserved = false;
+  float unobservedDistance = maxDistance;
   for (;;) {
-    uint contents = cellContents(walk, level, stopsAtUnobserved, cached, grid, observed, reads);
-    if (contents == kCellUnobserved) return unobservedSpace(walk.distance, reads);
-    if (contents == kCellOccupied) {
+    uint contents = cellContents(walk, level, watchesObservedSpace && !unobserved, cached, grid, observed, reads);
+    if (contents == kCellUnobserved) {
+      unobserved = true;
+      unobservedDistance = walk.distance;
+    } else if (contents == kCellOccupied) {
       if (level != kVoxelLevel) {
         knownOccupiedLevels |= 1u << uint(level);
         --level;
         continue;
       }
       VoxelHit hit = voxelHitAt(walk, cached, direction, reads);
-      if (hit.hit) return hit;
+      if (hit.hit) return withObservation(hit, unobserved, unobservedDistance);
       reads = hit.reads;  // in front of the voxel's surface all the way through: on, as past an empty voxel
     }
     ivec3 previous = walk.voxel;
@@ -380,7 +397,7 @@ VoxelHit traceVoxelsHierarchical(vec3 origin, vec3 direction, float maxDistance,
     knownOccupiedLevels &= ~((2u << uint(highestChangedLevel)) - 1u);
     if (level < kTopLevel && (knownOccupiedLevels & (1u << uint(level + 1))) == 0u) ++level;
   }
-  return voxelMiss(maxDistance, reads);
+  return withObservation(voxelMiss(maxDistance, reads), unobserved, unobservedDistance);
 }
 
 #endif

@@ -19,7 +19,7 @@ void VoxelDebugView::record(gpu::CommandList& commands, const VoxelScene& scene,
                             VkImage target, VkImageView targetView) {
   auto scope = commands.scope("ssvgi: VoxelDebugView");
   commands.useExternalImage(target, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL);
-  const shader::VoxelDebugViewPush push{debugViewCamera(camera, view == DebugView::Bricks ? 1u : 0u)};
+  const shader::VoxelDebugViewPush push{debugViewCamera(camera, view == DebugView::Bricks ? 1u : (view == DebugView::ObservedSpace ? 2u : 0u))};
   commands.dispatch(pipeline_, scene.bindings().externalStorage(shader::kBindFirstPassSlot, targetView),
                     {camera.width, camera.height, 1}, push);
 }
