@@ -175,7 +175,8 @@ constexpr uint64_t kFullBrick = ~uint64_t(0);
 
 class ProbeCache : public testing::GpuTest {
  protected:
-  void create(const Settings& settings, glm::vec3 cameraPosition = kCameraPosition) {
+  // `depth`: what every pixel of the camera's frames shows (reversed-Z; 0, nothing drawn, by default).
+  void create(const Settings& settings, glm::vec3 cameraPosition = kCameraPosition, float depth = 0.0f) {
     settings_ = settings;
     const ContextDesc desc = testing::gpuTestContextDesc(settings, kFrameSize);
     auto result = Context::create(desc);
@@ -185,8 +186,8 @@ class ProbeCache : public testing::GpuTest {
     // Nothing drawn (reversed-Z 0 is infinitely far): BrickAllocate finds no surface and the scene stays as written.
     depth_ = gpu::Image(device(), {"test depth", VK_FORMAT_R32_SFLOAT, kFrameSize, kFrameSize, 1, 1,
                                    VK_IMAGE_USAGE_SAMPLED_BIT});
-    const std::vector<float> farAway(kFrameSize * kFrameSize, 0.0f);
-    gpu::uploadImage(device(), depth_, std::as_bytes(std::span(farAway)));
+    const std::vector<float> pixels(kFrameSize * kFrameSize, depth);
+    gpu::uploadImage(device(), depth_, std::as_bytes(std::span(pixels)));
     moveCamera(cameraPosition);
     runFrames(1);  // places the voxel volume and clears it
   }
@@ -422,6 +423,32 @@ TEST_F(ProbeCache, aProbeBesideALargeWallSeesHalfTheSky) {
     // SH2 holds a half-space exactly: E = π·L facing away from the wall, 0 facing it (up to the edge strips).
     EXPECT_NEAR(shader::sh2Irradiance(radiance.g, {1, 0, 0}), kPi * kSkyRadiance, 0.05f * kPi * kSkyRadiance);
     EXPECT_NEAR(shader::sh2Irradiance(radiance.g, {-1, 0, 0}), 0.0f, 0.05f * kPi * kSkyRadiance);
+  }
+}
+
+// Unknown is not sky (SPEC §6.4): the wall of the test above, but the camera sees only a surface half a metre in
+// front of it, so that no view has observed the space around the probe. Its rays that meet the wall are known (and
+// black); those that meet nothing crossed unobserved space and stand for the mean of the known ones: no sky light
+// (the same scene watched the other way round gives E(+X) = π·L, above), and half of its rays known.
+TEST_F(ProbeCache, aProbeAmidSpaceNoViewHasObservedGetsNoSkyLightAndKnowsHalfItsRays) {
+  Settings settings = probeTestSettings();
+  settings.skyOnlyThroughObservedSpace = true;
+  // Reversed-Z with an infinite far plane: depth = near / distance, a surface 0.5 m away at the 0.1 m near plane.
+  create(settings, kCameraPosition, 0.1f / 0.5f);
+  std::vector<TestBrick> wall;
+  for (int z = -8; z < 24; ++z)
+    for (int y = -8; y < 8; ++y) wall.push_back({{-1, y, z}, 0x4444'4444'4444'4444ull, glm::vec3(0.0f), {1, 0, 0}});
+  writeScene(wall);
+  runUpdates(32);
+  const std::vector<shader::Probe> probes = readProbes();
+  for (uint32_t level = 0; level < shader::kProbeLevels; ++level) {
+    SCOPED_TRACE("level " + std::to_string(level));
+    const shader::Probe probe = probeAt(probes, level, glm::vec3(kProbe));
+    ASSERT_TRUE(isActive(probe));
+    const shader::Sh2Rgb radiance = radianceSh(probe);
+    EXPECT_NEAR(shader::sh2Irradiance(radiance.g, {1, 0, 0}), 0.0f, 0.02f * kPi * kSkyRadiance);
+    // The wall covers half the sphere but for the strips past its edges (1.4 %); 8-bit known fraction, 32 updates.
+    EXPECT_NEAR(shader::probeKnownFraction(probe), 0.5f, 0.05f);
   }
 }
 
