@@ -208,7 +208,8 @@ enum class DebugView {
                // grey from black (0) to white (1); dark blue where the ray meets no voxel
   ObservedSpace,  // the voxels' stored radiance, watching observed space as the probes' rays do (SPEC §6.4;
                   // Settings::skyOnlyThroughObservedSpace): magenta where a ray crossed space no view has observed and
-                  // met nothing (for a probe: neither a surface nor the sky), half magenta on a voxel beyond it
+                  // met nothing (for a probe: neither a surface nor the sky), half magenta on a voxel beyond it;
+                  // with the setting off no space is marked observed, and every such ray is magenta
 };
 
 // An image of ssvgi's results (SPEC §3), owned by the context, at half resolution: texel h stands for full-resolution

@@ -366,7 +366,8 @@ class ContextImplementation final : public Context {
                                       hiz_, visibleBricks_};
     hizBuild_.record(commands, inputs, view.frame, view.hizLevels);
     brickAllocate_.record(commands, scene_, inputs, glm::uvec2(view.frame.sizes), desc_.settings.allocationPixelStride);
-    observedSpace_.record(commands, scene_, inputs, glm::uvec2(view.frame.sizes));
+    if (desc_.settings.skyOnlyThroughObservedSpace)  // nothing else reads it
+      observedSpace_.record(commands, scene_, inputs, glm::uvec2(view.frame.sizes));
     const shader::IndirectList empty{0, 1, 1, 0};
     commands.updateBuffer(visibleBricks_, 0, &empty, sizeof(empty));
     brickCulling_.record(commands, scene_, inputs);
