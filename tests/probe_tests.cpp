@@ -402,15 +402,20 @@ TEST_F(ProbeCache, aProbeInsideAClosedBoxOfBlackVoxelsSeesNoSky) {
   }
 }
 
-TEST_F(ProbeCache, aProbeBesideALargeWallSeesHalfTheSky) {
-  // A black voxel layer at x ∈ [−0.5, −0.25) m spanning the whole volume (y −8..8 m, z −8..24 m), facing +X, a
-  // quarter metre from kProbe. The wall hides the −X half of the sky but for the strips past its edges: from 0.25 m
-  // an 8 m half-width leaves about 1.4 % of the sphere, within the ±3 % allowed.
-  create(probeTestSettings());
+// A black voxel layer at x ∈ [−0.5, −0.25) m spanning the whole volume (y −8..8 m, z −8..24 m), facing +X, a quarter
+// metre from kProbe. It hides the −X half of the sky but for the strips past its edges: from 0.25 m an 8 m
+// half-width leaves about 1.4 % of the sphere.
+std::vector<TestBrick> blackWallBesideTheProbe() {
   std::vector<TestBrick> wall;
   for (int z = -8; z < 24; ++z)
     for (int y = -8; y < 8; ++y) wall.push_back({{-1, y, z}, 0x4444'4444'4444'4444ull, glm::vec3(0.0f), {1, 0, 0}});
-  writeScene(wall);
+  return wall;
+}
+
+TEST_F(ProbeCache, aProbeBesideALargeWallSeesHalfTheSky) {
+  // The edge strips (1.4 % of the sphere) are within the ±3 % allowed.
+  create(probeTestSettings());
+  writeScene(blackWallBesideTheProbe());
   runUpdates(32);
   const std::vector<shader::Probe> probes = readProbes();
   for (uint32_t level = 0; level < shader::kProbeLevels; ++level) {
@@ -435,10 +440,7 @@ TEST_F(ProbeCache, aProbeAmidSpaceNoViewHasObservedGetsNoSkyLightAndKnowsHalfIts
   settings.skyOnlyThroughObservedSpace = true;
   // Reversed-Z with an infinite far plane: depth = near / distance, a surface 0.5 m away at the 0.1 m near plane.
   create(settings, kCameraPosition, 0.1f / 0.5f);
-  std::vector<TestBrick> wall;
-  for (int z = -8; z < 24; ++z)
-    for (int y = -8; y < 8; ++y) wall.push_back({{-1, y, z}, 0x4444'4444'4444'4444ull, glm::vec3(0.0f), {1, 0, 0}});
-  writeScene(wall);
+  writeScene(blackWallBesideTheProbe());
   runUpdates(32);
   const std::vector<shader::Probe> probes = readProbes();
   for (uint32_t level = 0; level < shader::kProbeLevels; ++level) {

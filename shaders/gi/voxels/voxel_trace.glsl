@@ -186,28 +186,26 @@ struct CachedGridWords {
 
 CachedGridWords noCachedGridWords() { return CachedGridWords(uvec3(0xffffffffu), uvec3(0u)); }
 
-bool gridCellOccupied(int level, ivec3 voxel, inout CachedGridWords cached, inout uint reads) {
+// Whether the level-`level` cell holding `voxel` has its bit set in the occupancy grid or, with `observedSpaceBits`,
+// in the observed space's bit volumes (the same layout; GLSL cannot pass a buffer, so a flag picks it).
+bool gridCellBitSet(bool observedSpaceBits, int level, ivec3 voxel, inout CachedGridWords cached, inout uint reads) {
   ivec3 worldCell = (voxel + volume.originBrick.xyz * int(kBrickSizeVoxels)) >> level;
   uvec2 address = gridBitAddress(uint(level), worldCell);
   int slot = level - kBrickLevel;
   if (cached.address[slot] != address.x) {
     cached.address[slot] = address.x;
-    cached.bits[slot] = occupancyGrid[address.x];
+    cached.bits[slot] = observedSpaceBits ? observedSpace[address.x] : occupancyGrid[address.x];
     reads += 1u;
   }
   return (cached.bits[slot] & address.y) != 0u;
 }
 
+bool gridCellOccupied(int level, ivec3 voxel, inout CachedGridWords cached, inout uint reads) {
+  return gridCellBitSet(false, level, voxel, cached, reads);
+}
+
 bool gridCellObserved(int level, ivec3 voxel, inout CachedGridWords cached, inout uint reads) {
-  ivec3 worldCell = (voxel + volume.originBrick.xyz * int(kBrickSizeVoxels)) >> level;
-  uvec2 address = gridBitAddress(uint(level), worldCell);
-  int slot = level - kBrickLevel;
-  if (cached.address[slot] != address.x) {
-    cached.address[slot] = address.x;
-    cached.bits[slot] = observedSpace[address.x];
-    reads += 1u;
-  }
-  return (cached.bits[slot] & address.y) != 0u;
+  return gridCellBitSet(true, level, voxel, cached, reads);
 }
 
 // Whether the brick cell a walk is in holds no voxel and has not been observed (the flat DDA's test; the hierarchical
