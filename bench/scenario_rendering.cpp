@@ -14,6 +14,7 @@ renderer::RendererSettings rendererSettings(const ScenarioRendering& rendering) 
   settings.height = rendering.height;
   settings.gi = rendering.gi;
   settings.extraViews = rendering.extraViews;
+  settings.litFrameDirectOnly = rendering.litFrameDirectOnly;
   return settings;
 }
 

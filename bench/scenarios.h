@@ -24,6 +24,7 @@ struct ScenarioRendering {
   uint32_t height = 360;
   Settings gi = settingsForTier(QualityTier::High);  // with the scene's detail scale applied (renderer::scaledToScene)
   renderer::ExtraViewSettings extraViews;  // the views beyond the camera the renderer gives ssvgi
+  bool litFrameDirectOnly = true;          // renderer::RendererSettings::litFrameDirectOnly
 };
 
 // A scene and the still view a scenario watches it from.

@@ -70,7 +70,7 @@ ExtraViews::Target::Target(Kind viewKind, gpu::Device& device, uint32_t viewSize
       frameConstants(device, "extra view constants", sizeof(shader::FrameConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                      gpu::MemoryUsage::HostUpload),
       gbuffer(device, viewSize, viewSize),
-      radiance(storageImage(device, "extra view radiance", VK_FORMAT_R32G32B32A32_SFLOAT, viewSize)) {}
+      radiance(storageImage(device, "extra view radiance", VK_FORMAT_R16G16B16A16_SFLOAT, viewSize)) {}
 
 ExtraViews::ExtraViews(gpu::Device& device, const Scene& scene, const ExtraViewSettings& settings,
                        const ssvgi::Settings& gi, const Bounds& sceneBounds)
@@ -85,7 +85,8 @@ ExtraViews::ExtraViews(gpu::Device& device, const Scene& scene, const ExtraViewS
       directIrradiance_(storageImage(device, "extra view direct irradiance", VK_FORMAT_R32G32B32A32_SFLOAT, 1)),
       viewDistance_(storageImage(device, "extra view distance", VK_FORMAT_R32_SFLOAT, 1)),
       noIndirect_(storageImage(device, "extra view no indirect", VK_FORMAT_R16G16B16A16_SFLOAT, 1)),
-      indirectUsed_(storageImage(device, "extra view indirect used", VK_FORMAT_R32G32B32A32_SFLOAT, 1)) {
+      indirectUsed_(storageImage(device, "extra view indirect used", VK_FORMAT_R32G32B32A32_SFLOAT, 1)),
+      finalRadiance_(storageImage(device, "extra view final radiance", VK_FORMAT_R32G32B32A32_SFLOAT, 1)) {
   if (settings.viewsPerFrame == 0 || settings.viewsPerFrame > ssvgi::kMaxExtraViews)
     throw gpu::GpuError("extra views: viewsPerFrame must be in 1.." + std::to_string(ssvgi::kMaxExtraViews));
   if (settings.sunViewSize > 0) sources_.push_back({Kind::Sun, 0});
@@ -108,6 +109,7 @@ ExtraViews::ExtraViews(gpu::Device& device, const Scene& scene, const ExtraViewS
     directIrradiance_ = storageImage(device, "extra view direct irradiance", VK_FORMAT_R32G32B32A32_SFLOAT, size);
     viewDistance_ = storageImage(device, "extra view distance", VK_FORMAT_R32_SFLOAT, size);
     indirectUsed_ = storageImage(device, "extra view indirect used", VK_FORMAT_R32G32B32A32_SFLOAT, size);
+    finalRadiance_ = storageImage(device, "extra view final radiance", VK_FORMAT_R32G32B32A32_SFLOAT, size);
   }
 }
 
@@ -217,7 +219,7 @@ std::vector<ssvgi::ExtraView> ExtraViews::record(gpu::CommandList& commands, con
     directLighting_.record(commands, target.frameConstants, lights, shadows, target.gbuffer, pointSampler,
                            directIrradiance_, viewDistance_);
     composite_.record(commands, target.frameConstants, target.gbuffer, pointSampler, directIrradiance_,
-                      noIndirect_.view(), noIndirect_.view(), target.radiance, indirectUsed_);
+                      noIndirect_.view(), noIndirect_.view(), finalRadiance_, indirectUsed_, target.radiance);
     for (const gpu::Image* image :
          {&target.radiance, &target.gbuffer.depth, &target.gbuffer.normal, &target.gbuffer.albedo})
       commands.use(*image, gpu::Usage::ComputeSampled);

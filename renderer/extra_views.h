@@ -97,6 +97,7 @@ class ExtraViews {
   gpu::Image viewDistance_;
   gpu::Image noIndirect_;        // black: the composite adds no indirect light
   gpu::Image indirectUsed_;
+  gpu::Image finalRadiance_;     // with no indirect light, the direct radiance again: the views give that (radiance)
   bool cleared_ = false;
 };
 

@@ -73,6 +73,8 @@ Renderer::Renderer(gpu::Device& device, const Scene& scene, const RendererSettin
       indirectUsed_(storageImage(device, "indirect irradiance used", VK_FORMAT_R32G32B32A32_SFLOAT, settings.width, settings.height)),
       finalRadiance_{storageImage(device, "final radiance", VK_FORMAT_R32G32B32A32_SFLOAT, settings.width, settings.height),
                      storageImage(device, "final radiance", VK_FORMAT_R32G32B32A32_SFLOAT, settings.width, settings.height)},
+      directRadiance_{storageImage(device, "direct radiance", VK_FORMAT_R16G16B16A16_SFLOAT, settings.width, settings.height),
+                      storageImage(device, "direct radiance", VK_FORMAT_R16G16B16A16_SFLOAT, settings.width, settings.height)},
       tonemapped_(storageImage(device, "tonemapped", VK_FORMAT_R8G8B8A8_UNORM, settings.width, settings.height)) {
   if (settings.width == 0 || settings.height == 0) throw gpu::GpuError("render size must be at least 1×1");
   if (settings.gi) {
@@ -107,8 +109,9 @@ ssvgi::View toView(const glm::mat4& viewProjection, glm::vec3 position, uint32_t
 void Renderer::recordGi(gpu::CommandList& commands, const shader::FrameConstants& frame) {
   // ssvgi samples the host's images: they must be shader-readable, their writes visible, before it records.
   const GBuffer& gbuffer = currentGBuffer();
-  const GBuffer& litGBuffer = gbuffers_[(frameIndex_ + 1) & 1u];
-  const gpu::Image& litColor = finalRadiance_[(frameIndex_ + 1) & 1u];
+  const uint32_t litSet = (frameIndex_ + 1) & 1u;
+  const GBuffer& litGBuffer = gbuffers_[litSet];
+  const gpu::Image& litColor = settings_.litFrameDirectOnly ? directRadiance_[litSet] : finalRadiance_[litSet];
   const bool hasLitFrame = frameIndex_ > 0;
   commands.use(gbuffer.depth, gpu::Usage::ComputeSampled);
   commands.use(gbuffer.normal, gpu::Usage::ComputeSampled);
@@ -116,6 +119,7 @@ void Renderer::recordGi(gpu::CommandList& commands, const shader::FrameConstants
     commands.use(litColor, gpu::Usage::ComputeSampled);
     commands.use(litGBuffer.depth, gpu::Usage::ComputeSampled);
     commands.use(litGBuffer.normal, gpu::Usage::ComputeSampled);
+    if (settings_.litFrameDirectOnly) commands.use(litGBuffer.albedo, gpu::Usage::ComputeSampled);
   }
   commands.flushBarriers();
 
@@ -129,6 +133,7 @@ void Renderer::recordGi(gpu::CommandList& commands, const shader::FrameConstants
   desc.litColor.view = litColor.view();
   desc.litDepth.view = litGBuffer.depth.view();
   desc.litNormal.view = litGBuffer.normal.view();
+  if (settings_.litFrameDirectOnly) desc.litAlbedo.view = litGBuffer.albedo.view();
   const shader::Sh2Rgb sky = projectSkyToSh2(frame.sky);  // what probe rays that leave the voxel volume see
   std::memcpy(desc.skyRadianceSh.data(), &sky, sizeof(sky));
   desc.extraViews = lastExtraViews_;
@@ -175,7 +180,7 @@ void Renderer::render(const AnimatedState& state) {
       commands.use(indirectIrradiance_, gpu::Usage::ComputeSampled);
     }
     composite_.record(commands, frameConstants_, gbuffer, pointSampler_.handle(), directIrradiance_, indirect,
-                      confidence, finalRadiance, indirectUsed_);
+                      confidence, finalRadiance, indirectUsed_, directRadiance_[frameIndex_ & 1u]);
     tonemap_.record(commands, frameConstants_, finalRadiance, tonemapped_);
   });
   timings_ = profiler_.resolve();

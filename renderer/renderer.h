@@ -36,6 +36,10 @@ struct RendererSettings {
   ShadowSettings shadows;
   std::optional<ssvgi::Settings> gi;  // run the GI library with these settings (SPEC §3 integration)
   bool giLighting = true;  // composite its indirect light; false: it runs for its debug views only, no ambient at all
+  // The lit frame ssvgi is given (SPEC §3): its direct and emitted light with its albedo (ssvgi keeps both in the
+  // voxels and relights them from its probes, SPEC §6.1), or false: the final radiance, GI included, as a host that
+  // has only its lit colour gives it.
+  bool litFrameDirectOnly = true;
   // The views beyond the camera the renderer gives the GI (SPEC §6.3; ExtraViews): the sun's, a capture around the
   // camera, the local lights'.
   ExtraViewSettings extraViews;
@@ -106,6 +110,7 @@ class Renderer {
   gpu::Image indirectIrradiance_;  // half resolution, black: what the composite binds when the GI is off
   gpu::Image indirectUsed_;
   std::array<gpu::Image, 2> finalRadiance_;
+  std::array<gpu::Image, 2> directRadiance_;  // emission + albedo/π · E_direct, beside finalRadiance_
   gpu::Image tonemapped_;
   std::unique_ptr<ssvgi::Context> gi_;
   std::optional<ExtraViews> extraViews_;  // with the GI

@@ -33,7 +33,7 @@ Composite::Composite(gpu::Device& device) : pipeline_(device, shaders::composite
 void Composite::record(gpu::CommandList& commands, const gpu::Buffer& frameConstants, const GBuffer& gbuffer,
                        VkSampler pointSampler, const gpu::Image& directIrradiance, VkImageView indirectIrradiance,
                        VkImageView indirectConfidence, const gpu::Image& finalRadiance,
-                       const gpu::Image& indirectUsed) {
+                       const gpu::Image& indirectUsed, const gpu::Image& directRadiance) {
   auto scope = commands.scope("renderer: Composite");
   commands.dispatch(pipeline_,
                     gpu::Bindings()
@@ -46,7 +46,8 @@ void Composite::record(gpu::CommandList& commands, const gpu::Buffer& frameConst
                         .externalSampled(shader::kBindCompositeIndirect, indirectIrradiance, pointSampler)
                         .externalSampled(shader::kBindCompositeConfidence, indirectConfidence, pointSampler)
                         .image(shader::kBindCompositeFinal, finalRadiance)
-                        .image(shader::kBindCompositeIndirectUsed, indirectUsed),
+                        .image(shader::kBindCompositeIndirectUsed, indirectUsed)
+                        .image(shader::kBindCompositeDirectRadiance, directRadiance),
                     pixels(finalRadiance));
 }
 

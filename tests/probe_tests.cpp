@@ -18,6 +18,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <optional>
 #include <vector>
 
 namespace ssvgi {
@@ -169,6 +170,10 @@ struct TestBrick {
   glm::vec3 normal;
   uint64_t brightMask = 0;
   glm::vec3 brightRadiance{0.0f};
+  // Given, the voxels are relit (VoxelRelight): they keep this direct light and albedo, as an extra view lit by direct
+  // light only leaves them (which also counts its visits: the camera's lit frame has not lit them since).
+  std::optional<glm::vec3> albedo;
+  glm::vec3 directRadiance{0.0f};
 };
 
 constexpr uint64_t kFullBrick = ~uint64_t(0);
@@ -241,8 +246,11 @@ class ProbeCache : public testing::GpuTest {
       bricks.push_back({glm::ivec4(brick.coordinate, 1), glm::uvec4(uint32_t(brick.mask), uint32_t(brick.mask >> 32), 0, 0)});
       for (uint32_t voxel = 0; voxel < shader::kVoxelsPerBrick; ++voxel) {
         const bool bright = (brick.brightMask >> voxel) & 1u;
+        const uint32_t extraViews = brick.albedo ? shader::kVoxelExtraViewsBeforeWrite : 0u;
         voxelData.push_back({shader::packR11G11B10F(bright ? brick.brightRadiance : brick.radiance),
-                             shader::packOctahedralNormal(brick.normal)});
+                             shader::packOctahedralNormal(brick.normal) | (extraViews << shader::kVoxelExtraViewsShift),
+                             shader::packR11G11B10F(brick.directRadiance),
+                             brick.albedo ? shader::packVoxelAlbedo(*brick.albedo) : 0u});
       }
       changed.push_back(cell);
     }
@@ -379,6 +387,37 @@ TEST_P(ProbeCacheReservoirs, aProbeUnderAUniformSkyBesideAVoxelOfTheSameRadiance
       }
     }
     EXPECT_GT(checked, 0u) << "level " << level << ": no probe was placed above the brick";
+  }
+}
+
+// Voxels follow the light (SPEC §6.1): a voxel that keeps direct light D and albedo a is relit as D + a/π · E of the
+// probes. Under a uniform sky of radiance L, with D = (1 − a)·L, the fixed point is the voxel sending out L itself:
+// then the probes see L in every direction, E = π·L at any point and normal, and D + a/π · π·L = L exactly. The relit
+// bricks start black and must reach it (a missing 1/π would give D + π·a·L, no relight stays black, E = 0 gives D);
+// a brick given all its light by its view (no albedo) keeps it as written, relight or not.
+TEST_F(ProbeCache, relitVoxelsTakeTheirDirectLightPlusAlbedoOverPiTimesTheProbesIrradiance) {
+  Settings settings = probeTestSettings();
+  settings.probeHistoryCap = 1;  // the probes follow the voxels as they brighten within a few updates
+  create(settings);
+  const glm::vec3 albedo(0.2f, 0.4f, 0.8f);  // 51, 102 and 204 of 255: exact in the voxel's 8 bits
+  // The top layer of voxels of two bricks (y ∈ [−2.25, −2) m): their surface points, lifted by the normal bias, lie
+  // among level 0's probes at y = −2 and −1, which see the layers' front faces and the sky.
+  constexpr uint64_t kTopLayer = 0xf000'f000'f000'f000ull;
+  TestBrick relit{{0, -3, 4}, kTopLayer, glm::vec3(0.0f), {0.0f, 1.0f, 0.0f}};
+  relit.albedo = albedo;
+  relit.directRadiance = (glm::vec3(1.0f) - albedo) * kSkyRadiance;
+  const TestBrick given{{2, -3, 4}, kTopLayer, glm::vec3(kSkyRadiance), {0.0f, 1.0f, 0.0f}};
+  writeScene({relit, given});
+  runUpdates(8);
+  const gi::VoxelScene& scene = gi::voxelSceneOf(*context_);
+  const auto voxels = gpu::readBufferAs<shader::Voxel>(device(), scene.voxels());
+  for (uint32_t voxel = 0; voxel < shader::kVoxelsPerBrick; ++voxel) {
+    if (((kTopLayer >> voxel) & 1u) == 0) continue;
+    SCOPED_TRACE("voxel " + std::to_string(voxel));
+    const glm::vec3 radiance = shader::unpackR11G11B10F(voxels[voxel].radiance);
+    // R11G11B10F rounds to 2^-7 (R, G) and 2^-6 (B) relative, the probes' half floats to 2^-11.
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(radiance[c], kSkyRadiance, 0.02f * kSkyRadiance) << "channel " << c;
+    EXPECT_EQ(voxels[shader::kVoxelsPerBrick + voxel].radiance, shader::packR11G11B10F(glm::vec3(kSkyRadiance)));
   }
 }
 

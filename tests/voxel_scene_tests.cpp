@@ -822,7 +822,7 @@ TEST_F(VoxelScene, theHighTierVoxelSceneFitsTheMemoryBudget) {
   }
   // SPEC §5: all GI data ≤ 30 MB at high tier; the voxel scene must leave room for the probes (≈ 8 MB).
   EXPECT_LE(voxelBytes, 22u * 1024 * 1024);
-  EXPECT_EQ(stats.brickPoolCapacity, 32768u);
+  EXPECT_EQ(stats.brickPoolCapacity, 16384u);
 }
 
 TEST(VoxelSceneApi, badDescriptionsAreRejectedWithTheFieldNamed) {

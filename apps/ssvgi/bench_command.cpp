@@ -47,6 +47,7 @@ int runBench(const BenchOptions& options) {
   settings.height = resolved.height;
   settings.gi = giSettings(options.giOptions, resolved.scene);
   settings.extraViews = options.giOptions.extraViews;
+  settings.litFrameDirectOnly = options.giOptions.litFrame == "direct";
   renderer::Renderer renderer(device, resolved.scene, settings);
   const std::string label = "bench " + resolved.scene.name;
   const renderer::AnimatedState state = renderer::evaluateAnimation(resolved.scene, resolved.camera, 0.0f);

@@ -88,6 +88,7 @@ int runRender(const RenderOptions& options) {
   if (options.gi == "on" || !options.debugViews.empty()) settings.gi = giSettings(options.giOptions, resolved.scene);
   settings.giLighting = options.gi == "on";
   settings.extraViews = options.giOptions.extraViews;
+  settings.litFrameDirectOnly = options.giOptions.litFrame == "direct";
   renderer::Renderer renderer(device, resolved.scene, settings);
 
   const std::string label = "rendering " + resolved.scene.name;

@@ -39,7 +39,7 @@ int runScenario(const std::string& name, const ScenarioOptions& options, const S
   const ResolvedScene resolved = resolveScene(options.scene);
   gpu::Device device(gpu::DeviceDesc{options.scene.device, options.scene.validation});
   const bench::ScenarioRendering rendering{resolved.width, resolved.height, giSettings(options.gi, resolved.scene),
-                                           options.gi.extraViews};
+                                           options.gi.extraViews, options.gi.litFrame == "direct"};
 
   const auto start = std::chrono::steady_clock::now();
   const nlohmann::json figures = measure(device, resolved, rendering);

@@ -210,6 +210,7 @@ const std::vector<SettingField>& settingFields() {
       settingField("probeSampleClamp", &Settings::probeSampleClamp),
       settingField("probeChangeThreshold", &Settings::probeChangeThreshold),
       settingField("skyOnlyThroughObservedSpace", &Settings::skyOnlyThroughObservedSpace),
+      settingField("voxelRelightPeriod", &Settings::voxelRelightPeriod),
   };
   return fields;
 }
@@ -242,6 +243,12 @@ void addGiOptions(CLI::App& command, GiOptions& options) {
                      "Extra views rendered per frame; when there are more, they take turns")
       ->capture_default_str()
       ->check(CLI::Range(1u, ssvgi::kMaxExtraViews));
+  command.add_option("--lit-frame", options.litFrame,
+                     "The lit frame the renderer gives ssvgi: direct (its direct and emitted light with the albedo: the "
+                     "voxels are relit from the probes) or full (its final radiance, GI included, as a host with only a "
+                     "lit colour gives it)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"direct", "full"}));
 }
 
 ssvgi::Settings giSettings(const GiOptions& options, const renderer::Scene& scene) {

@@ -79,6 +79,7 @@ struct GiOptions {
   std::string tier = "high";
   std::vector<std::string> overrides;  // NAME=VALUE, a field of ssvgi::Settings; X,Y,Z for the three-axis ones
   renderer::ExtraViewSettings extraViews;  // the views beyond the camera the renderer gives ssvgi (SPEC §6.3)
+  std::string litFrame = "direct";  // what the renderer gives ssvgi as its lit frame (RendererSettings::litFrameDirectOnly)
 };
 
 void addGiOptions(CLI::App& command, GiOptions& options);

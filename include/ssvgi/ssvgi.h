@@ -52,7 +52,7 @@ struct Settings {
   float voxelSize = 0.25f;                            // metres; a brick is 4×4×4 voxels
   std::array<uint32_t, 3> volumeBricks{128, 48, 128};  // the voxel volume around the camera in bricks (X, Y, Z);
                                                       // each a multiple of 8
-  uint32_t brickPoolCapacity = 32768;                 // bricks that can hold voxels at once
+  uint32_t brickPoolCapacity = 16384;                 // bricks that can hold voxels at once
   uint32_t invalidFramesToClear = 8;                  // frames a voxel may be seen through before it is cleared, ≤ 63
   uint32_t emptyFramesToRelease = 8;                  // frames a brick may stay empty before it returns to the pool
   uint32_t allocationPixelStride = 2;                 // BrickAllocate reads every Nth pixel in X and Y
@@ -94,6 +94,12 @@ struct Settings {
   // from above, a capture around the camera): with the camera alone, open space behind it is unknown, and a probe
   // takes the mean of what its other rays found there (docs/QUALITY.md, "Unknown is not sky").
   bool skyOnlyThroughObservedSpace = false;
+  // Voxels follow the light (SPEC §6.1): the voxels whose view gave them direct light and albedo
+  // (FrameDesc::litAlbedo, ExtraView::albedo) have their radiance recomputed as direct + albedo/π · E of the probes,
+  // a 1/voxelRelightPeriod share of the brick pool a frame (1..64), wherever they are: the bounces after the first
+  // follow the probes also off screen, and go round the voxel → probe → voxel loop once per probe update. Until it is
+  // relit, a voxel such a view wrote for the first time carries only that view's direct light.
+  uint32_t voxelRelightPeriod = 1;
 };
 
 Settings settingsForTier(QualityTier tier);
@@ -164,6 +170,10 @@ struct FrameDesc {
   SampledImage litColor;      // linear HDR radiance
   SampledImage litDepth;      // D32 reversed-Z
   SampledImage litNormal;     // world normal in rgb
+  // Optional, as ExtraView::albedo: given, `litColor` holds the lit frame's direct and emitted light only (no GI) and
+  // this its albedo; ssvgi adds albedo/π · E of its probes, and keeps both in the voxels to relight them as the probes'
+  // light changes (Settings::voxelRelightPeriod). Without it, `litColor` holds all of the frame's light.
+  SampledImage litAlbedo;
   // The sky's radiance as SH2 (SPEC §2), W/(sr·m²): coefficients 0–3 red, 4–7 green, 8–11 blue, each in the order
   // Y00, Y1,-1, Y1,0, Y1,1. Probe rays that leave the voxel volume see it (clamped at 0). All zero: a black sky.
   std::array<float, 12> skyRadianceSh{};

@@ -5,6 +5,8 @@
 // weights times how well each texel's pixel lies on this pixel's surface, so light does not bleed across silhouettes.
 // ssvgi's confidence (SPEC §6.4) is sampled with the same weights and kept beside the E_indirect used, for the
 // renderer's confidence.exr; the composite does not blend to a fallback (it has none: GI off means no ambient at all).
+// It also writes the light without the GI's, emission + albedo/π · E_direct: ssvgi's lit frame, with the albedo, from
+// which the voxels keep their direct light and are relit by the probes (ssvgi::FrameDesc::litAlbedo).
 #include "shared/renderer_interface.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -19,6 +21,7 @@ layout(binding = kBindCompositeIndirect) uniform sampler2D indirectIrradiance;
 layout(binding = kBindCompositeConfidence) uniform sampler2D indirectConfidence;
 layout(binding = kBindCompositeFinal, rgba32f) writeonly uniform image2D finalRadiance;
 layout(binding = kBindCompositeIndirectUsed, rgba32f) writeonly uniform image2D indirectUsed;
+layout(binding = kBindCompositeDirectRadiance, rgba16f) writeonly uniform image2D directRadiance;
 
 // A texel's pixel counts fully on this pixel's tangent plane, not at all 2 % of the view distance off it (a depth edge,
 // a crease); its normal weighs in as dot^8 (half weight at about 24°).
@@ -66,6 +69,7 @@ void main() {
   if (any(greaterThanEqual(pixel, ivec2(frame.viewportSize.xy)))) return;
 
   vec3 radiance;
+  vec3 radianceWithoutGi = vec3(0.0);
   vec4 indirect = vec4(0.0);
   float depth = texelFetch(depthBuffer, pixel, 0).r;
   if (depth <= 0.0) {
@@ -75,9 +79,12 @@ void main() {
   } else {
     vec3 albedo = texelFetch(albedoBuffer, pixel, 0).rgb;
     if (frame.lightCountAndExposure.z > 0.0) indirect = edgeAwareIndirect(pixel, depth);
-    vec3 irradiance = imageLoad(directIrradiance, pixel).rgb + indirect.rgb;
-    radiance = texelFetch(emissionBuffer, pixel, 0).rgb + albedo * (1.0 / kPi) * irradiance;
+    vec3 direct = imageLoad(directIrradiance, pixel).rgb;
+    vec3 emission = texelFetch(emissionBuffer, pixel, 0).rgb;
+    radianceWithoutGi = emission + albedo * (1.0 / kPi) * direct;
+    radiance = emission + albedo * (1.0 / kPi) * (direct + indirect.rgb);
   }
   imageStore(finalRadiance, pixel, vec4(radiance, 1.0));
   imageStore(indirectUsed, pixel, indirect);
+  imageStore(directRadiance, pixel, vec4(radianceWithoutGi, 1.0));
 }

@@ -12,11 +12,12 @@ SSVGI_CONSTANT(uint, kMaxHiZLevels, 16u);
 
 // The views the voxels are injected from (SPEC §3, §6.3). The voxel passes run once per view with that view's GiFrame,
 // in which the "current" and the "lit" camera are both the view's (for the camera, they are this frame's and the
-// lit frame's).
-SSVGI_CONSTANT(uint, kViewCamera, 0u);           // the host's camera and its latest lit frame
-SSVGI_CONSTANT(uint, kViewExtraLit, 1u);         // an extra view whose colour holds all of its light
-SSVGI_CONSTANT(uint, kViewExtraDirectOnly, 2u);  // an extra view lit by direct and emitted light only: injection adds
-                                                 // albedo/π · E of the probes
+// lit frame's). The view's kind is a combination of these bits (none: the camera's lit frame, its colour all light):
+SSVGI_CONSTANT(uint, kViewIsExtra, 1u);       // one of the host's extra views, not the camera's lit frame
+SSVGI_CONSTANT(uint, kViewIsDirectOnly, 2u);  // its colour holds direct and emitted light only and its albedo is
+                                              // given: the voxels keep both and VoxelRelight adds the probes' light
+SSVGI_CONSTANT(uint, kViewIsLitWithOutput, 4u);  // (the camera's, direct only) the host lit it with ssvgi's last
+                                                 // output: injection adds albedo/π · that E, as the host did
 
 // A view's projection may be perspective or orthographic (any view-projection that maps depth to reversed-Z): what the
 // passes need of its geometry they find from the matrices (gi_frame.glsl: viewRayDirection), not from a position.
@@ -28,7 +29,7 @@ struct GiFrame {
   vec4 cameraPosition;             // xyz: current camera position (the host's camera: the gather's distances)
   uvec4 sizes;                     // x, y: current depth size; z, w: lit frame size
   uvec4 frame;                     // x: frame index; y: BrickAllocate pixel stride; z: Hi-Z level count;
-                                   // w: the view's kind (kView…)
+                                   // w: the view's kind (kViewIs… bits)
   vec4 frustumPlanes[6];           // current camera, world space, normals pointing inwards: dot(n, p) + w >= 0 inside
   uvec4 hizLevels[kMaxHiZLevels];  // per Hi-Z level: x: first float in the pyramid buffer; y: width; z: height
 };

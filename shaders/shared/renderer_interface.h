@@ -97,6 +97,8 @@ SSVGI_CONSTANT(uint, kBindCompositeIndirectUsed, 7u); // out: the E_indirect eac
                                                       // a: the GI's confidence there (0 with GI off)
 SSVGI_CONSTANT(uint, kBindCompositeNormal, 8u);       // G-buffer world normal (edge-aware sampling of E_indirect)
 SSVGI_CONSTANT(uint, kBindCompositeConfidence, 9u);   // the GI's confidence of E_indirect (ssvgi::Context::confidence)
+SSVGI_CONSTANT(uint, kBindCompositeDirectRadiance, 10u); // out: emission + albedo/π · E_direct, rgba16f: the light
+                                                          // without the GI's, ssvgi's lit frame (FrameDesc::litAlbedo)
 // Tonemap (tonemap.comp):
 SSVGI_CONSTANT(uint, kBindTonemapFrame, 0u);
 SSVGI_CONSTANT(uint, kBindTonemapInput, 1u);

@@ -31,13 +31,14 @@ SSVGI_CONSTANT(uint, kBindChangedCells, 7u);    // IndirectList of brick cells w
 SSVGI_CONSTANT(uint, kBindObservedSpace, 8u);   // bit volumes of the observed space (below), laid out as the
                                                 // occupancy grid's levels 2–4
 SSVGI_CONSTANT(uint, kBindFirstPassSlot, 9u);
-// SceneVoxelization's own slots lie past the gather's (shared/gather_interface.h), whose constants and probes it also
-// binds: the light of the probes completes views lit by direct light only (SPEC §6.3).
-SSVGI_CONSTANT(uint, kBindInjectionColor, kBindFirstPassSlot + 8u);   // the view's radiance (sampled)
-SSVGI_CONSTANT(uint, kBindInjectionDepth, kBindFirstPassSlot + 9u);   // its depth, D32 reversed-Z (sampled)
-SSVGI_CONSTANT(uint, kBindInjectionNormal, kBindFirstPassSlot + 10u); // its world normal (sampled)
-SSVGI_CONSTANT(uint, kBindInjectionAlbedo, kBindFirstPassSlot + 11u); // its albedo (sampled; read for kViewExtraDirectOnly)
-SSVGI_CONSTANT(uint, kBindInjectionBricks, kBindFirstPassSlot + 12u); // IndirectList of the bricks to inject
+// SceneVoxelization's own slots.
+SSVGI_CONSTANT(uint, kBindInjectionColor, kBindFirstPassSlot);        // the view's radiance (sampled)
+SSVGI_CONSTANT(uint, kBindInjectionDepth, kBindFirstPassSlot + 1u);   // its depth, D32 reversed-Z (sampled)
+SSVGI_CONSTANT(uint, kBindInjectionNormal, kBindFirstPassSlot + 2u);  // its world normal (sampled)
+SSVGI_CONSTANT(uint, kBindInjectionAlbedo, kBindFirstPassSlot + 3u);  // its albedo (sampled; read for kViewIsDirectOnly)
+SSVGI_CONSTANT(uint, kBindInjectionBricks, kBindFirstPassSlot + 4u);  // IndirectList of the bricks to inject
+SSVGI_CONSTANT(uint, kBindInjectionIrradiance, kBindFirstPassSlot + 5u);  // ssvgi's last output (sampled; read for
+                                                                          // kViewIsLitWithOutput)
 
 // Per-frame description of the volume (uniform buffer).
 struct VoxelVolume {
@@ -94,17 +95,31 @@ struct IndirectList {
 SSVGI_CHECK_SIZE(IndirectList, 16);
 SSVGI_CONSTANT(uint, kIndirectListHeaderWords, 4u);
 
-// A voxel: radiance as R11G11B10F; its surface: octahedral normal (2 × 8 bit, bits 0–15) and where the surface's
-// plane lies in the voxel (8 bit, bits 16–23, packVoxelPlane); frames it has been seen through since the last valid
-// injection (6 bit, 24–29); extra views that have seen it since the camera's lit frame last gave it light (2 bit,
-// 30–31, saturating at kVoxelExtraViewsBeforeWrite). SPEC §4.1 gives the counter 16 bits; it counts to
-// invalidFramesToClear (about 8), and the plane makes a thin or off-grid surface stop rays where it is rather than at
-// the voxel's box (voxel_trace.glsl, voxelHitAt).
+// A voxel: the radiance its surface sends out (what rays that meet it see) and its surface: octahedral normal
+// (2 × 8 bit, bits 0–15) and where the surface's plane lies in the voxel (8 bit, bits 16–23, packVoxelPlane); frames
+// it has been seen through since the last valid injection (6 bit, 24–29); extra views that have seen it since the
+// camera's lit frame last gave it light (2 bit, 30–31, saturating at kVoxelExtraViewsBeforeWrite). SPEC §4.1 gives
+// the counter 16 bits; it counts to invalidFramesToClear (about 8), and the plane makes a thin or off-grid surface stop
+// rays where it is rather than at the voxel's box (voxel_trace.glsl, voxelHitAt).
+// Where a view lit by direct light only gave it (kViewIsDirectOnly), the voxel also keeps that direct (+ emitted)
+// light and its albedo, and VoxelRelight recomputes its radiance as direct + albedo/π · E of the probes (SPEC §6.1);
+// a voxel given all of its light by its view (albedo's relight bit clear) keeps that light as it was given.
 struct Voxel {
-  uint radiance;
+  uint radiance;           // R11G11B10F
   uint surfaceAndLastHit;
+  uint directRadiance;     // R11G11B10F: direct and emitted light leaving the surface, as a view last gave it
+  uint albedo;             // packVoxelAlbedo: RGB 8 bits each, bit 24 (kVoxelRelit) set when the voxel is relit
 };
-SSVGI_CHECK_SIZE(Voxel, 8);
+SSVGI_CHECK_SIZE(Voxel, 16);
+
+SSVGI_CONSTANT(uint, kVoxelRelit, 1u << 24u);
+SSVGI_INLINE uint packVoxelAlbedo(vec3 albedo) {
+  uvec3 quantised = uvec3(clamp(albedo, vec3(0.0f), vec3(1.0f)) * 255.0f + vec3(0.5f));
+  return quantised.x | (quantised.y << 8u) | (quantised.z << 16u) | kVoxelRelit;
+}
+SSVGI_INLINE vec3 unpackVoxelAlbedo(uint packed) {
+  return vec3(float(packed & 0xffu), float((packed >> 8u) & 0xffu), float((packed >> 16u) & 0xffu)) / 255.0f;
+}
 
 // The surface's plane in a voxel: its signed distance from the voxel's centre along the normal, in voxels (at most
 // √3/2, the centre-to-corner distance), in 8 bits. Code 0: no plane is known, a ray meets the voxel's box wherever it

@@ -109,6 +109,8 @@ Error validateSettings(const ContextDesc& desc) {
     return invalid("Settings::probeSampleClamp must be 0 (off) or at least 1");
   if (!(settings.probeChangeThreshold >= 0.0f) || !std::isfinite(settings.probeChangeThreshold))
     return invalid("Settings::probeChangeThreshold must be 0 (off) or positive");
+  if (settings.voxelRelightPeriod == 0 || settings.voxelRelightPeriod > 64)
+    return invalid("Settings::voxelRelightPeriod must be in 1..64");
   if (desc.framesInFlight == 0 || desc.framesInFlight > 8) return invalid("ContextDesc::framesInFlight must be in 1..8");
   if (desc.maxWidth == 0 || desc.maxHeight == 0) return invalid("ContextDesc::maxWidth/maxHeight must be positive");
   if (desc.maxExtraViewSize > kMaxExtraViewSizeLimit)
@@ -178,6 +180,7 @@ class ContextImplementation final : public Context {
         brickCulling_(device_),
         sceneVoxelization_(device_),
         buildOctree_(device_),
+        voxelRelight_(device_),
         probePlacement_(device_),
         probeTrace_(device_),
         probeRelocate_(device_),
@@ -361,7 +364,7 @@ class ContextImplementation final : public Context {
   };
 
   // Steps 1 and 3–5 of SPEC §4 for one view: HiZBuild, BrickAllocate, BrickCulling, SceneVoxelization.
-  void buildVoxelsFrom(gpu::CommandList& commands, const VoxelView& view, const gi::ProbeLight& probeLight) {
+  void buildVoxelsFrom(gpu::CommandList& commands, const VoxelView& view) {
     const gi::VoxelFrameInputs inputs{view.constants, pointSampler_.handle(), view.depth, view.normal,
                                       hiz_, visibleBricks_};
     hizBuild_.record(commands, inputs, view.frame, view.hizLevels);
@@ -371,7 +374,14 @@ class ContextImplementation final : public Context {
     const shader::IndirectList empty{0, 1, 1, 0};
     commands.updateBuffer(visibleBricks_, 0, &empty, sizeof(empty));
     brickCulling_.record(commands, scene_, inputs);
-    if (view.injected) sceneVoxelization_.record(commands, scene_, inputs, *view.injected, probeLight);
+    if (view.injected) sceneVoxelization_.record(commands, scene_, inputs, *view.injected);
+  }
+
+  // The camera's kind of view (gi_frame.h): a lit frame given with its albedo holds direct light only, and was lit
+  // with the output of the last dispatch (the gather's history from prepare() on) once there was one.
+  uint32_t cameraViewKind(const FrameDesc& desc) const {
+    if (!desc.litAlbedo.view) return 0u;
+    return shader::kViewIsDirectOnly | (dispatched_ ? shader::kViewIsLitWithOutput : 0u);
   }
 
   void record(const FrameDesc& desc, VkCommandBuffer commandBuffer) {
@@ -380,7 +390,7 @@ class ContextImplementation final : public Context {
     slot.descriptors.reset();
     uint32_t hizLevels = 0;
     const shader::GiFrame frame = viewConstants(desc.camera, desc.hasLitFrame ? desc.litCamera : desc.camera,
-                                                desc.frameIndex, shader::kViewCamera, hizLevels);
+                                                desc.frameIndex, cameraViewKind(desc), hizLevels);
     std::memcpy(slot.frameConstants.mapped(), &frame, sizeof(frame));
     bool scrolled = false;
     const shader::VoxelVolume volume =
@@ -426,28 +436,30 @@ class ContextImplementation final : public Context {
     // 1, 3–5 (HiZBuild, BrickAllocate, BrickCulling, SceneVoxelization) for each extra view (SPEC §6.3), then for the
     // camera, so that the lit frame's light stays where both see a surface.
     // Their passes are timed together, as "ssvgi: ExtraViews" (the profiler times only the outermost scope).
-    const gi::ProbeLight probeLight{gather_.constants(), probes_.probes()};
     std::optional<gpu::CommandList::Scope> extraViewsScope;
     if (!desc.extraViews.empty()) extraViewsScope.emplace(commands, "ssvgi: ExtraViews");
     for (size_t i = 0; i < desc.extraViews.size(); ++i) {
       const ExtraView& view = desc.extraViews[i];
       uint32_t viewHizLevels = 0;
-      const uint32_t kind = view.albedo.view ? shader::kViewExtraDirectOnly : shader::kViewExtraLit;
+      const uint32_t kind = shader::kViewIsExtra | (view.albedo.view ? shader::kViewIsDirectOnly : 0u);
       const shader::GiFrame viewFrame = viewConstants(view.camera, view.camera, desc.frameIndex, kind, viewHizLevels);
       std::memcpy(slot.extraViewConstants[i].mapped(), &viewFrame, sizeof(viewFrame));
       const VkImageView albedo = view.albedo.view ? view.albedo.view : view.color.view;  // bound, not read
       buildVoxelsFrom(commands,
                       {slot.extraViewConstants[i], viewFrame, viewHizLevels, view.depth.view, view.normal.view,
-                       gi::LitFrameImages{view.color.view, view.depth.view, view.normal.view, albedo}},
-                      probeLight);
+                       gi::LitFrameImages{view.color.view, view.depth.view, view.normal.view, albedo,
+                                          &gather_.history()}});
     }
     extraViewsScope.reset();
     std::optional<gi::LitFrameImages> litFrame;
-    if (desc.hasLitFrame)  // its albedo is bound, not read
-      litFrame = gi::LitFrameImages{desc.litColor.view, desc.litDepth.view, desc.litNormal.view, desc.litColor.view};
-    buildVoxelsFrom(commands, {slot.frameConstants, frame, hizLevels, desc.depth.view, desc.normal.view, litFrame},
-                    probeLight);
+    if (desc.hasLitFrame)  // without an albedo, its colour is bound in its place and not read
+      litFrame = gi::LitFrameImages{desc.litColor.view, desc.litDepth.view, desc.litNormal.view,
+                                    desc.litAlbedo.view ? desc.litAlbedo.view : desc.litColor.view,
+                                    &gather_.history()};
+    buildVoxelsFrom(commands, {slot.frameConstants, frame, hizLevels, desc.depth.view, desc.normal.view, litFrame});
     buildOctree_.record(commands, scene_);                                              // 6. BuildOctree
+    voxelRelight_.record(commands, scene_, {gather_.constants(), probes_.probes()},      //    VoxelRelight
+                         desc.frameIndex, desc_.settings.voxelRelightPeriod);
     probePlacement_.record(commands, scene_, probes_, slot.frameConstants, probeBlocksInView);  // 7. ProbePlacement
     probeTrace_.record(commands, scene_, probes_);                      // 8. UpdateReservoirs + ProbeTrace
     probeRelocate_.record(commands, scene_, probes_);                                   // 9. ProbeRelocate
@@ -485,6 +497,7 @@ class ContextImplementation final : public Context {
   gi::BrickCulling brickCulling_;
   gi::SceneVoxelization sceneVoxelization_;
   gi::BuildOctree buildOctree_;
+  gi::VoxelRelight voxelRelight_;
   gi::ProbePlacement probePlacement_;
   gi::ProbeTrace probeTrace_;
   gi::ProbeRelocate probeRelocate_;

@@ -14,13 +14,13 @@ Settings settingsForTier(QualityTier tier) {
       break;
     case QualityTier::Medium:
       settings.volumeBricks = {96, 32, 96};
-      settings.brickPoolCapacity = 16384;
+      settings.brickPoolCapacity = 8192;
       settings.probeGrid = {32, 16, 32};
       settings.probeBudget = 2048;
       break;
     case QualityTier::Low:
       settings.volumeBricks = {64, 32, 64};
-      settings.brickPoolCapacity = 8192;
+      settings.brickPoolCapacity = 4096;
       settings.probeGrid = {32, 16, 32};
       settings.probeBudget = 1024;
       settings.raysPerProbe = 16;

@@ -35,7 +35,7 @@ void main() {
   }
   bricks[brick].coordinate = ivec4(worldBrick, 1);
   bricks[brick].occupancy = uvec4(0u);
-  for (uint voxel = 0u; voxel < kVoxelsPerBrick; ++voxel) voxels[brick * kVoxelsPerBrick + voxel] = Voxel(0u, 0u);
+  for (uint voxel = 0u; voxel < kVoxelsPerBrick; ++voxel) voxels[brick * kVoxelsPerBrick + voxel] = Voxel(0u, 0u, 0u, 0u);
   atomicAdd(pool.allocatedThisFrame, 1u);
   brickLookup[cell] = brick;
 }

@@ -44,7 +44,7 @@ bool occludedByHiZ(vec3 lo, vec3 hi) {
 void main() {
   uint brick = gl_GlobalInvocationID.x;
   if (brick >= pool.bumpCount || bricks[brick].coordinate.w == 0) return;
-  if (frame.frame.w == kViewCamera)  // counted once a frame
+  if ((frame.frame.w & kViewIsExtra) == 0u)  // counted once a frame
     atomicAdd(pool.voxelsValid, uint(bitCount(bricks[brick].occupancy.x) + bitCount(bricks[brick].occupancy.y)));
   // The brick's box grown by a hair (2 % of a voxel, twice heldSurfacePoint's offset): a surface lying on the brick's
   // face — a wall on the brick grid, seen head-on — is drawn at exactly the depth of the box's nearest corner, and

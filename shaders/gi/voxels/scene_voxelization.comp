@@ -10,7 +10,7 @@
 // A brick left empty for emptyFramesToRelease injections returns to the pool the same frame.
 #include "gi/gi_frame.glsl"
 #include "gi/voxels/brick_pool.glsl"
-#include "gi/gather/probe_irradiance.glsl"
+#include "gi/voxels/voxel_access.glsl"
 #include "shared/sampling.h"
 
 layout(local_size_x = 64) in;
@@ -19,20 +19,44 @@ layout(binding = kBindInjectionColor) uniform sampler2D litColor;
 layout(binding = kBindInjectionDepth) uniform sampler2D litDepth;
 layout(binding = kBindInjectionNormal) uniform sampler2D litNormal;
 layout(binding = kBindInjectionAlbedo) uniform sampler2D litAlbedo;
+layout(binding = kBindInjectionIrradiance) uniform sampler2D lastOutput;
 layout(binding = kBindInjectionBricks) readonly buffer VisibleBricks {
   IndirectList visible;
   uint visibleBricks[];
 };
 
-// The radiance a voxel takes from the view's pixel: the view's colour, and for a view lit by direct light only the
-// light the probes gather at that surface, reflected by its albedo (as the host composites the lit frame, SPEC §3).
-// The probes' visibility trace is left out: this pass writes the voxels it would trace.
-vec3 injectedRadiance(ivec2 texel, vec3 surface, vec3 normal) {
-  vec3 radiance = texelFetch(litColor, texel, 0).rgb;
-  if (frame.frame.w != kViewExtraDirectOnly) return radiance;
-  float noise = hashToUnitCube(uvec3(texel, frame.frame.x)).x;
+// What a voxel the view writes takes from its pixel: for a view whose colour is all of its light, that light, an extra
+// view's averaged with what the voxel held (kVoxelExtraViewRadianceBlend); for a view lit by direct light only, that
+// light and the albedo (an extra view's averaged alike). The light after the first bounce: for the camera's lit
+// frame, the host's own — albedo/π · E of ssvgi's last output at that pixel, with which the host lit it (the gather's
+// light, tested for visibility and filtered); for an extra view, VoxelRelight's to add, with the probes' visibility
+// trace, which this pass cannot make: it writes the voxels it would trace, and without it the lit room's probes lit
+// the dark side of `two-rooms`' wall (leak 3.0 % against 0.12 %). Until it is relit, a voxel keeps the part of its
+// radiance the probes added (Settings::voxelRelightPeriod), and a new one has none.
+void injectLight(inout Voxel voxel, bool occupied, bool blendsWithHeld, ivec2 texel) {
+  vec3 colour = texelFetch(litColor, texel, 0).rgb;
+  if ((frame.frame.w & kViewIsDirectOnly) == 0u) {
+    voxel.radiance = packR11G11B10F(blendsWithHeld ? mix(unpackR11G11B10F(voxel.radiance), colour,
+                                                         kVoxelExtraViewRadianceBlend)
+                                                   : colour);
+    voxel.directRadiance = 0u;
+    voxel.albedo = 0u;
+    return;
+  }
+  vec3 direct = colour;
   vec3 albedo = texelFetch(litAlbedo, texel, 0).rgb;
-  return radiance + albedo * (1.0 / kPi) * probeIrradiance(surface, normal, noise, false).rgb;
+  bool wasRelit = occupied && (voxel.albedo & kVoxelRelit) != 0u;
+  vec3 heldDirect = unpackR11G11B10F(voxel.directRadiance);
+  vec3 probesLight = wasRelit ? max(unpackR11G11B10F(voxel.radiance) - heldDirect, vec3(0.0)) : vec3(0.0);
+  if ((frame.frame.w & kViewIsLitWithOutput) != 0u)  // half-resolution texel h holds full-resolution pixel 2h
+    probesLight = albedo * (1.0 / kPi) * texelFetch(lastOutput, texel / 2, 0).rgb;
+  if (blendsWithHeld && wasRelit) {
+    direct = mix(heldDirect, direct, kVoxelExtraViewRadianceBlend);
+    albedo = mix(unpackVoxelAlbedo(voxel.albedo), albedo, kVoxelExtraViewRadianceBlend);
+  }
+  voxel.radiance = packR11G11B10F(direct + probesLight);
+  voxel.directRadiance = packR11G11B10F(direct);
+  voxel.albedo = packVoxelAlbedo(albedo);
 }
 
 shared uint occupancyLow;
@@ -112,16 +136,12 @@ void main() {
     if (holdsSurface || refreshesColour) {
       // The lit frame's light stays where it keeps coming (kVoxelExtraViewsBeforeWrite): an extra view counts its
       // visit and writes only once there have been enough since the lit frame last wrote.
-      bool fromCamera = frame.frame.w == kViewCamera;
+      bool fromCamera = (frame.frame.w & kViewIsExtra) == 0u;
       uint extraViews = voxel.surfaceAndLastHit >> kVoxelExtraViewsShift;
       bool writes = fromCamera || !occupied || extraViews >= kVoxelExtraViewsBeforeWrite;
       uint surfaceBits = voxel.surfaceAndLastHit & ((1u << kVoxelLastHitShift) - 1u);
       if (writes) {
-        // An extra view's writes are averaged (kVoxelExtraViewRadianceBlend); the lit frame's replace.
-        vec3 radiance = injectedRadiance(texel, surface, normal);
-        if (!fromCamera && occupied)
-          radiance = mix(unpackR11G11B10F(voxel.radiance), radiance, kVoxelExtraViewRadianceBlend);
-        voxel.radiance = packR11G11B10F(radiance);
+        injectLight(voxel, occupied, !fromCamera && occupied, texel);
         // A valid sample sets the voxel's surface (normal and plane); a refresh keeps it.
         float planeOffset = dot(surface - (voxelMin + 0.5 * voxelSize), normal) / voxelSize;
         if (holdsSurface)
@@ -137,7 +157,7 @@ void main() {
                                 (lastHit << kVoxelLastHitShift);
       if (lastHit >= volume.settings.x) occupied = false;
     }
-    voxels[brick * kVoxelsPerBrick + voxelIndex] = occupied ? voxel : Voxel(0u, 0u);
+    voxels[brick * kVoxelsPerBrick + voxelIndex] = occupied ? voxel : Voxel(0u, 0u, 0u, 0u);
   }
 
   if (occupied) {

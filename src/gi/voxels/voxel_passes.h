@@ -74,9 +74,10 @@ struct LitFrameImages {
   VkImageView color;
   VkImageView depth;
   VkImageView normal;
-  VkImageView albedo;  // read only for a view lit by direct light only (GiFrame kind kViewExtraDirectOnly)
+  VkImageView albedo;  // read only for a view lit by direct light only (GiFrame kind kViewIsDirectOnly)
+  const gpu::Image* lastOutput;  // ssvgi's last output, read only for kViewIsLitWithOutput
 };
-// What the injection of a view lit by direct light only samples for the light after the first bounce.
+// The probes' light, which VoxelRelight gathers for the voxels.
 struct ProbeLight {
   const gpu::Buffer& gatherConstants;  // GatherConstants of this frame (the probe levels' placement)
   const gpu::Buffer& probes;           // Probe[kProbeLevels · probes per level]
@@ -85,7 +86,19 @@ class SceneVoxelization {
  public:
   explicit SceneVoxelization(gpu::Device& device);
   void record(gpu::CommandList& commands, const VoxelScene& scene, const VoxelFrameInputs& inputs,
-              const LitFrameImages& lit, const ProbeLight& probeLight);
+              const LitFrameImages& lit);
+
+ private:
+  gpu::ComputePipeline pipeline_;
+};
+
+// VoxelRelight: the voxels given direct light and albedo get direct + albedo/π · E of the probes (SPEC §6.1), a slice
+// of the pool a frame so that every voxel is relit once every `period` frames.
+class VoxelRelight {
+ public:
+  explicit VoxelRelight(gpu::Device& device);
+  void record(gpu::CommandList& commands, const VoxelScene& scene, const ProbeLight& probeLight, uint32_t frameIndex,
+              uint32_t period);
 
  private:
   gpu::ComputePipeline pipeline_;

@@ -1,0 +1,54 @@
+#version 450
+// VoxelRelight (SPEC §6.1): recomputes the radiance of the voxels whose view gave them direct light and albedo
+// (kVoxelRelit) as direct + albedo/π · E of the probes at their surface, except those the camera's lit frame keeps
+// lighting. The bounces after the first then follow the probes where the camera does not look — behind it, on a wall
+// an extra view saw once long ago — instead of staying as a view last left them (a light switched off while the
+// camera looks away left its bounce light there for good, feeding itself through the probes).
+// A frame relights the pool's bricks [firstBrick, endBrick) — a slice of it, Settings::voxelRelightPeriod — up to the
+// bump allocator's count (no brick beyond it was ever used), a workgroup going over every gl_NumWorkGroups-th brick
+// with a thread per voxel: a few hundred workgroups rather than one per brick of the pool, most of which is empty.
+#define SSVGI_VOXELS_WRITABLE
+#include "gi/gather/probe_irradiance.glsl"
+#include "shared/sampling.h"
+
+layout(local_size_x = 64) in;
+
+layout(push_constant) uniform Slice {
+  uint firstBrick;
+  uint endBrick;
+};
+layout(binding = kBindPoolState) readonly buffer PoolBlock { BrickPoolState pool; };
+
+void relightVoxel(uint brick, uint voxelIndex) {
+  if (bricks[brick].coordinate.w == 0) return;  // free
+  uvec3 voxelInBrick = uvec3(voxelIndex & 3u, (voxelIndex >> 2u) & 3u, voxelIndex >> 4u);
+  if (!voxelOccupied(brick, voxelInBrick)) return;
+  uint index = brick * kVoxelsPerBrick + voxelIndex;
+  Voxel voxel = voxels[index];
+  if ((voxel.albedo & kVoxelRelit) == 0u) return;  // its view gave all of its light: it stays as given
+  // The camera's lit frame keeps the voxels it lights current with the gather's light (SceneVoxelization): those it
+  // lit last and no extra view has seen since are left to it; a voxel off screen is relit once a view sees it.
+  if ((voxel.surfaceAndLastHit >> kVoxelExtraViewsShift) == 0u) return;
+
+  ivec3 worldVoxel = bricks[brick].coordinate.xyz * int(kBrickSizeVoxels) + ivec3(voxelInBrick);
+  float voxelSize = volume.voxelSize.x;
+  vec3 normal = unpackOctahedralNormal(voxel.surfaceAndLastHit & 0xffffu);
+  uint planeCode = (voxel.surfaceAndLastHit >> kVoxelPlaneShift) & 0xffu;
+  float planeOffset = planeCode != 0u ? unpackVoxelPlane(planeCode) : 0.0;
+  vec3 surface = (vec3(worldVoxel) + 0.5) * voxelSize + normal * (planeOffset * voxelSize);
+  // The level-boundary noise is the voxel's own, the same every frame: the voxel's light must not flicker between
+  // two levels' answers (the gather's noise is averaged by its temporal filter, a voxel's is not).
+  float noise = hashToUnitCube(uvec3(worldVoxel)).x;
+  // With the gather's visibility trace (this pass writes only radiance, which no trace reads): without it the lit
+  // room's probes lit the dark side of `two-rooms`' wall (leak 3.0 % instead of 0.12 %, docs/QUALITY.md).
+  vec4 irradiance = probeIrradiance(surface, normal, noise, true);
+  if (irradiance.a == 0.0) return;  // no probe knows its surroundings yet: it keeps the light it has
+  vec3 direct = unpackR11G11B10F(voxel.directRadiance);
+  voxels[index].radiance = packR11G11B10F(direct + unpackVoxelAlbedo(voxel.albedo) * (1.0 / kPi) * irradiance.rgb);
+}
+
+void main() {
+  uint end = min(endBrick, pool.bumpCount);
+  for (uint brick = firstBrick + gl_WorkGroupID.x; brick < end; brick += gl_NumWorkGroups.x)
+    relightVoxel(brick, gl_LocalInvocationID.x);
+}
