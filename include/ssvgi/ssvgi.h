@@ -26,14 +26,17 @@ enum class Status {
   VulkanError,         // an unexpected Vulkan failure; the message names the call
 };
 
-struct Error {
+// [[nodiscard]]: an Error or Result dropped unread is a failure nobody hears of.
+struct [[nodiscard]] Error {
   Status status = Status::Ok;
   std::string message;
+  VkResult vkResult = VK_SUCCESS;  // the failed Vulkan call's result (VulkanError, OutOfDeviceMemory); VK_SUCCESS when
+                                   // no Vulkan call failed
   explicit operator bool() const { return status != Status::Ok; }
 };
 
 template <typename T>
-class Result {
+class [[nodiscard]] Result {
  public:
   Result(T value) : value_(std::move(value)) {}
   Result(Error error) : value_(std::move(error)) {}
@@ -109,6 +112,11 @@ struct ContextDesc {
   VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;  // must store R8_UNORM images from shaders (Context::confidence());
                                                      // create() returns UnsupportedDevice if it cannot
   VkDevice device = VK_NULL_HANDLE;
+  // For a host that loads Vulkan itself (volk, its own dlopen): every Vulkan function ssvgi calls for the context is
+  // looked up through these, the device's through vkGetDeviceProcAddr (itself found through vkGetInstanceProcAddr when
+  // null here). Null: the Vulkan loader's, which ssvgi links (docs/INTEGRATION.md, "Loading Vulkan").
+  PFN_vkGetInstanceProcAddr vkGetInstanceProcAddr = nullptr;
+  PFN_vkGetDeviceProcAddr vkGetDeviceProcAddr = nullptr;
   bool debugUtilsEnabled = false;  // the host enabled VK_EXT_debug_utils: ssvgi names its objects and labels its
                                    // passes "ssvgi: <PassName>" for RenderDoc / Nsight
   Settings settings;

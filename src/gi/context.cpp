@@ -64,9 +64,13 @@ constexpr float kMaxViewCoordinate = 1.0e6f;
 constexpr uint32_t kMaxExtraViewSizeLimit = 16384;
 
 Error toError(const gpu::GpuError& error) {
-  const std::string message = error.what();
-  const bool outOfMemory = message.find("OUT_OF_DEVICE_MEMORY") != std::string::npos;
-  return {outOfMemory ? Status::OutOfDeviceMemory : Status::VulkanError, message};
+  const bool outOfMemory = error.result() == VK_ERROR_OUT_OF_DEVICE_MEMORY;
+  return {outOfMemory ? Status::OutOfDeviceMemory : Status::VulkanError, error.what(), error.result()};
+}
+
+gpu::ExternalDevice externalDevice(const ContextDesc& desc) {
+  return {desc.instance,         desc.physicalDevice,        desc.device,
+          desc.debugUtilsEnabled, desc.vkGetInstanceProcAddr, desc.vkGetDeviceProcAddr};
 }
 
 Error validateSettings(const ContextDesc& desc) {
@@ -121,9 +125,10 @@ Error validateSettings(const ContextDesc& desc) {
 // What ssvgi needs of the device beyond Vulkan 1.1 compute. The confidence output is R8_UNORM, written by a shader:
 // a storage format of Vulkan's extended set (shaderStorageImageExtendedFormats lists it; its SPIR-V capability needs
 // no feature enabled), which desktop and current mobile GPUs store.
-Error checkDevice(VkPhysicalDevice physicalDevice) {
+Error checkDevice(const ContextDesc& desc) {
+  const gpu::Device device(externalDevice(desc));
   VkFormatProperties properties{};
-  vkGetPhysicalDeviceFormatProperties(physicalDevice, VK_FORMAT_R8_UNORM, &properties);
+  device.vk().vkGetPhysicalDeviceFormatProperties(desc.physicalDevice, VK_FORMAT_R8_UNORM, &properties);
   const VkFormatFeatureFlags needed = VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT | VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT;
   if ((properties.optimalTilingFeatures & needed) != needed)
     return {Status::UnsupportedDevice,
@@ -164,7 +169,7 @@ class ContextImplementation final : public Context {
  public:
   explicit ContextImplementation(const ContextDesc& desc)
       : desc_(desc),
-        device_(gpu::ExternalDevice{desc.instance, desc.physicalDevice, desc.device, desc.debugUtilsEnabled}),
+        device_(externalDevice(desc)),
         scene_(device_, desc.settings, desc.framesInFlight),
         probes_(device_, desc.settings, desc.framesInFlight),
         gather_(device_, desc.maxWidth, desc.maxHeight, desc.framesInFlight),
@@ -518,8 +523,8 @@ class ContextImplementation final : public Context {
 
 Result<std::unique_ptr<Context>> Context::create(const ContextDesc& desc) {
   if (Error error = validateSettings(desc)) return error;
-  if (Error error = checkDevice(desc.physicalDevice)) return error;
   try {
+    if (Error error = checkDevice(desc)) return error;
     return std::unique_ptr<Context>(std::make_unique<ContextImplementation>(desc));
   } catch (const gpu::GpuError& error) {
     return toError(error);

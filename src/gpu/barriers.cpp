@@ -131,11 +131,12 @@ void BarrierBatch::use(const Image& image, Usage usage) {
   dstStages_ |= next.stages;
 }
 
-void BarrierBatch::flush(VkCommandBuffer commandBuffer) {
+void BarrierBatch::flush(const Device& device, VkCommandBuffer commandBuffer) {
   if (bufferBarriers_.empty() && imageBarriers_.empty()) return;
   const VkPipelineStageFlags src = srcStages_ != 0 ? srcStages_ : VkPipelineStageFlags(VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT);
-  vkCmdPipelineBarrier(commandBuffer, src, dstStages_, 0, 0, nullptr, static_cast<uint32_t>(bufferBarriers_.size()),
-                       bufferBarriers_.data(), static_cast<uint32_t>(imageBarriers_.size()), imageBarriers_.data());
+  device.vk().vkCmdPipelineBarrier(commandBuffer, src, dstStages_, 0, 0, nullptr,
+                                   static_cast<uint32_t>(bufferBarriers_.size()), bufferBarriers_.data(),
+                                   static_cast<uint32_t>(imageBarriers_.size()), imageBarriers_.data());
   bufferBarriers_.clear();
   imageBarriers_.clear();
   srcStages_ = 0;

@@ -13,7 +13,7 @@ class BarrierBatch {
  public:
   void use(const Buffer& buffer, Usage usage);
   void use(const Image& image, Usage usage);
-  void flush(VkCommandBuffer commandBuffer);
+  void flush(const Device& device, VkCommandBuffer commandBuffer);
   bool empty() const { return bufferBarriers_.empty() && imageBarriers_.empty(); }
 
  private:

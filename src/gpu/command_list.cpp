@@ -67,7 +67,8 @@ VkDescriptorSet CommandList::writeDescriptors(const PipelineLayout& layout, cons
     }
     writes.push_back(write);
   }
-  vkUpdateDescriptorSets(device_.device(), static_cast<uint32_t>(writes.size()), writes.data(), 0, nullptr);
+  device_.vk().vkUpdateDescriptorSets(device_.device(), static_cast<uint32_t>(writes.size()), writes.data(), 0,
+                                      nullptr);
   return set;
 }
 
@@ -75,17 +76,19 @@ void CommandList::pushConstants(const PipelineLayout& layout, const void* data, 
   if (bytes != layout.pushConstantBytes())
     throw GpuError("push constants of " + std::to_string(bytes) + " bytes for a pipeline that declares " +
                    std::to_string(layout.pushConstantBytes()));
-  if (bytes) vkCmdPushConstants(commandBuffer_, layout.handle(), layout.stages(), 0, static_cast<uint32_t>(bytes), data);
+  if (bytes)
+    device_.vk().vkCmdPushConstants(commandBuffer_, layout.handle(), layout.stages(), 0, static_cast<uint32_t>(bytes),
+                                    data);
 }
 
 void CommandList::bindCompute(const ComputePipeline& pipeline, const Bindings& bindings, const void* push,
                               size_t pushBytes) {
   const VkDescriptorSet set = writeDescriptors(pipeline.layout(), pipeline.name(), bindings, true);
   flushBarriers();
-  vkCmdBindPipeline(commandBuffer_, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.handle());
+  device_.vk().vkCmdBindPipeline(commandBuffer_, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.handle());
   if (set) {
-    vkCmdBindDescriptorSets(commandBuffer_, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.layout().handle(), 0, 1, &set, 0,
-                            nullptr);
+    device_.vk().vkCmdBindDescriptorSets(commandBuffer_, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.layout().handle(), 0,
+                                         1, &set, 0, nullptr);
   }
   pushConstants(pipeline.layout(), push, pushBytes);
 }
@@ -95,14 +98,14 @@ void CommandList::dispatch(const ComputePipeline& pipeline, const Bindings& bind
   bindCompute(pipeline, bindings, push, pushBytes);
   const glm::uvec3 local = pipeline.localSize();
   const glm::uvec3 groups = (threads + local - 1u) / local;
-  if (groups.x && groups.y && groups.z) vkCmdDispatch(commandBuffer_, groups.x, groups.y, groups.z);
+  if (groups.x && groups.y && groups.z) device_.vk().vkCmdDispatch(commandBuffer_, groups.x, groups.y, groups.z);
 }
 
 void CommandList::dispatchIndirect(const ComputePipeline& pipeline, const Bindings& bindings, const Buffer& arguments,
                                    VkDeviceSize offset, const void* push, size_t pushBytes) {
   use(arguments, Usage::IndirectArgument);
   bindCompute(pipeline, bindings, push, pushBytes);
-  vkCmdDispatchIndirect(commandBuffer_, arguments.handle(), offset);
+  device_.vk().vkCmdDispatchIndirect(commandBuffer_, arguments.handle(), offset);
 }
 
 void CommandList::beginRendering(const std::vector<Attachment>& colors, const Attachment& depth) {
@@ -136,16 +139,16 @@ void CommandList::beginRendering(const std::vector<Attachment>& colors, const At
   info.colorAttachmentCount = static_cast<uint32_t>(colorInfos.size());
   info.pColorAttachments = colorInfos.data();
   info.pDepthAttachment = depth.image ? &depthInfo : nullptr;
-  vkCmdBeginRendering(commandBuffer_, &info);
+  device_.vk().vkCmdBeginRendering(commandBuffer_, &info);
   rendering_ = true;
   const VkViewport viewport{0.0f, float(height), float(width), -float(height), 0.0f, 1.0f};
-  vkCmdSetViewport(commandBuffer_, 0, 1, &viewport);
+  device_.vk().vkCmdSetViewport(commandBuffer_, 0, 1, &viewport);
   const VkRect2D scissor{{0, 0}, {width, height}};
-  vkCmdSetScissor(commandBuffer_, 0, 1, &scissor);
+  device_.vk().vkCmdSetScissor(commandBuffer_, 0, 1, &scissor);
 }
 
 void CommandList::endRendering() {
-  vkCmdEndRendering(commandBuffer_);
+  device_.vk().vkCmdEndRendering(commandBuffer_);
   rendering_ = false;
 }
 
@@ -154,17 +157,17 @@ void CommandList::bindGraphics(const GraphicsPipeline& pipeline, const Bindings&
   if (rendering_ && !barriers_.empty())
     throw GpuError(pipeline.name() + ": a binding needs a barrier inside rendering; declare its usage before beginRendering");
   flushBarriers();
-  vkCmdBindPipeline(commandBuffer_, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
+  device_.vk().vkCmdBindPipeline(commandBuffer_, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
   if (set) {
-    vkCmdBindDescriptorSets(commandBuffer_, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.layout().handle(), 0, 1, &set, 0,
-                            nullptr);
+    device_.vk().vkCmdBindDescriptorSets(commandBuffer_, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.layout().handle(), 0,
+                                         1, &set, 0, nullptr);
   }
 }
 
 void CommandList::fillBuffer(const Buffer& buffer, uint32_t value) {
   use(buffer, Usage::TransferDestination);
   flushBarriers();
-  vkCmdFillBuffer(commandBuffer_, buffer.handle(), 0, VK_WHOLE_SIZE, value);
+  device_.vk().vkCmdFillBuffer(commandBuffer_, buffer.handle(), 0, VK_WHOLE_SIZE, value);
 }
 
 void CommandList::useExternalImage(VkImage image, VkImageLayout currentLayout, VkImageLayout layout) {
@@ -178,14 +181,14 @@ void CommandList::useExternalImage(VkImage image, VkImageLayout currentLayout, V
   barrier.srcQueueFamilyIndex = barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
   barrier.image = image;
   barrier.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, VK_REMAINING_MIP_LEVELS, 0, VK_REMAINING_ARRAY_LAYERS};
-  vkCmdPipelineBarrier(commandBuffer_, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0,
-                       nullptr, 0, nullptr, 1, &barrier);
+  device_.vk().vkCmdPipelineBarrier(commandBuffer_, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                                    VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0, nullptr, 0, nullptr, 1, &barrier);
 }
 
 void CommandList::updateBuffer(const Buffer& buffer, VkDeviceSize offset, const void* data, VkDeviceSize bytes) {
   use(buffer, Usage::TransferDestination);
   flushBarriers();
-  vkCmdUpdateBuffer(commandBuffer_, buffer.handle(), offset, bytes, data);
+  device_.vk().vkCmdUpdateBuffer(commandBuffer_, buffer.handle(), offset, bytes, data);
 }
 
 void CommandList::copyBuffer(const Buffer& source, const Buffer& destination, VkDeviceSize bytes) {
@@ -193,14 +196,15 @@ void CommandList::copyBuffer(const Buffer& source, const Buffer& destination, Vk
   use(destination, Usage::TransferDestination);
   flushBarriers();
   const VkBufferCopy region{0, 0, bytes};
-  vkCmdCopyBuffer(commandBuffer_, source.handle(), destination.handle(), 1, &region);
+  device_.vk().vkCmdCopyBuffer(commandBuffer_, source.handle(), destination.handle(), 1, &region);
 }
 
 void CommandList::clearImage(const Image& image, const VkClearColorValue& value) {
   use(image, Usage::TransferDestination);
   flushBarriers();
   const VkImageSubresourceRange range{image.aspect(), 0, VK_REMAINING_MIP_LEVELS, 0, VK_REMAINING_ARRAY_LAYERS};
-  vkCmdClearColorImage(commandBuffer_, image.handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &value, 1, &range);
+  device_.vk().vkCmdClearColorImage(commandBuffer_, image.handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &value, 1,
+                                    &range);
 }
 
 }  // namespace ssvgi::gpu

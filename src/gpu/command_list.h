@@ -34,7 +34,7 @@ class CommandList {
 
   void use(const Buffer& buffer, Usage usage) { barriers_.use(buffer, usage); }
   void use(const Image& image, Usage usage) { barriers_.use(image, usage); }
-  void flushBarriers() { barriers_.flush(commandBuffer_); }
+  void flushBarriers() { barriers_.flush(device_, commandBuffer_); }
   // A colour image someone else owns, moved from `currentLayout` to `layout` for this command list's compute work.
   void useExternalImage(VkImage image, VkImageLayout currentLayout, VkImageLayout layout);
 

@@ -38,7 +38,7 @@ const char* toString(VkResult result) {
 void throwVulkanError(VkResult result, const char* call, const char* file, int line) {
   std::ostringstream message;
   message << "Vulkan call failed with " << toString(result) << ": " << call << " (" << file << ":" << line << ")";
-  throw GpuError(message.str());
+  throw GpuError(message.str(), result);
 }
 
 namespace {
@@ -270,6 +270,7 @@ Device::Device(const DeviceDesc& desc) {
   info.queueCreateInfoCount = 1;
   info.pQueueCreateInfos = &queueInfo;
   VK_CHECK(vkCreateDevice(physicalDevice_, &info, nullptr, &device_));
+  vk_ = loadVulkanFunctions(getInstanceProcAddr_, instance_, nullptr, device_);
   vkGetDeviceQueue(device_, queueFamily_, 0, &queue_);
 
   VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
@@ -287,18 +288,23 @@ Device::Device(const DeviceDesc& desc) {
 
 void Device::loadDebugUtils() {
   setObjectName_ = reinterpret_cast<PFN_vkSetDebugUtilsObjectNameEXT>(
-      vkGetInstanceProcAddr(instance_, "vkSetDebugUtilsObjectNameEXT"));
+      getInstanceProcAddr_(instance_, "vkSetDebugUtilsObjectNameEXT"));
   beginLabel_ = reinterpret_cast<PFN_vkCmdBeginDebugUtilsLabelEXT>(
-      vkGetInstanceProcAddr(instance_, "vkCmdBeginDebugUtilsLabelEXT"));
+      getInstanceProcAddr_(instance_, "vkCmdBeginDebugUtilsLabelEXT"));
   endLabel_ = reinterpret_cast<PFN_vkCmdEndDebugUtilsLabelEXT>(
-      vkGetInstanceProcAddr(instance_, "vkCmdEndDebugUtilsLabelEXT"));
+      getInstanceProcAddr_(instance_, "vkCmdEndDebugUtilsLabelEXT"));
 }
 
 Device::Device(const ExternalDevice& external)
-    : owned_(false), instance_(external.instance), physicalDevice_(external.physicalDevice), device_(external.device) {
+    : owned_(false),
+      getInstanceProcAddr_(external.getInstanceProcAddr ? external.getInstanceProcAddr : vkGetInstanceProcAddr),
+      instance_(external.instance),
+      physicalDevice_(external.physicalDevice),
+      device_(external.device) {
   if (!instance_ || !physicalDevice_ || !device_) throw GpuError("an external device needs instance, physical device and device");
-  vkGetPhysicalDeviceProperties(physicalDevice_, &properties_);
-  vkGetPhysicalDeviceMemoryProperties(physicalDevice_, &memoryProperties_);
+  vk_ = loadVulkanFunctions(getInstanceProcAddr_, instance_, external.getDeviceProcAddr, device_);
+  vk_.vkGetPhysicalDeviceProperties(physicalDevice_, &properties_);
+  vk_.vkGetPhysicalDeviceMemoryProperties(physicalDevice_, &memoryProperties_);
   if (external.debugUtils) loadDebugUtils();
 }
 

@@ -1,5 +1,6 @@
 #pragma once
 #include "vulkan_check.h"
+#include "vulkan_functions.h"
 
 #include <atomic>
 #include <cstdint>
@@ -42,6 +43,9 @@ struct ExternalDevice {
   VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;
   VkDevice device = VK_NULL_HANDLE;
   bool debugUtils = false;  // the instance has VK_EXT_debug_utils enabled: name objects and label passes
+  // The host's entry points (null: the loader's); every call on this device goes through them.
+  PFN_vkGetInstanceProcAddr getInstanceProcAddr = nullptr;
+  PFN_vkGetDeviceProcAddr getDeviceProcAddr = nullptr;
 };
 
 // One Vulkan instance + logical device + its single graphics/compute queue. Shared by the GI library, the host renderer
@@ -59,6 +63,7 @@ class Device {
   VkInstance instance() const { return instance_; }
   VkPhysicalDevice physicalDevice() const { return physicalDevice_; }
   VkDevice device() const { return device_; }
+  const VulkanFunctions& vk() const { return vk_; }  // every call on the device goes through these
   VkQueue queue() const { return queue_; }
   uint32_t queueFamily() const { return queueFamily_; }
   const VkPhysicalDeviceProperties& properties() const { return properties_; }
@@ -99,6 +104,8 @@ class Device {
   void loadDebugUtils();
 
   bool owned_ = true;
+  PFN_vkGetInstanceProcAddr getInstanceProcAddr_ = vkGetInstanceProcAddr;
+  VulkanFunctions vk_;
   VkInstance instance_ = VK_NULL_HANDLE;
   VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
   VkPhysicalDevice physicalDevice_ = VK_NULL_HANDLE;

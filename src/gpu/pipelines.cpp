@@ -12,7 +12,7 @@ VkShaderModule createModule(Device& device, const ShaderBinary& shader) {
   info.codeSize = shader.words.size_bytes();
   info.pCode = shader.words.data();
   VkShaderModule module = VK_NULL_HANDLE;
-  VK_CHECK(vkCreateShaderModule(device.device(), &info, nullptr, &module));
+  VK_CHECK(device.vk().vkCreateShaderModule(device.device(), &info, nullptr, &module));
   return module;
 }
 
@@ -58,7 +58,7 @@ PipelineLayout::PipelineLayout(Device& device, const std::vector<ShaderReflectio
   VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
   setInfo.bindingCount = static_cast<uint32_t>(layoutBindings.size());
   setInfo.pBindings = layoutBindings.data();
-  VK_CHECK(vkCreateDescriptorSetLayout(device.device(), &setInfo, nullptr, &setLayout_));
+  VK_CHECK(device.vk().vkCreateDescriptorSetLayout(device.device(), &setInfo, nullptr, &setLayout_));
 
   const VkPushConstantRange range{stages_, 0, pushConstantBytes_};
   VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
@@ -66,13 +66,13 @@ PipelineLayout::PipelineLayout(Device& device, const std::vector<ShaderReflectio
   layoutInfo.pSetLayouts = &setLayout_;
   layoutInfo.pushConstantRangeCount = pushConstantBytes_ > 0 ? 1 : 0;
   layoutInfo.pPushConstantRanges = &range;
-  VK_CHECK(vkCreatePipelineLayout(device.device(), &layoutInfo, nullptr, &layout_));
+  VK_CHECK(device.vk().vkCreatePipelineLayout(device.device(), &layoutInfo, nullptr, &layout_));
   device.setName(layout_, VK_OBJECT_TYPE_PIPELINE_LAYOUT, name);
 }
 
 PipelineLayout::~PipelineLayout() {
-  vkDestroyPipelineLayout(device_.device(), layout_, nullptr);
-  vkDestroyDescriptorSetLayout(device_.device(), setLayout_, nullptr);
+  device_.vk().vkDestroyPipelineLayout(device_.device(), layout_, nullptr);
+  device_.vk().vkDestroyDescriptorSetLayout(device_.device(), setLayout_, nullptr);
 }
 
 ComputePipeline::ComputePipeline(Device& device, const ShaderBinary& shader, const SpecializationConstants& constants)
@@ -93,13 +93,14 @@ ComputePipeline::ComputePipeline(Device& device, const ShaderBinary& shader, con
   info.stage.pName = "main";
   info.stage.pSpecializationInfo = constants.empty() ? nullptr : &specialization.info;
   info.layout = layout_.handle();
-  const VkResult result = vkCreateComputePipelines(device.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_);
-  vkDestroyShaderModule(device.device(), module, nullptr);
+  const VkResult result =
+      device.vk().vkCreateComputePipelines(device.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_);
+  device.vk().vkDestroyShaderModule(device.device(), module, nullptr);
   VK_CHECK(result);
   device.setName(pipeline_, VK_OBJECT_TYPE_PIPELINE, name_);
 }
 
-ComputePipeline::~ComputePipeline() { vkDestroyPipeline(device_.device(), pipeline_, nullptr); }
+ComputePipeline::~ComputePipeline() { device_.vk().vkDestroyPipeline(device_.device(), pipeline_, nullptr); }
 
 namespace {
 std::vector<ShaderReflection> reflectStages(const GraphicsPipelineDesc& desc) {
@@ -183,13 +184,14 @@ GraphicsPipeline::GraphicsPipeline(Device& device, const GraphicsPipelineDesc& d
   info.pColorBlendState = &blend;
   info.pDynamicState = &dynamic;
   info.layout = layout_.handle();
-  const VkResult result = vkCreateGraphicsPipelines(device.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_);
-  for (VkShaderModule module : modules) vkDestroyShaderModule(device.device(), module, nullptr);
+  const VkResult result =
+      device.vk().vkCreateGraphicsPipelines(device.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_);
+  for (VkShaderModule module : modules) device.vk().vkDestroyShaderModule(device.device(), module, nullptr);
   VK_CHECK(result);
   device.setName(pipeline_, VK_OBJECT_TYPE_PIPELINE, name_);
 }
 
-GraphicsPipeline::~GraphicsPipeline() { vkDestroyPipeline(device_.device(), pipeline_, nullptr); }
+GraphicsPipeline::~GraphicsPipeline() { device_.vk().vkDestroyPipeline(device_.device(), pipeline_, nullptr); }
 
 Bindings& Bindings::buffer(uint32_t slot, const Buffer& buffer) {
   entries_.push_back({slot, &buffer});
@@ -224,7 +226,7 @@ Bindings& Bindings::externalStorage(uint32_t slot, VkImageView view) {
 DescriptorArena::DescriptorArena(Device& device) : device_(device) { pools_.push_back(newPool()); }
 
 DescriptorArena::~DescriptorArena() {
-  for (VkDescriptorPool pool : pools_) vkDestroyDescriptorPool(device_.device(), pool, nullptr);
+  for (VkDescriptorPool pool : pools_) device_.vk().vkDestroyDescriptorPool(device_.device(), pool, nullptr);
 }
 
 VkDescriptorPool DescriptorArena::newPool() {
@@ -241,7 +243,7 @@ VkDescriptorPool DescriptorArena::newPool() {
   info.poolSizeCount = static_cast<uint32_t>(sizes.size());
   info.pPoolSizes = sizes.data();
   VkDescriptorPool pool = VK_NULL_HANDLE;
-  VK_CHECK(vkCreateDescriptorPool(device_.device(), &info, nullptr, &pool));
+  VK_CHECK(device_.vk().vkCreateDescriptorPool(device_.device(), &info, nullptr, &pool));
   return pool;
 }
 
@@ -252,7 +254,7 @@ VkDescriptorSet DescriptorArena::allocate(VkDescriptorSetLayout layout) {
     info.descriptorSetCount = 1;
     info.pSetLayouts = &layout;
     VkDescriptorSet set = VK_NULL_HANDLE;
-    const VkResult result = vkAllocateDescriptorSets(device_.device(), &info, &set);
+    const VkResult result = device_.vk().vkAllocateDescriptorSets(device_.device(), &info, &set);
     if (result == VK_SUCCESS) return set;
     if (result != VK_ERROR_OUT_OF_POOL_MEMORY && result != VK_ERROR_FRAGMENTED_POOL) VK_CHECK(result);
     if (++current_ == pools_.size()) pools_.push_back(newPool());
@@ -260,7 +262,7 @@ VkDescriptorSet DescriptorArena::allocate(VkDescriptorSetLayout layout) {
 }
 
 void DescriptorArena::reset() {
-  for (VkDescriptorPool pool : pools_) VK_CHECK(vkResetDescriptorPool(device_.device(), pool, 0));
+  for (VkDescriptorPool pool : pools_) VK_CHECK(device_.vk().vkResetDescriptorPool(device_.device(), pool, 0));
   current_ = 0;
 }
 

@@ -10,11 +10,11 @@ Profiler::Profiler(Device& device, uint32_t maxScopes) : device_(device), maxSco
   VkQueryPoolCreateInfo info{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
   info.queryType = VK_QUERY_TYPE_TIMESTAMP;
   info.queryCount = maxScopes * 2;
-  VK_CHECK(vkCreateQueryPool(device.device(), &info, nullptr, &pool_));
+  VK_CHECK(device.vk().vkCreateQueryPool(device.device(), &info, nullptr, &pool_));
 }
 
 Profiler::~Profiler() {
-  if (pool_) vkDestroyQueryPool(device_.device(), pool_, nullptr);
+  if (pool_) device_.vk().vkDestroyQueryPool(device_.device(), pool_, nullptr);
 }
 
 namespace {
@@ -24,7 +24,7 @@ constexpr uint32_t kNestedScope = ~0u;  // a scope inside another: not timed on 
 void Profiler::begin(VkCommandBuffer commandBuffer) {
   names_.clear();
   openScopes_ = 0;
-  if (supported_) vkCmdResetQueryPool(commandBuffer, pool_, 0, maxScopes_ * 2);
+  if (supported_) device_.vk().vkCmdResetQueryPool(commandBuffer, pool_, 0, maxScopes_ * 2);
 }
 
 uint32_t Profiler::beginScope(VkCommandBuffer commandBuffer, const std::string& name) {
@@ -34,21 +34,22 @@ uint32_t Profiler::beginScope(VkCommandBuffer commandBuffer, const std::string& 
   names_.push_back(name);
   // Both timestamps at the bottom of the pipe: a scope measures from the completion of the work before it to the
   // completion of its own, so consecutive scopes add up to the frame.
-  if (supported_) vkCmdWriteTimestamp(commandBuffer, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool_, scope * 2);
+  if (supported_)
+    device_.vk().vkCmdWriteTimestamp(commandBuffer, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool_, scope * 2);
   return scope;
 }
 
 void Profiler::endScope(VkCommandBuffer commandBuffer, uint32_t scope) {
   --openScopes_;
   if (scope != kNestedScope && supported_)
-    vkCmdWriteTimestamp(commandBuffer, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool_, scope * 2 + 1);
+    device_.vk().vkCmdWriteTimestamp(commandBuffer, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool_, scope * 2 + 1);
 }
 
 std::vector<PassTiming> Profiler::resolve() {
   std::vector<PassTiming> timings;
   if (!supported_ || names_.empty()) return timings;
   std::vector<uint64_t> ticks(names_.size() * 2);
-  VK_CHECK(vkGetQueryPoolResults(device_.device(), pool_, 0, static_cast<uint32_t>(ticks.size()),
+  VK_CHECK(device_.vk().vkGetQueryPoolResults(device_.device(), pool_, 0, static_cast<uint32_t>(ticks.size()),
                                  ticks.size() * sizeof(uint64_t), ticks.data(), sizeof(uint64_t),
                                  VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
   const double nanosecondsPerTick = device_.properties().limits.timestampPeriod;

@@ -20,7 +20,7 @@ VkDeviceMemory allocate(Device& device, const VkMemoryRequirements& requirements
   info.allocationSize = requirements.size;
   info.memoryTypeIndex = device.findMemoryType(requirements.memoryTypeBits, flags);
   VkDeviceMemory memory = VK_NULL_HANDLE;
-  VK_CHECK(vkAllocateMemory(device.device(), &info, nullptr, &memory));
+  VK_CHECK(device.vk().vkAllocateMemory(device.device(), &info, nullptr, &memory));
   return memory;
 }
 
@@ -32,7 +32,7 @@ VkImageView createView(Device& device, const Image& image, VkImageViewType type,
   info.format = image.desc().format;
   info.subresourceRange = {image.aspect(), baseMip, mips, baseLayer, layers};
   VkImageView view = VK_NULL_HANDLE;
-  VK_CHECK(vkCreateImageView(device.device(), &info, nullptr, &view));
+  VK_CHECK(device.vk().vkCreateImageView(device.device(), &info, nullptr, &view));
   return view;
 }
 
@@ -44,12 +44,13 @@ Buffer::Buffer(Device& device, const std::string& name, VkDeviceSize size, VkBuf
   VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   info.size = size;
   info.usage = usage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-  VK_CHECK(vkCreateBuffer(device.device(), &info, nullptr, &buffer_));
+  VK_CHECK(device.vk().vkCreateBuffer(device.device(), &info, nullptr, &buffer_));
   VkMemoryRequirements requirements{};
-  vkGetBufferMemoryRequirements(device.device(), buffer_, &requirements);
+  device.vk().vkGetBufferMemoryRequirements(device.device(), buffer_, &requirements);
   memory_ = allocate(device, requirements, memoryFlags(memory));
-  VK_CHECK(vkBindBufferMemory(device.device(), buffer_, memory_, 0));
-  if (memory != MemoryUsage::DeviceLocal) VK_CHECK(vkMapMemory(device.device(), memory_, 0, VK_WHOLE_SIZE, 0, &mapped_));
+  VK_CHECK(device.vk().vkBindBufferMemory(device.device(), buffer_, memory_, 0));
+  if (memory != MemoryUsage::DeviceLocal)
+    VK_CHECK(device.vk().vkMapMemory(device.device(), memory_, 0, VK_WHOLE_SIZE, 0, &mapped_));
   device.setName(buffer_, VK_OBJECT_TYPE_BUFFER, name);
   device.trackAllocation(name, size_);
 }
@@ -75,8 +76,8 @@ Buffer& Buffer::operator=(Buffer&& other) noexcept {
 void Buffer::release() {
   if (!buffer_) return;
   device_->untrackAllocation(name_, size_);
-  vkDestroyBuffer(device_->device(), buffer_, nullptr);
-  vkFreeMemory(device_->device(), memory_, nullptr);
+  device_->vk().vkDestroyBuffer(device_->device(), buffer_, nullptr);
+  device_->vk().vkFreeMemory(device_->device(), memory_, nullptr);
   buffer_ = VK_NULL_HANDLE;
 }
 
@@ -91,11 +92,11 @@ Image::Image(Device& device, const ImageDesc& desc) : device_(&device), desc_(de
   info.tiling = VK_IMAGE_TILING_OPTIMAL;
   info.usage = desc.usage | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
   info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-  VK_CHECK(vkCreateImage(device.device(), &info, nullptr, &image_));
+  VK_CHECK(device.vk().vkCreateImage(device.device(), &info, nullptr, &image_));
   VkMemoryRequirements requirements{};
-  vkGetImageMemoryRequirements(device.device(), image_, &requirements);
+  device.vk().vkGetImageMemoryRequirements(device.device(), image_, &requirements);
   memory_ = allocate(device, requirements, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-  VK_CHECK(vkBindImageMemory(device.device(), image_, memory_, 0));
+  VK_CHECK(device.vk().vkBindImageMemory(device.device(), image_, memory_, 0));
   bytes_ = requirements.size;
 
   const VkImageViewType arrayType = desc.layers > 1 || desc.arrayView ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D;
@@ -131,14 +132,15 @@ Image& Image::operator=(Image&& other) noexcept {
 void Image::release() {
   if (!image_) return;
   device_->untrackAllocation(desc_.name, bytes_);
-  VkDevice device = device_->device();
-  for (VkImageView view : layerViews_) vkDestroyImageView(device, view, nullptr);
-  for (VkImageView view : mipViews_) vkDestroyImageView(device, view, nullptr);
+  const VkDevice device = device_->device();
+  const VulkanFunctions& vk = device_->vk();
+  for (VkImageView view : layerViews_) vk.vkDestroyImageView(device, view, nullptr);
+  for (VkImageView view : mipViews_) vk.vkDestroyImageView(device, view, nullptr);
   layerViews_.clear();
   mipViews_.clear();
-  vkDestroyImageView(device, view_, nullptr);
-  vkDestroyImage(device, image_, nullptr);
-  vkFreeMemory(device, memory_, nullptr);
+  vk.vkDestroyImageView(device, view_, nullptr);
+  vk.vkDestroyImage(device, image_, nullptr);
+  vk.vkFreeMemory(device, memory_, nullptr);
   image_ = VK_NULL_HANDLE;
 }
 
@@ -147,19 +149,19 @@ VkImageAspectFlags Image::aspect() const {
 }
 
 Sampler::Sampler(Device& device, const VkSamplerCreateInfo& info, const std::string& name) : device_(&device) {
-  VK_CHECK(vkCreateSampler(device.device(), &info, nullptr, &sampler_));
+  VK_CHECK(device.vk().vkCreateSampler(device.device(), &info, nullptr, &sampler_));
   device.setName(sampler_, VK_OBJECT_TYPE_SAMPLER, name);
 }
 
 Sampler::~Sampler() {
-  if (sampler_) vkDestroySampler(device_->device(), sampler_, nullptr);
+  if (sampler_) device_->vk().vkDestroySampler(device_->device(), sampler_, nullptr);
 }
 
 Sampler::Sampler(Sampler&& other) noexcept { *this = std::move(other); }
 
 Sampler& Sampler::operator=(Sampler&& other) noexcept {
   if (this != &other) {
-    if (sampler_) vkDestroySampler(device_->device(), sampler_, nullptr);
+    if (sampler_) device_->vk().vkDestroySampler(device_->device(), sampler_, nullptr);
     device_ = std::exchange(other.device_, nullptr);
     sampler_ = std::exchange(other.sampler_, VK_NULL_HANDLE);
   }
@@ -200,13 +202,13 @@ void uploadBuffer(Device& device, const Buffer& buffer, std::span<const std::byt
   std::memcpy(staging.mapped(), data.data(), data.size());
   device.submitAndWait([&](VkCommandBuffer commandBuffer) {
     const VkBufferCopy region{0, offset, data.size()};
-    vkCmdCopyBuffer(commandBuffer, staging.handle(), buffer.handle(), 1, &region);
+    device.vk().vkCmdCopyBuffer(commandBuffer, staging.handle(), buffer.handle(), 1, &region);
     // Make the upload visible to every later use; the tracker starts from "written by a transfer".
     VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
     barrier.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
-    vkCmdPipelineBarrier(commandBuffer, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 1, &barrier,
-                         0, nullptr, 0, nullptr);
+    device.vk().vkCmdPipelineBarrier(commandBuffer, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                                     0, 1, &barrier, 0, nullptr, 0, nullptr);
   });
   buffer.state() = {};
 }
@@ -217,14 +219,14 @@ std::vector<std::byte> readBuffer(Device& device, const Buffer& buffer) {
     VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     barrier.srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT;
     barrier.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
-    vkCmdPipelineBarrier(commandBuffer, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &barrier,
-                         0, nullptr, 0, nullptr);
+    device.vk().vkCmdPipelineBarrier(commandBuffer, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                                     0, 1, &barrier, 0, nullptr, 0, nullptr);
     const VkBufferCopy region{0, 0, buffer.size()};
-    vkCmdCopyBuffer(commandBuffer, buffer.handle(), staging.handle(), 1, &region);
+    device.vk().vkCmdCopyBuffer(commandBuffer, buffer.handle(), staging.handle(), 1, &region);
     barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
     barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-    vkCmdPipelineBarrier(commandBuffer, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &barrier, 0,
-                         nullptr, 0, nullptr);
+    device.vk().vkCmdPipelineBarrier(commandBuffer, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1,
+                                     &barrier, 0, nullptr, 0, nullptr);
   });
   std::vector<std::byte> bytes(buffer.size());
   std::memcpy(bytes.data(), staging.mapped(), bytes.size());
@@ -234,9 +236,9 @@ std::vector<std::byte> readBuffer(Device& device, const Buffer& buffer) {
 namespace {
 
 // Moves a whole image between layouts inside the blocking transfers, where the tracker is not in use.
-void transitionForTransfer(VkCommandBuffer commandBuffer, const Image& image, VkImageLayout from, VkImageLayout to,
-                           VkAccessFlags srcAccess, VkAccessFlags dstAccess, VkPipelineStageFlags srcStage,
-                           VkPipelineStageFlags dstStage) {
+void transitionForTransfer(const Device& device, VkCommandBuffer commandBuffer, const Image& image, VkImageLayout from,
+                           VkImageLayout to, VkAccessFlags srcAccess, VkAccessFlags dstAccess,
+                           VkPipelineStageFlags srcStage, VkPipelineStageFlags dstStage) {
   VkImageMemoryBarrier barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
   barrier.srcAccessMask = srcAccess;
   barrier.dstAccessMask = dstAccess;
@@ -246,7 +248,7 @@ void transitionForTransfer(VkCommandBuffer commandBuffer, const Image& image, Vk
   barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
   barrier.image = image.handle();
   barrier.subresourceRange = {image.aspect(), 0, VK_REMAINING_MIP_LEVELS, 0, VK_REMAINING_ARRAY_LAYERS};
-  vkCmdPipelineBarrier(commandBuffer, srcStage, dstStage, 0, 0, nullptr, 0, nullptr, 1, &barrier);
+  device.vk().vkCmdPipelineBarrier(commandBuffer, srcStage, dstStage, 0, 0, nullptr, 0, nullptr, 1, &barrier);
 }
 
 VkBufferImageCopy layerCopy(const Image& image, uint32_t layer) {
@@ -266,12 +268,13 @@ void uploadImage(Device& device, const Image& image, std::span<const std::byte> 
   std::memcpy(staging.mapped(), texels.data(), texels.size());
   const VkImageLayout current = image.state().layout;
   device.submitAndWait([&](VkCommandBuffer commandBuffer) {
-    transitionForTransfer(commandBuffer, image, current, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_ACCESS_MEMORY_WRITE_BIT,
-                          VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
+    transitionForTransfer(device, commandBuffer, image, current, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                          VK_ACCESS_MEMORY_WRITE_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                          VK_PIPELINE_STAGE_TRANSFER_BIT);
     const VkBufferImageCopy region = layerCopy(image, layer);
-    vkCmdCopyBufferToImage(commandBuffer, staging.handle(), image.handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
-                           &region);
-    transitionForTransfer(commandBuffer, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+    device.vk().vkCmdCopyBufferToImage(commandBuffer, staging.handle(), image.handle(),
+                                       VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+    transitionForTransfer(device, commandBuffer, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
                           VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT,
                           VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT);
   });
@@ -286,18 +289,19 @@ std::vector<std::byte> readImage(Device& device, const Image& image, uint32_t la
   const VkImageLayout current = image.state().layout;
   if (current == VK_IMAGE_LAYOUT_UNDEFINED) throw GpuError("reading image '" + desc.name + "' that was never written");
   device.submitAndWait([&](VkCommandBuffer commandBuffer) {
-    transitionForTransfer(commandBuffer, image, current, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_MEMORY_WRITE_BIT,
-                          VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
+    transitionForTransfer(device, commandBuffer, image, current, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                          VK_ACCESS_MEMORY_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                          VK_PIPELINE_STAGE_TRANSFER_BIT);
     const VkBufferImageCopy region = layerCopy(image, layer);
-    vkCmdCopyImageToBuffer(commandBuffer, image.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging.handle(), 1,
-                           &region);
-    transitionForTransfer(commandBuffer, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, current, 0, 0,
+    device.vk().vkCmdCopyImageToBuffer(commandBuffer, image.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                                       staging.handle(), 1, &region);
+    transitionForTransfer(device, commandBuffer, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, current, 0, 0,
                           VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT);
     VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
     barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-    vkCmdPipelineBarrier(commandBuffer, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &barrier, 0,
-                         nullptr, 0, nullptr);
+    device.vk().vkCmdPipelineBarrier(commandBuffer, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1,
+                                     &barrier, 0, nullptr, 0, nullptr);
   });
   std::vector<std::byte> bytes(size);
   std::memcpy(bytes.data(), staging.mapped(), size);

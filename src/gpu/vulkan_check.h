@@ -10,7 +10,12 @@ namespace ssvgi::gpu {
 // status, the CLI prints what() as its one error line.
 class GpuError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit GpuError(const std::string& message, VkResult result = VK_SUCCESS)
+      : std::runtime_error(message), result_(result) {}
+  VkResult result() const { return result_; }  // the failed call's; VK_SUCCESS for a misuse or a missing feature
+
+ private:
+  VkResult result_;
 };
 
 const char* toString(VkResult result);
