@@ -5,28 +5,7 @@
 // so that both are at the same frame index (the gather's jitter, the probes' level and ray set) when compared.
 #include "scenario_rendering.h"
 
-#include <cmath>
-
 namespace ssvgi::bench {
-
-namespace {
-
-// Σ|a − b| / Σ|b| over the surface pixels and the colour channels.
-double relativeMeanAbsoluteDifference(const renderer::FloatImage& a, const renderer::FloatImage& b,
-                                      const std::vector<bool>& surface) {
-  double difference = 0.0, reference = 0.0;
-  for (size_t pixel = 0; pixel < surface.size(); ++pixel) {
-    if (!surface[pixel]) continue;
-    for (uint32_t channel = 0; channel < 3; ++channel) {
-      const size_t at = pixel * a.channels + channel;
-      difference += std::abs(double(a.pixels[at]) - double(b.pixels[at]));
-      reference += std::abs(double(b.pixels[at]));
-    }
-  }
-  return reference > 0.0 ? difference / reference : 0.0;
-}
-
-}  // namespace
 
 CameraCutResult measureCameraCut(gpu::Device& device, const ScenarioRendering& rendering, const ScenarioView& view,
                                  const CameraCutOptions& options) {

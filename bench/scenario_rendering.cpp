@@ -86,4 +86,18 @@ bool allFinite(const renderer::FloatImage& image) {
   return true;
 }
 
+double relativeMeanAbsoluteDifference(const renderer::FloatImage& a, const renderer::FloatImage& b,
+                                      const std::vector<bool>& selected) {
+  double difference = 0.0, reference = 0.0;
+  for (size_t pixel = 0; pixel < selected.size(); ++pixel) {
+    if (!selected[pixel]) continue;
+    for (uint32_t channel = 0; channel < 3; ++channel) {
+      const size_t at = pixel * a.channels + channel;
+      difference += std::abs(double(a.pixels[at]) - double(b.pixels[at]));
+      reference += std::abs(double(b.pixels[at]));
+    }
+  }
+  return reference > 0.0 ? difference / reference : 0.0;
+}
+
 }  // namespace ssvgi::bench

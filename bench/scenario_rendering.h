@@ -42,6 +42,10 @@ std::vector<double> luminance(const renderer::FloatImage& rgb);
 // The mean of `values` over the pixels where `selected` holds; 0 when none does.
 double meanWhere(const std::vector<double>& values, const std::vector<bool>& selected);
 
+// Σ|a − b| / Σ|b| over the pixels where `selected` holds and the colour channels (RGB images of the same size).
+double relativeMeanAbsoluteDifference(const renderer::FloatImage& a, const renderer::FloatImage& b,
+                                      const std::vector<bool>& selected);
+
 // True when no channel of any pixel is NaN or infinite.
 bool allFinite(const renderer::FloatImage& image);
 

@@ -124,9 +124,35 @@ struct CameraCutResult {
 CameraCutResult measureCameraCut(gpu::Device& device, const ScenarioRendering& rendering, const ScenarioView& view,
                                  const CameraCutOptions& options);
 
+// ---------------------------------------------------------------------------------------------------------------------
+// Look away (SPEC §6.1): a local light lights the view; the camera turns the other way, and the light is switched off
+// as it turns; then the camera turns back. What the light lit kept its bounce light in the voxels while no one looked:
+// it must go once the views beyond the camera (the light's own, here) see those voxels again and VoxelRelight relights
+// them from probes that no longer see the light.
+
+struct LookAwayOptions {
+  uint32_t light = 0;             // index of the scene's local light switched off
+  uint32_t framesBefore = 64;     // at the view with the light on
+  uint32_t framesAway = 16;       // looking the other way from the same place, the light off
+  uint32_t framesAfter = 48;      // back at the view
+  double tolerance = 0.1;         // matched: the difference below this from some frame to the last
+};
+
+struct LookAwayResult {
+  // Per frame back at the view (1 = the first): relative mean absolute difference Σ|E − E_never| / Σ E_never of
+  // E_indirect (RGB, surface pixels) against the same frame of a run in which the light was never on.
+  std::vector<double> differenceFromNeverOn;
+  std::optional<uint32_t> framesToMatch;  // the first frame from which every difference is below the tolerance
+  double differenceWithTheLightOn = 0.0;  // the same difference at the last frame before turning away: what is to go
+};
+
+LookAwayResult measureLookAway(gpu::Device& device, const ScenarioRendering& rendering, const ScenarioView& view,
+                               const LookAwayOptions& options = {});
+
 nlohmann::json toJson(const LeakResult& result);
 nlohmann::json toJson(const FlickerResult& result);
 nlohmann::json toJson(const LagResult& result);
 nlohmann::json toJson(const CameraCutResult& result);
+nlohmann::json toJson(const LookAwayResult& result);
 
 }  // namespace ssvgi::bench

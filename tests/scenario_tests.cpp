@@ -88,6 +88,20 @@ TEST_F(Scenario, cornellLightSwitchedOnArrivesSoonerWithChangeDetection) {
   EXPECT_LT(detected, 1.05) << "and does not overshoot";
 }
 
+// Look away (SPEC §6.1): cornell's ceiling light is switched off while the camera looks out of the box for 16 frames;
+// back at the view, its bounce light must go from the voxels and probes. Measured 2026-12-02 on lavapipe at this size:
+// 2.26× the never-on run's E_indirect away from it before, 2.25 on the first frame back, 0.61 on the 32nd, 0.40 on the
+// 48th — it goes as light switched off goes (issue 14's 10 % within 24 frames is not reached). Half of the difference
+// before looking away is the bound: light kept for good in voxels nobody relights would stay near it.
+TEST_F(Scenario, cornellLightSwitchedOffWhileTheCameraLooksAwayFadesOnceItLooksBack) {
+  const bench::ScenarioView view = builtinView("cornell");
+  const bench::LookAwayResult lookAway = bench::measureLookAway(device(), testRendering(view.scene), view);
+  ASSERT_FALSE(lookAway.differenceFromNeverOn.empty());
+  EXPECT_GT(lookAway.differenceWithTheLightOn, 1.0) << "the light is most of the indirect light";
+  for (const double difference : lookAway.differenceFromNeverOn) EXPECT_TRUE(std::isfinite(difference));
+  EXPECT_LT(lookAway.differenceFromNeverOn.back(), 0.5 * lookAway.differenceWithTheLightOn);
+}
+
 // Recovered: E_indirect within 10 % (relative mean absolute difference) of a run that sat at the new view all along.
 // The two runs never become identical — the cut one keeps the voxels and probes of the old view — and settle about
 // 4 % apart (measured 2026-12-01, lavapipe, the teleport below at this size: 39 % apart at the cut, 9 % by its 5th

@@ -18,6 +18,7 @@ constexpr std::array kScenarios = {
     addFlickerScenario,
     addLagScenario,
     addCameraCutScenario,
+    addLookAwayScenario,
     addErrorScenario,
     addProbesScenario,
 };

@@ -21,6 +21,7 @@ CommandRunner addLeakScenario(CLI::App& scenario);
 CommandRunner addFlickerScenario(CLI::App& scenario);
 CommandRunner addLagScenario(CLI::App& scenario);
 CommandRunner addCameraCutScenario(CLI::App& scenario);
+CommandRunner addLookAwayScenario(CLI::App& scenario);
 CommandRunner addErrorScenario(CLI::App& scenario);
 CommandRunner addProbesScenario(CLI::App& scenario);
 
