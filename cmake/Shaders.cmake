@@ -20,7 +20,7 @@ function(ssvgi_add_shaders)
     set(embedded ${out_dir}/${shader_file}.cpp)
     add_custom_command(
       OUTPUT ${spirv}
-      COMMAND ${GLSLC} --target-env=vulkan1.1 -O -g -I ${SSVGI_SHADER_ROOT} -MD -MF ${spirv}.d -o ${spirv} ${source}
+      COMMAND ${GLSLC} --target-env=vulkan1.1 -O -g -I ${SSVGI_SHADER_ROOT} -I ${PROJECT_SOURCE_DIR}/include -MD -MF ${spirv}.d -o ${spirv} ${source}
       DEPENDS ${source}
       DEPFILE ${spirv}.d
       COMMENT "glslc ${shader}"
