@@ -114,7 +114,7 @@ class GatherFilters : public testing::GpuTest {
     frame.viewProjection = view.viewProjection;
     frame.inverseViewProjection = glm::inverse(view.viewProjection);
     frame.cameraPosition = glm::vec4(position, 1.0f);
-    frame.sizes = glm::uvec4(kSize, kSize, kSize, kSize);
+    frame.size = frame.litSize = glm::uvec2(kSize, kSize);
     std::memcpy(frame_.mapped(), &frame, sizeof(frame));
     gpu::uploadImage(device(), depth_, std::as_bytes(std::span(view.depth)));
     gpu::uploadImage(device(), normal_, std::as_bytes(std::span(view.normal)));

@@ -27,9 +27,12 @@ struct GiFrame {
   mat4 litViewProjection;          // the camera the lit frame was rendered with
   mat4 litInverseViewProjection;
   vec4 cameraPosition;             // xyz: current camera position (the host's camera: the gather's distances)
-  uvec4 sizes;                     // x, y: current depth size; z, w: lit frame size
-  uvec4 frame;                     // x: frame index; y: BrickAllocate pixel stride; z: Hi-Z level count;
-                                   // w: the view's kind (kViewIs… bits)
+  uvec2 size;                      // current depth size, pixels
+  uvec2 litSize;                   // lit frame size, pixels
+  uint frameIndex;
+  uint allocationPixelStride;      // BrickAllocate reads every Nth pixel in X and Y
+  uint hizLevelCount;
+  uint viewKind;                   // kViewIs… bits
   vec4 frustumPlanes[6];           // current camera, world space, normals pointing inwards: dot(n, p) + w >= 0 inside
   uvec4 hizLevels[kMaxHiZLevels];  // per Hi-Z level: x: first float in the pyramid buffer; y: width; z: height
 };

@@ -350,9 +350,13 @@ class ContextImplementation final : public Context {
     frame.cameraPosition = glm::vec4(current.position[0], current.position[1], current.position[2], 1.0f);
     frame.litViewProjection = toMat4(lit.viewProjection);
     frame.litInverseViewProjection = glm::inverse(frame.litViewProjection);
-    frame.sizes = glm::uvec4(current.width, current.height, lit.width, lit.height);
+    frame.size = glm::uvec2(current.width, current.height);
+    frame.litSize = glm::uvec2(lit.width, lit.height);
     hizLevels = hizLayout(current.width, current.height, frame.hizLevels);
-    frame.frame = glm::uvec4(frameIndex, desc_.settings.allocationPixelStride, hizLevels, kind);
+    frame.frameIndex = frameIndex;
+    frame.allocationPixelStride = desc_.settings.allocationPixelStride;
+    frame.hizLevelCount = hizLevels;
+    frame.viewKind = kind;
     frustumPlanes(frame.viewProjection, frame.frustumPlanes);
     return frame;
   }
@@ -373,9 +377,9 @@ class ContextImplementation final : public Context {
     const gi::VoxelFrameInputs inputs{view.constants, pointSampler_.handle(), view.depth, view.normal,
                                       hiz_, visibleBricks_};
     hizBuild_.record(commands, inputs, view.frame, view.hizLevels);
-    brickAllocate_.record(commands, scene_, inputs, glm::uvec2(view.frame.sizes), desc_.settings.allocationPixelStride);
+    brickAllocate_.record(commands, scene_, inputs, view.frame.size, desc_.settings.allocationPixelStride);
     if (desc_.settings.skyOnlyThroughObservedSpace)  // nothing else reads it
-      observedSpace_.record(commands, scene_, inputs, glm::uvec2(view.frame.sizes));
+      observedSpace_.record(commands, scene_, inputs, view.frame.size);
     const shader::IndirectList empty{0, 1, 1, 0};
     commands.updateBuffer(visibleBricks_, 0, &empty, sizeof(empty));
     brickCulling_.record(commands, scene_, inputs);

@@ -18,14 +18,14 @@ void main() {
   uvec2 tile = gl_GlobalInvocationID.xy;
   if (any(greaterThanEqual(tile, gather.sizes.xy))) return;
   uint frameIndex = gather.frame.x;
-  ivec2 pixel = ivec2(min(tile * kGatherTileSize + gatherSampleOffset(frameIndex), frame.sizes.xy - 1u));
+  ivec2 pixel = ivec2(min(tile * kGatherTileSize + gatherSampleOffset(frameIndex), frame.size - 1u));
   float depth = texelFetch(depthBuffer, pixel, 0).r;
   if (depth <= 0.0) {  // nothing drawn (Upsample skips the tile)
     imageStore(tileIrradiance, ivec2(tile), vec4(0.0));
     return;
   }
   vec3 normal = normalize(texelFetch(normalBuffer, pixel, 0).xyz);
-  vec3 position = reconstructPosition(frame.inverseViewProjection, vec2(pixel), vec2(frame.sizes.xy), depth);
+  vec3 position = reconstructPosition(frame.inverseViewProjection, vec2(pixel), vec2(frame.size), depth);
   GatheredLight light = probeLight(position, normal, hashToUnitCube(uvec3(tile, frameIndex)).x, true);
   // A host pixel whose depth or normal is not finite gives no light rather than a NaN, and no confidence.
   float confidence = light.confidence >= 0.0 ? min(light.confidence, 1.0) : 0.0;  // a NaN fails the test

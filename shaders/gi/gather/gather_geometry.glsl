@@ -24,7 +24,7 @@ Surface surfaceAt(mat4 inverseViewProjection, vec3 cameraPosition, ivec2 pixel, 
 
 // The surface at a pixel of this frame (depth > 0: something was drawn there).
 Surface currentSurface(ivec2 pixel, float depth) {
-  return surfaceAt(frame.inverseViewProjection, frame.cameraPosition.xyz, pixel, vec2(frame.sizes.xy), depth,
+  return surfaceAt(frame.inverseViewProjection, frame.cameraPosition.xyz, pixel, vec2(frame.size), depth,
                    normalize(texelFetch(normalBuffer, pixel, 0).xyz));
 }
 
@@ -65,10 +65,10 @@ TileNeighbourhood tileNeighbourhood(Surface surface, ivec2 pixel) {
       ivec2 tile = firstTile + ivec2(x, y);
       if (any(lessThan(tile, ivec2(0))) || any(greaterThan(tile, lastTile))) continue;
       // The tile's geometry is that of the pixel it sampled.
-      ivec2 samplePixel = min(tile * int(kGatherTileSize) + sampleOffset, ivec2(frame.sizes.xy) - 1);
+      ivec2 samplePixel = min(tile * int(kGatherTileSize) + sampleOffset, ivec2(frame.size) - 1);
       float sampleDepth = texelFetch(depthBuffer, samplePixel, 0).r;
       if (sampleDepth <= 0.0) continue;  // the tile's sample saw nothing
-      vec3 samplePosition = reconstructPosition(frame.inverseViewProjection, vec2(samplePixel), vec2(frame.sizes.xy),
+      vec3 samplePosition = reconstructPosition(frame.inverseViewProjection, vec2(samplePixel), vec2(frame.size),
                                                 sampleDepth);
       float geometry = planeWeight(surface, samplePosition) *
                        normalWeight(surface, normalize(texelFetch(normalBuffer, samplePixel, 0).xyz));

@@ -53,7 +53,7 @@ void main() {
   if (depth <= 0.0) return;
   vec4 current = imageLoad(outputIrradiance, halfPixel);  // Upsample's result
   Surface surface = currentSurface(pixel, depth);
-  vec4 reprojected = reprojectHistory(surface, vec2(frame.sizes.xy));
+  vec4 reprojected = reprojectHistory(surface, vec2(frame.size));
   if (reprojected.a <= 0.0) return;
   TileNeighbourhood neighbourhood = tileNeighbourhood(surface, pixel);
   vec3 lowest = min(neighbourhood.lowest, current.rgb), highest = max(neighbourhood.highest, current.rgb);

@@ -11,14 +11,14 @@ layout(binding = kBindFirstPassSlot) uniform sampler2D depthBuffer;
 layout(binding = kBindFirstPassSlot + 1u) uniform sampler2D normalBuffer;
 
 void main() {
-  uint stride = frame.frame.y;
-  uint offset = frame.frame.x % (stride * stride);
+  uint stride = frame.allocationPixelStride;
+  uint offset = frame.frameIndex % (stride * stride);
   uvec2 pixel = gl_GlobalInvocationID.xy * stride + uvec2(offset % stride, offset / stride);
-  if (any(greaterThanEqual(pixel, frame.sizes.xy))) return;
+  if (any(greaterThanEqual(pixel, frame.size))) return;
   float depth = texelFetch(depthBuffer, ivec2(pixel), 0).r;
   if (depth <= 0.0) return;  // nothing drawn: infinitely far
 
-  vec3 position = reconstructPosition(frame.inverseViewProjection, vec2(pixel), vec2(frame.sizes.xy), depth);
+  vec3 position = reconstructPosition(frame.inverseViewProjection, vec2(pixel), vec2(frame.size), depth);
   vec3 normal = normalize(texelFetch(normalBuffer, ivec2(pixel), 0).xyz);
   ivec3 worldBrick = worldBrickOf(heldSurfacePoint(position, normal));
   if (!brickInVolume(worldBrick, volume)) return;

@@ -22,14 +22,14 @@ bool occludedByHiZ(vec3 lo, vec3 hi) {
     vec4 clip = frame.viewProjection * vec4(p, 1.0);
     if (clip.w <= 1e-4) return false;  // reaches behind the camera: assume visible
     vec3 ndc = clip.xyz / clip.w;
-    vec2 pixel = giNdcToPixel(ndc.xy, vec2(frame.sizes.xy));
+    vec2 pixel = giNdcToPixel(ndc.xy, vec2(frame.size));
     minPixel = min(minPixel, pixel);
     maxPixel = max(maxPixel, pixel);
     nearestDepth = max(nearestDepth, ndc.z);
   }
   // Hi-Z level 0 texels are 2×2 pixels; pick the level at which the rectangle spans at most two texels per axis.
   vec2 extent = max(maxPixel - minPixel, vec2(1.0));
-  uint level = min(uint(max(ceil(log2(max(extent.x, extent.y) * 0.5)), 0.0)), frame.frame.z - 1u);
+  uint level = min(uint(max(ceil(log2(max(extent.x, extent.y) * 0.5)), 0.0)), frame.hizLevelCount - 1u);
   uvec4 hizLevel = frame.hizLevels[level];
   float scale = 1.0 / float(2u << level);
   ivec2 first = clamp(ivec2(floor(minPixel * scale)), ivec2(0), ivec2(hizLevel.yz) - 1);
@@ -44,7 +44,7 @@ bool occludedByHiZ(vec3 lo, vec3 hi) {
 void main() {
   uint brick = gl_GlobalInvocationID.x;
   if (brick >= pool.bumpCount || bricks[brick].coordinate.w == 0) return;
-  if ((frame.frame.w & kViewIsExtra) == 0u)  // counted once a frame
+  if ((frame.viewKind & kViewIsExtra) == 0u)  // counted once a frame
     atomicAdd(pool.voxelsValid, uint(bitCount(bricks[brick].occupancy.x) + bitCount(bricks[brick].occupancy.y)));
   // The brick's box grown by a hair (2 % of a voxel, twice heldSurfacePoint's offset): a surface lying on the brick's
   // face — a wall on the brick grid, seen head-on — is drawn at exactly the depth of the box's nearest corner, and

@@ -21,7 +21,7 @@ void main() {
   uvec4 target = frame.hizLevels[push.level];
   uvec2 texel = gl_GlobalInvocationID.xy;
   if (any(greaterThanEqual(texel, target.yz))) return;
-  uvec4 sourceLevel = push.level == 0u ? uvec4(0u, frame.sizes.xy, 0u) : frame.hizLevels[push.level - 1u];
+  uvec4 sourceLevel = push.level == 0u ? uvec4(0u, frame.size, 0u) : frame.hizLevels[push.level - 1u];
   // An odd-sized source has a last row/column no 2×2 block covers: the last texel of the target takes it too.
   ivec2 first = ivec2(texel * 2u);
   ivec2 last = first + 1 + ivec2(equal(texel + 1u, target.yz)) * ivec2(sourceLevel.yz & 1u);

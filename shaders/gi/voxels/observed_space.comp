@@ -34,11 +34,11 @@ void markObserved(ivec3 worldBrick) {
 }
 
 void main() {
-  uint offset = frame.frame.x % (pixelStride * pixelStride);
+  uint offset = frame.frameIndex % (pixelStride * pixelStride);
   uvec2 pixel = gl_GlobalInvocationID.xy * pixelStride + uvec2(offset % pixelStride, offset / pixelStride);
-  if (any(greaterThanEqual(pixel, frame.sizes.xy))) return;
+  if (any(greaterThanEqual(pixel, frame.size))) return;
   float depth = texelFetch(depthBuffer, ivec2(pixel), 0).r;
-  vec2 size = vec2(frame.sizes.xy);
+  vec2 size = vec2(frame.size);
   // The segment in brick units, clipped to the volume.
   float bricksPerMetre = volume.voxelSize.z;
   vec3 start = reconstructPosition(frame.inverseViewProjection, vec2(pixel), size, 1.0) * bricksPerMetre;

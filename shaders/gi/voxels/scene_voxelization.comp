@@ -35,7 +35,7 @@ layout(binding = kBindInjectionBricks) readonly buffer VisibleBricks {
 // radiance the probes added (Settings::voxelRelightPeriod), and a new one has none.
 void injectLight(inout Voxel voxel, bool occupied, bool blendsWithHeld, ivec2 texel) {
   vec3 colour = texelFetch(litColor, texel, 0).rgb;
-  if ((frame.frame.w & kViewIsDirectOnly) == 0u) {
+  if ((frame.viewKind & kViewIsDirectOnly) == 0u) {
     voxel.radiance = packR11G11B10F(blendsWithHeld ? mix(unpackR11G11B10F(voxel.radiance), colour,
                                                          kVoxelExtraViewRadianceBlend)
                                                    : colour);
@@ -48,7 +48,7 @@ void injectLight(inout Voxel voxel, bool occupied, bool blendsWithHeld, ivec2 te
   bool wasRelit = occupied && (voxel.albedo & kVoxelRelit) != 0u;
   vec3 heldDirect = unpackR11G11B10F(voxel.directRadiance);
   vec3 probesLight = wasRelit ? max(unpackR11G11B10F(voxel.radiance) - heldDirect, vec3(0.0)) : vec3(0.0);
-  if ((frame.frame.w & kViewIsLitWithOutput) != 0u)  // half-resolution texel h holds full-resolution pixel 2h
+  if ((frame.viewKind & kViewIsLitWithOutput) != 0u)  // half-resolution texel h holds full-resolution pixel 2h
     probesLight = albedo * (1.0 / kPi) * texelFetch(lastOutput, texel / 2, 0).rgb;
   if (blendsWithHeld && wasRelit) {
     direct = mix(heldDirect, direct, kVoxelExtraViewRadianceBlend);
@@ -81,10 +81,10 @@ void main() {
   barrier();
 
   vec3 voxelMin = vec3(worldVoxel) * voxelSize;
-  vec3 samplePoint = voxelMin + hashToUnitCube(uvec3(ivec3(worldVoxel)) ^ uvec3(0u, 0u, frame.frame.x * 0x9e3779b9u)) * voxelSize;
+  vec3 samplePoint = voxelMin + hashToUnitCube(uvec3(ivec3(worldVoxel)) ^ uvec3(0u, 0u, frame.frameIndex * 0x9e3779b9u)) * voxelSize;
   vec4 clip = frame.litViewProjection * vec4(samplePoint, 1.0);
   vec3 ndc = clip.xyz / clip.w;
-  vec2 litSize = vec2(frame.sizes.zw);
+  vec2 litSize = vec2(frame.litSize);
   vec2 pixel = giNdcToPixel(ndc.xy, litSize);
   // Only a point between the view's near and far planes (reversed-Z: NDC depth 1 to 0) is seen: what the near plane
   // or an orthographic view's far plane clipped away is not known to be empty.
@@ -136,7 +136,7 @@ void main() {
     if (holdsSurface || refreshesColour) {
       // The lit frame's light stays where it keeps coming (kVoxelExtraViewsBeforeWrite): an extra view counts its
       // visit and writes only once there have been enough since the lit frame last wrote.
-      bool fromCamera = (frame.frame.w & kViewIsExtra) == 0u;
+      bool fromCamera = (frame.viewKind & kViewIsExtra) == 0u;
       uint extraViews = voxel.surfaceAndLastHit >> kVoxelExtraViewsShift;
       bool writes = fromCamera || !occupied || extraViews >= kVoxelExtraViewsBeforeWrite;
       uint surfaceBits = voxel.surfaceAndLastHit & ((1u << kVoxelLastHitShift) - 1u);
@@ -173,7 +173,7 @@ void main() {
     uint cell = brickCellIndex(worldBrick, volumeDimensions());
     // BuildOctree's brick level records whether a brick's mask is empty: only a change of that needs the cell listed,
     // and once a frame is enough (BuildOctree runs after every view's injection).
-    uint listedStamp = frame.frame.x + 1u;
+    uint listedStamp = frame.frameIndex + 1u;
     bool listed = empty != (brickOccupancy.xy == uvec2(0u)) && brickOccupancy.w != listedStamp;
     bricks[brick].occupancy = uvec4(mask, emptyFrames, listed ? listedStamp : brickOccupancy.w);
     if (emptyFrames >= volume.settings.y) {
