@@ -24,10 +24,7 @@ constexpr double kLagFraction = 0.9;
 
 LagResult measureLag(gpu::Device& device, const ScenarioRendering& rendering, const ScenarioView& view,
                      const LagOptions& options) {
-  if (options.light >= view.scene.lights.size())
-    throw std::runtime_error("scenario lag: the scene " + view.scene.name + " has no local light " +
-                             std::to_string(options.light) + " to switch (it has " +
-                             std::to_string(view.scene.lights.size()) + ")");
+  requireLocalLight(view.scene, options.light, "lag");
   if (options.steadyFrames == 0 || options.steadyFrames > std::min(options.convergenceFrames, options.framesAfterSwitch))
     throw std::runtime_error("scenario lag: the steady frames must be 1 to the frames before and after the switch");
 

@@ -4,17 +4,11 @@
 // looked away; it must be gone by the time the camera is back, or soon after.
 #include "scenario_rendering.h"
 
-#include <stdexcept>
-#include <string>
-
 namespace ssvgi::bench {
 
 LookAwayResult measureLookAway(gpu::Device& device, const ScenarioRendering& rendering, const ScenarioView& view,
                                const LookAwayOptions& options) {
-  if (options.light >= view.scene.lights.size())
-    throw std::runtime_error("scenario look-away: the scene " + view.scene.name + " has no local light " +
-                             std::to_string(options.light) + " to switch off (it has " +
-                             std::to_string(view.scene.lights.size()) + ")");
+  requireLocalLight(view.scene, options.light, "look-away");
   renderer::Scene switchedScene = view.scene;  // the renderer reads its lights every frame: the switch reaches it
   renderer::Scene neverOnScene = view.scene;
   neverOnScene.lights[options.light].intensity = glm::vec3(0.0f);

@@ -3,6 +3,8 @@
 #include "camera.h"
 
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace ssvgi::bench {
 
@@ -98,6 +100,12 @@ double relativeMeanAbsoluteDifference(const renderer::FloatImage& a, const rende
     }
   }
   return reference > 0.0 ? difference / reference : 0.0;
+}
+
+void requireLocalLight(const renderer::Scene& scene, uint32_t light, const std::string& scenario) {
+  if (light >= scene.lights.size())
+    throw std::runtime_error("scenario " + scenario + ": the scene " + scene.name + " has no local light " +
+                             std::to_string(light) + " to switch (it has " + std::to_string(scene.lights.size()) + ")");
 }
 
 }  // namespace ssvgi::bench

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <string>
 #include <vector>
 
 namespace ssvgi::bench {
@@ -27,6 +28,10 @@ class ScenarioRenderer {
   const renderer::Scene& scene_;
   renderer::Renderer renderer_;
 };
+
+// Throws std::runtime_error (one line naming the scenario and the scene) unless the scene has local light `light`,
+// which the scenario switches.
+void requireLocalLight(const renderer::Scene& scene, uint32_t light, const std::string& scenario);
 
 // Where each pixel's surface is in the world, from the camera and the view distance (Renderer::viewDistance); nothing
 // for a pixel without a surface.
