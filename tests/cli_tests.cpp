@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <set>
 #include <string>
 #include <utility>
 
@@ -40,8 +41,30 @@ CliRun runCli(const std::string& arguments, const std::string& environment = "")
   return run;
 }
 
+// A directory of this process: ctest runs every test in a process of its own, several at a time, and the parameterised
+// tests share names. Removed when the process's tests end.
+std::set<fs::path>& processDirectories() {
+  static std::set<fs::path> directories;
+  return directories;
+}
+
+fs::path processDirectory(const std::string& name) {
+  const fs::path directory = fs::temp_directory_path() / ("ssvgi-cli-test-" + name + "-" + std::to_string(getpid()));
+  processDirectories().insert(directory);
+  return directory;
+}
+
+class RemoveProcessDirectories : public ::testing::Environment {
+ public:
+  void TearDown() override {
+    for (const fs::path& directory : processDirectories()) fs::remove_all(directory);
+  }
+};
+[[maybe_unused]] const ::testing::Environment* const kRemoveProcessDirectories =
+    ::testing::AddGlobalTestEnvironment(new RemoveProcessDirectories);
+
 fs::path freshDirectory(const std::string& name) {
-  const fs::path directory = fs::temp_directory_path() / ("ssvgi-cli-test-" + name);
+  const fs::path directory = processDirectory(name);
   fs::remove_all(directory);
   return directory;
 }
@@ -161,27 +184,19 @@ TEST(Cli, rendersTheSharedCornellBoxGltfFromItsOwnCamera) {
 }
 
 // `ssvgi reference` and `ssvgi compare` end to end. The suite traces the Cornell box once and renders the same view
-// with GI off (both 32x32, validation on), into directories of this process: ctest runs every test in a process of
-// its own, several at a time.
+// with GI off (both 32x32, validation on), into directories of this process.
 class CliReference : public ::testing::Test {
  public:
   static constexpr uint32_t kSize = 32;
 
-  static fs::path directory(const std::string& name) {
-    return fs::temp_directory_path() / ("ssvgi-cli-test-" + name + "-" + std::to_string(getpid()));
-  }
-  static fs::path referenceOut() { return directory("reference"); }
-  static fs::path renderOut() { return directory("reference-render"); }
+  static fs::path referenceOut() { return processDirectory("reference"); }
+  static fs::path renderOut() { return processDirectory("reference-render"); }
 
   static void SetUpTestSuite() {
     fs::remove_all(referenceOut());
     fs::remove_all(renderOut());
     referenceRun() = runCli("reference --scene cornell --size 32x32 --spp 8 --validation --out " + referenceOut().string());
     renderRun() = runCli("render --scene cornell --size 32x32 --gi off --validation --out " + renderOut().string());
-  }
-  static void TearDownTestSuite() {
-    fs::remove_all(referenceOut());
-    fs::remove_all(renderOut());
   }
 
  protected:
@@ -272,7 +287,7 @@ TEST_F(CliReference, cornellBoxHasBounceLight) {
 
 TEST_F(CliReference, isBitIdenticalForTheSameSeedAndNotForAnother) {
   ASSERT_EQ(referenceRun().exitCode, 0) << referenceRun().output;
-  const fs::path sameSeed = directory("reference-seed0"), otherSeed = directory("reference-seed1");
+  const fs::path sameSeed = processDirectory("reference-seed0"), otherSeed = processDirectory("reference-seed1");
   const std::string arguments = "reference --scene cornell --size 32x32 --spp 8 --out ";
   ASSERT_EQ(runCli(arguments + sameSeed.string() + " --seed 0").exitCode, 0);
   ASSERT_EQ(runCli(arguments + otherSeed.string() + " --seed 1").exitCode, 0);
@@ -282,8 +297,6 @@ TEST_F(CliReference, isBitIdenticalForTheSameSeedAndNotForAnother) {
   EXPECT_EQ(renderer::readExr(otherSeed / "irradiance_direct.exr").pixels,
             renderer::readExr(referenceOut() / "irradiance_direct.exr").pixels)
       << "direct light is not random";
-  fs::remove_all(sameSeed);
-  fs::remove_all(otherSeed);
 }
 
 TEST_F(CliReference, compareOfAnImageWithItselfIsExact) {
@@ -329,12 +342,11 @@ TEST_F(CliReference, renderedDirectLightIsWithinFivePercentOfTheReference) {
 TEST_F(CliReference, compareRefusesItsOwnFinalImageCutByOneByteWithOneLine) {
   // A truncated EXR freed its image twice in tinyexr's error path (SIGABRT) before the image reader forgot it.
   ASSERT_EQ(renderRun().exitCode, 0) << renderRun().output;
-  const fs::path cut = directory("cut") / "final.exr";
+  const fs::path cut = processDirectory("cut") / "final.exr";
   fs::create_directories(cut.parent_path());
   fs::copy_file(renderOut() / "final.exr", cut, fs::copy_options::overwrite_existing);
   fs::resize_file(cut, fs::file_size(cut) - 1);
   const CliRun run = runCli("compare " + cut.string() + " " + (renderOut() / "final.exr").string());
-  fs::remove_all(cut.parent_path());
   EXPECT_EQ(run.exitCode, 1) << run.output;
   EXPECT_NE(run.output.find("final.exr"), std::string::npos) << run.output;
   EXPECT_EQ(lineCount(run.output), 1u) << run.output;
@@ -373,7 +385,6 @@ TEST(Cli, renderWritesAllItsFilesOrNoneOfThem) {
   EXPECT_EQ(std::string(std::istreambuf_iterator<char>(stats), {}), "earlier");
   for (const auto& entry : fs::directory_iterator(out))
     EXPECT_EQ(entry.path().filename().string().find(".partial"), std::string::npos) << entry.path();
-  fs::remove_all(out);
 }
 
 TEST(Cli, aGltfBufferOutsideTheFilesFolderIsRefused) {
@@ -388,7 +399,6 @@ TEST(Cli, aGltfBufferOutsideTheFilesFolderIsRefused) {
   { std::ofstream(directory / "escape.gltf") << text; }
   const CliRun run = runCli("render --scene " + (directory / "escape.gltf").string() + " --size 8x8 --frames 1 --out " +
                             (directory / "out").string());
-  fs::remove_all(directory);
   EXPECT_EQ(run.exitCode, 1) << run.output;
   EXPECT_NE(run.output.find("leads outside the file's folder"), std::string::npos) << run.output;
   EXPECT_EQ(lineCount(run.output), 1u) << run.output;
@@ -420,10 +430,7 @@ class CliRejects : public ::testing::TestWithParam<BadInvocation> {
  public:
   // Small EXRs for compare's bad inputs, written once: 8x8 and 16x8 RGB images, an 8x8 black one, 8x8 and 16x8 depth
   // images (one channel, all surface). In a directory of this process, like CliReference's.
-  static fs::path fixtures() {
-    return fs::temp_directory_path() / ("ssvgi-cli-test-fixtures-" + std::to_string(getpid()));
-  }
-  static void TearDownTestSuite() { fs::remove_all(fixtures()); }
+  static fs::path fixtures() { return processDirectory("fixtures"); }
 
   static void SetUpTestSuite() {
     fs::remove_all(fixtures());
