@@ -77,6 +77,7 @@ class Viewer {
   uint32_t frame_ = 0;
   bool screenshotRequested_ = false;
   bool dragging_ = false;
+  bool swapchainStale_ = false;  // the surface changed under the last present: a new swapchain before the next frame
   glm::dvec2 lastCursor_{0.0};
 };
 
@@ -118,7 +119,7 @@ Viewer::Viewer(const ViewOptions& options)
       lightIntensities_(lightIntensities(resolved_.scene)),
       window_("ssvgi view: " + resolved_.scene.name, resolved_.width, resolved_.height),
       device_(windowDeviceDesc(options.scene)),
-      swapchain_(device_, presentableSurface(window_, device_), window_.framebufferSize()),
+      swapchain_(device_, presentableSurface(window_, device_), {resolved_.width, resolved_.height}),
       descriptors_(device_),
       overlay_(device_, window_.handle()),
       camera_(resolved_.camera) {
@@ -130,7 +131,7 @@ Viewer::Viewer(const ViewOptions& options)
   controls_.movingObject = options.scene.movingObject;
   controls_.followCameraPath = !resolved_.scene.cameraPath.empty();
   readSun(resolved_.scene, controls_, sunColour_);
-  resize(window_.framebufferSize());
+  resize(size());  // the window's framebuffer may differ: the frame loop follows it
 }
 
 void Viewer::resize(VkExtent2D size) {
@@ -260,7 +261,7 @@ void Viewer::drawFrame(float seconds) {
       commands.blitToExternalImage(windowImage_, swapchain_.image(*image), swapchain_.size(),
                                    VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR);
   });
-  if (image && !swapchain_.present(*image)) swapchain_.recreate(size());
+  if (image && !swapchain_.present(*image)) swapchainStale_ = true;
   if (screenshotRequested_) saveScreenshot();
 }
 
@@ -287,7 +288,12 @@ int Viewer::run() {
       last = Clock::now();
       continue;
     }
-    if (framebuffer.width != resolved_.width || framebuffer.height != resolved_.height) resize(framebuffer);
+    if (framebuffer.width != resolved_.width || framebuffer.height != resolved_.height) {
+      resize(framebuffer);
+    } else if (swapchainStale_) {
+      swapchain_.recreate(framebuffer);
+    }
+    swapchainStale_ = false;
     const Clock::time_point now = Clock::now();
     // A scripted run steps the animation as `ssvgi render` does; a person sees it in real time (at most 0.1 s a
     // frame, so that a slow frame does not jump the scene).

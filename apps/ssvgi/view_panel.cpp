@@ -27,21 +27,24 @@ void plot(const char* id, const std::deque<float>& values, float height) {
                    ImVec2(ImGui::GetContentRegionAvail().x, height));
 }
 
-// One field of ssvgi::Settings as an input; true once an edit is finished (Enter, or a click for a checkbox).
+// One field of ssvgi::Settings as an input; true once an edit is finished: a click on a checkbox, or a number field
+// left after a change (Enter, Tab or a click elsewhere). Not Enter alone: ImGui 1.86 misses a key pressed and
+// released within one frame, and a frame on lavapipe is long.
 bool settingInput(const SettingField& field, ssvgi::Settings& settings) {
   return std::visit(
       [&](auto member) {
         auto& value = settings.*member;
         using Value = std::remove_reference_t<decltype(value)>;
-        const ImGuiInputTextFlags enter = ImGuiInputTextFlags_EnterReturnsTrue;
         if constexpr (std::is_same_v<Value, bool>) {
           return ImGui::Checkbox(field.name, &value);
-        } else if constexpr (std::is_same_v<Value, float>) {
-          return ImGui::InputFloat(field.name, &value, 0.0f, 0.0f, "%.4g", enter);
-        } else if constexpr (std::is_same_v<Value, uint32_t>) {
-          return ImGui::InputScalar(field.name, ImGuiDataType_U32, &value, nullptr, nullptr, nullptr, enter);
         } else {
-          return ImGui::InputScalarN(field.name, ImGuiDataType_U32, value.data(), 3, nullptr, nullptr, nullptr, enter);
+          if constexpr (std::is_same_v<Value, float>)
+            ImGui::InputFloat(field.name, &value, 0.0f, 0.0f, "%.4g");
+          else if constexpr (std::is_same_v<Value, uint32_t>)
+            ImGui::InputScalar(field.name, ImGuiDataType_U32, &value);
+          else
+            ImGui::InputScalarN(field.name, ImGuiDataType_U32, value.data(), 3);
+          return ImGui::IsItemDeactivatedAfterEdit();
         }
       },
       field.member);
@@ -73,8 +76,10 @@ void giSection(ViewerControls& controls, const PanelReadout& readout, PanelActio
       actions.rendererChanged = true;
     }
   }
-  if (ImGui::TreeNode("settings (Enter applies)")) {
+  if (ImGui::TreeNode("settings (applied when left)")) {
+    ImGui::PushItemWidth(ImGui::GetFontSize() * 8.0f);  // room for the longest names beside their inputs
     for (const SettingField& field : settingFields()) actions.rendererChanged |= settingInput(field, controls.gi);
+    ImGui::PopItemWidth();
     ImGui::TreePop();
   }
 }
@@ -196,7 +201,11 @@ PanelActions drawViewerPanel(ViewerControls& controls, const PanelReadout& reado
   ImGui::SetNextWindowSize(ImVec2(float(rect.width), float(rect.height)));
   ImGui::Begin("ssvgi", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
   ImGui::TextWrapped("%s on %s", readout.scene.name.c_str(), readout.device.c_str());
-  if (!readout.error.empty()) ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.3f, 1.0f), "%s", readout.error.c_str());
+  if (!readout.error.empty()) {
+    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.4f, 0.3f, 1.0f));
+    ImGui::TextWrapped("%s", readout.error.c_str());
+    ImGui::PopStyleColor();
+  }
   if (ImGui::Button("screenshot (F12)")) actions.screenshot = true;
   if (!readout.screenshot.empty()) {
     ImGui::SameLine();
