@@ -54,7 +54,8 @@ void cameraSection(ViewerControls& controls, const PanelReadout& readout, PanelA
   const renderer::Camera& camera = readout.camera.camera();
   ImGui::Text("at %.2f, %.2f, %.2f  %.1f m/s", camera.position.x, camera.position.y, camera.position.z,
               readout.camera.speed());
-  ImGui::TextDisabled("WASD, Q/E: move; drag: turn; wheel: speed; Esc: quit");
+  ImGui::TextDisabled("WASD, Q/E move; a drag turns;");
+  ImGui::TextDisabled("the wheel sets the speed; Esc quits");
   for (size_t i = 0; i < readout.scene.cameras.size(); ++i) {
     const std::string& name = readout.scene.cameras[i].name;
     const std::string label = (name.empty() ? "camera " + std::to_string(i) : name) + "##camera" + std::to_string(i);
