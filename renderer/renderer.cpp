@@ -77,6 +77,7 @@ Renderer::Renderer(gpu::Device& device, const Scene& scene, const RendererSettin
                       storageImage(device, "direct radiance", VK_FORMAT_R16G16B16A16_SFLOAT, settings.width, settings.height)},
       tonemapped_(storageImage(device, "tonemapped", VK_FORMAT_R8G8B8A8_UNORM, settings.width, settings.height)) {
   if (settings.width == 0 || settings.height == 0) throw gpu::GpuError("render size must be at least 1×1");
+  setShownLight(settings.shownLight);
   if (settings.gi) {
     ssvgi::ContextDesc desc;
     desc.instance = device.instance();
@@ -93,6 +94,13 @@ Renderer::Renderer(gpu::Device& device, const Scene& scene, const RendererSettin
     if (!context.ok()) throw gpu::GpuError("ssvgi: " + context.error().message);
     gi_ = std::move(context.value());
   }
+}
+
+void Renderer::setShownLight(ShownLight shown) {
+  if (shown != ShownLight::All && !settings_.litFrameDirectOnly)
+    throw gpu::GpuError("showing part of the light needs the direct lit frame (--lit-frame direct): with the final "
+                        "radiance as ssvgi's lit frame, ssvgi would be given the part shown");
+  settings_.shownLight = shown;
 }
 
 namespace {
@@ -150,6 +158,7 @@ void Renderer::render(const AnimatedState& state) {
   if (!firstFrame) frame.previousViewProjection = previousViewProjection_;
   const bool giLighting = gi_ && settings_.giLighting;
   if (giLighting) frame.lightCountAndExposure.z = 1.0f;  // the composite adds ssvgi's indirect irradiance
+  frame.lightCountAndExposure.w = float(settings_.shownLight);
 
   std::vector<shader::GpuLight> lights;
   for (const LocalLight& light : scene_.lights) lights.push_back(toGpuLight(light));
@@ -196,6 +205,11 @@ std::optional<ssvgi::Stats> Renderer::giStats() {
 }
 
 Renderer::DebugImage Renderer::giDebugView(ssvgi::DebugView view, const std::optional<Camera>& camera) {
+  drawGiDebugView(view, camera);
+  return {readFloatImage(device_, debugRadiance_, 3), tonemapped()};
+}
+
+void Renderer::drawGiDebugView(ssvgi::DebugView view, const std::optional<Camera>& camera) {
   if (!gi_) throw gpu::GpuError("debug views need the GI library to run");
   if (!debugRadiance_)
     debugRadiance_ = storageImage(device_, "ssvgi debug view", VK_FORMAT_R32G32B32A32_SFLOAT, settings_.width,
@@ -216,7 +230,6 @@ Renderer::DebugImage Renderer::giDebugView(ssvgi::DebugView view, const std::opt
                               VK_IMAGE_LAYOUT_GENERAL};
     tonemap_.record(commands, frameConstants_, debugRadiance_, tonemapped_);
   });
-  return {readFloatImage(device_, debugRadiance_, 3), tonemapped()};
 }
 
 ssvgi::Settings scaledToScene(ssvgi::Settings settings, const Scene& scene) {

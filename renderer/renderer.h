@@ -29,6 +29,14 @@ FloatImage readFloatImage(gpu::Device& device, const gpu::Image& image, uint32_t
 // GI settings with the scene's detail scale (Scene::giDetailScale) applied to the voxel size and the probe spacing.
 ssvgi::Settings scaledToScene(ssvgi::Settings settings, const Scene& scene);
 
+// The light the final image shows on surfaces (the sky stays): all of it, direct and emitted light only, or the GI's
+// alone, albedo/π · E_indirect (the viewer's "direct only" and "indirect only").
+enum class ShownLight : uint32_t {
+  All = shader::kShowAllLight,
+  Direct = shader::kShowDirectLight,
+  Indirect = shader::kShowIndirectLight,
+};
+
 struct RendererSettings {
   uint32_t width = 1280;
   uint32_t height = 720;
@@ -43,6 +51,8 @@ struct RendererSettings {
   // The views beyond the camera the renderer gives the GI (SPEC §6.3; ExtraViews): the sun's, a capture around the
   // camera, the local lights'.
   ExtraViewSettings extraViews;
+  // Anything but All needs litFrameDirectOnly: a final radiance given to ssvgi as its lit frame must hold all the light.
+  ShownLight shownLight = ShownLight::All;
 };
 
 // The host renderer (headless): shadows, G-buffer, direct light, the GI library, composite and tonemap for one scene,
@@ -50,7 +60,15 @@ struct RendererSettings {
 // and the final radiance alternate between two sets, so that the previous frame's stay intact as ssvgi's lit frame.
 class Renderer {
  public:
+  // `scene` is read every frame and must outlive the renderer; between frames its local lights' intensities may change
+  // (the viewer's light switches), not their number, kind or place (shadow layers and light views are laid out here).
+  // Throws gpu::GpuError naming a setting that cannot be honoured.
   Renderer(gpu::Device& device, const Scene& scene, const RendererSettings& settings);
+
+  // The settings that may change between frames (the viewer's controls); the others need a new renderer.
+  void setExposure(float exposure) { settings_.exposure = exposure; }
+  void setGiLighting(bool giLighting) { settings_.giLighting = giLighting; }
+  void setShownLight(ShownLight shown);  // throws as the constructor does
 
   // Renders the scene as it is at `state` (camera, sun, moving object) and waits for the GPU.
   void render(const AnimatedState& state);
@@ -67,6 +85,8 @@ class Renderer {
   };
   // `camera`: where the debug view is seen from (default: the last frame's camera), at the frame's size.
   DebugImage giDebugView(ssvgi::DebugView view, const std::optional<Camera>& camera = std::nullopt);
+  // The same left in tonemappedImage() only, nothing read back (a window shows it).
+  void drawGiDebugView(ssvgi::DebugView view, const std::optional<Camera>& camera = std::nullopt);
 
   const std::vector<gpu::PassTiming>& passTimings() const { return timings_; }
   const Bounds& sceneBounds() const { return bounds_; }
@@ -84,6 +104,9 @@ class Renderer {
   FloatImage viewDistance();        // metres from the camera, zero where there is no surface
   FloatImage depthBuffer();         // raw reversed-Z depth: near plane / distance along the view axis, 0 = nothing
   std::vector<uint8_t> tonemapped();  // RGBA8, sRGB
+  // The same on the GPU (or the debug view drawn since), for a window to show: last used by the frame's submission,
+  // which has finished.
+  const gpu::Image& tonemappedImage() const { return tonemapped_; }
 
  private:
   const GBuffer& currentGBuffer() const { return gbuffers_[frameIndex_ & 1u]; }

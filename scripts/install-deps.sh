@@ -8,6 +8,7 @@ packages=(
   libvulkan-dev vulkan-validationlayers mesa-vulkan-drivers vulkan-tools glslc spirv-tools
   libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libtinyexr-dev zlib1g-dev libcli11-dev
   libgtest-dev
+  libglfw3-dev libimgui-dev xvfb xauth
 )
 
 missing=()

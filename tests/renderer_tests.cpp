@@ -1,5 +1,6 @@
 // The host renderer against analytic values: a point light, a spot light and the sun over a plane, hard shadows,
-// reversed-Z depth and the reconstruction of positions from it.
+// reversed-Z depth and the reconstruction of positions from it; the final image showing one part of the light alone.
+#include "builtin_scenes.h"
 #include "gpu_test_device.h"
 #include "renderer.h"
 #include "scene_geometry.h"
@@ -303,6 +304,48 @@ TEST_F(RendererAnalytic, reversedZDepthIsNearOverDistanceAndZeroWhereNothingIsDr
   EXPECT_FLOAT_EQ(channel(depth, 3, kHeight - 3), 0.1f / 5.0f);
   EXPECT_EQ(channel(depth, kWidth / 2, 0), 0.0f);  // above: nothing, infinitely far
   EXPECT_EQ(channel(renderer.viewDistance(), kWidth / 2, 0), 0.0f);
+}
+
+// The viewer's "indirect only" and "direct only" (RendererSettings::shownLight): the final radiance on surfaces is
+// albedo/π · the E_indirect the frame composited, or exactly what the renderer draws without the GI's light.
+TEST_F(RendererAnalytic, theFinalImageShowsTheIndirectOrTheDirectLightAloneOnRequest) {
+  const auto scene = renderer::makeBuiltinScene("cornell");
+  ASSERT_TRUE(scene);
+  const renderer::AnimatedState state = renderer::evaluateAnimation(*scene, scene->cameras[0], 0.0f);
+  renderer::RendererSettings settings;
+  settings.width = kWidth;
+  settings.height = kHeight;
+  settings.gi = renderer::scaledToScene(ssvgi::settingsForTier(ssvgi::QualityTier::Low), *scene);
+  renderer::Renderer withGi(device(), *scene, settings);
+  for (int frame = 0; frame < 4; ++frame) withGi.render(state);
+
+  withGi.setShownLight(renderer::ShownLight::Indirect);
+  withGi.render(state);
+  const auto final = withGi.finalRadiance(), albedo = withGi.albedo(), indirect = withGi.indirectIrradiance();
+  const auto distance = withGi.viewDistance();
+  double indirectLight = 0.0;
+  for (uint32_t y = 0; y < kHeight; ++y)
+    for (uint32_t x = 0; x < kWidth; ++x)
+      for (uint32_t c = 0; c < 3 && channel(distance, x, y) > 0.0f; ++c) {
+        const float expected = channel(albedo, x, y, c) / glm::pi<float>() * channel(indirect, x, y, c);
+        ASSERT_NEAR(channel(final, x, y, c), expected, 1e-5f + 1e-5f * expected) << x << "," << y;
+        indirectLight += expected;
+      }
+  EXPECT_GT(indirectLight, 0.0);
+
+  withGi.setShownLight(renderer::ShownLight::Direct);
+  withGi.render(state);
+  settings.gi.reset();
+  renderer::Renderer withoutGi(device(), *scene, settings);
+  withoutGi.render(state);
+  const auto directOnly = withGi.finalRadiance(), noGi = withoutGi.finalRadiance();
+  for (size_t i = 0; i < noGi.pixels.size(); ++i)
+    ASSERT_NEAR(directOnly.pixels[i], noGi.pixels[i], 1e-5f + 1e-5f * noGi.pixels[i]) << i;
+
+  // Given the final radiance as its lit frame, ssvgi would be given the part shown.
+  settings.litFrameDirectOnly = false;
+  settings.shownLight = renderer::ShownLight::Direct;
+  EXPECT_THROW(renderer::Renderer(device(), *scene, settings), gpu::GpuError);
 }
 
 }  // namespace

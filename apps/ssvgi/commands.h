@@ -12,6 +12,7 @@ CommandRunner addRenderCommand(CLI::App& app);
 CommandRunner addReferenceCommand(CLI::App& app);
 CommandRunner addCompareCommand(CLI::App& app);
 CommandRunner addInfoCommand(CLI::App& app);
+CommandRunner addViewCommand(CLI::App& app);  // view_command.cpp: the window, view_*.cpp
 CommandRunner addBenchCommand(CLI::App& app);
 CommandRunner addScenarioCommand(CLI::App& app);  // scenario_command.h: its subcommands
 

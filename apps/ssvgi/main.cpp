@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
     runners[app.get_subcommands({}).back()] = runner;
   };
   add(ssvgi::cli::addRenderCommand);
+  add(ssvgi::cli::addViewCommand);
   add(ssvgi::cli::addReferenceCommand);
   add(ssvgi::cli::addCompareCommand);
   add(ssvgi::cli::addBenchCommand);

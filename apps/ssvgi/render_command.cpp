@@ -1,5 +1,6 @@
 #include "commands.h"
 #include "output_files.h"
+#include "rendering_options.h"
 #include "scene_options.h"
 
 #include "gpu/device.h"
@@ -8,7 +9,6 @@
 #include <nlohmann/json.hpp>
 
 #include <cstdio>
-#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -18,21 +18,11 @@ namespace ssvgi::cli {
 
 namespace {
 
-constexpr float kFrameSeconds = 1.0f / 30.0f;  // animation time step per rendered frame
-
-const std::map<std::string, ssvgi::DebugView> kDebugViews = {{"voxels", ssvgi::DebugView::Voxels},
-                                                              {"bricks", ssvgi::DebugView::Bricks},
-                                                              {"probes", ssvgi::DebugView::Probes},
-                                                              {"confidence", ssvgi::DebugView::Confidence},
-                                                              {"observed", ssvgi::DebugView::ObservedSpace}};
-
 struct RenderOptions {
   SceneOptions scene;
   uint32_t frames = 32;  // enough for the GI of a still view to settle (SPEC §4.5: probes converge over updates)
-  std::string gi = "on";
-  GiOptions giOptions;
-  float exposure = 1.0f;
-  std::vector<std::string> debugViews;  // names of kDebugViews
+  RenderingOptions rendering;
+  std::vector<std::string> debugViews;  // names of debugViewsByName()
   std::string debugCamera;              // PX,PY,PZ,TX,TY,TZ,VFOV_DEG; empty: the rendering camera
   std::string out = "out";
 };
@@ -57,8 +47,8 @@ nlohmann::json statsJson(const gpu::Device& device, const RenderOptions& options
                          const renderer::RendererSettings& settings, renderer::Renderer& renderer) {
   nlohmann::json stats = sceneStats(device, options.scene, resolved);
   stats["frames"] = options.frames;
-  stats["gi"] = options.gi;
-  stats["tier"] = options.giOptions.tier;
+  stats["gi"] = options.rendering.gi;
+  stats["tier"] = options.rendering.giOptions.tier;
   if (settings.gi) stats["giSettings"] = giSettingsJson(*settings.gi);
   stats["unshadowedLocalLights"] = renderer.unshadowedLightCount();
   double frameMilliseconds = 0.0;
@@ -80,15 +70,8 @@ int runRender(const RenderOptions& options) {
   prepareOutputDirectory(options.out);
 
   gpu::Device device(gpu::DeviceDesc{options.scene.device, options.scene.validation});
-  renderer::RendererSettings settings;
-  settings.width = resolved.width;
-  settings.height = resolved.height;
-  settings.exposure = options.exposure;
   // ssvgi runs for its indirect light, or only for the debug views of its voxels (--gi off: no indirect light).
-  if (options.gi == "on" || !options.debugViews.empty()) settings.gi = giSettings(options.giOptions, resolved.scene);
-  settings.giLighting = options.gi == "on";
-  settings.extraViews = options.giOptions.extraViews;
-  settings.litFrameDirectOnly = options.giOptions.litFrame == "direct";
+  const renderer::RendererSettings settings = rendererSettings(options.rendering, resolved, !options.debugViews.empty());
   renderer::Renderer renderer(device, resolved.scene, settings);
 
   const std::string label = "rendering " + resolved.scene.name;
@@ -104,7 +87,7 @@ int runRender(const RenderOptions& options) {
                         renderer.tonemapped()};
   images.confidence = renderer.confidence();
   for (const std::string& name : options.debugViews) {
-    images.debugImages["debug_" + name] = renderer.giDebugView(kDebugViews.at(name), debugCamera);
+    images.debugImages["debug_" + name] = renderer.giDebugView(debugViewsByName().at(name), debugCamera);
   }
   writeRenderedImages(options.out, images, stats);
 
@@ -126,20 +109,14 @@ CommandRunner addRenderCommand(CLI::App& app) {
   command->add_option("--frames", options->frames, "Frames to render, the animation advancing 1/30 s per frame")
       ->capture_default_str()
       ->check(CLI::Range(1u, 100000u));
-  command->add_option("--gi", options->gi, "Indirect light from ssvgi: on or off (off: no ambient light at all)")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"on", "off"}));
-  addGiOptions(*command, options->giOptions);
-  command->add_option("--exposure", options->exposure, "Multiplier on radiance before tonemapping")
-      ->capture_default_str()
-      ->check(kNonNegativeNumber);
+  addRenderingOptions(*command, options->rendering);
   command->add_option("--debug", options->debugViews,
                       "Also write ssvgi's view of the last frame, ray-traced through its voxels from the camera: "
                       "voxels (stored radiance), bricks (a colour per brick) or probes (level-0 probes as spheres lit "
                       "by their SH; magenta invalid, yellow just offset) or confidence (the GI's confidence on the "
                       "surfaces met, grey from black 0 to white 1; dark blue: no voxel) or observed (voxels as "
                       "the probes see them: magenta where a ray crossed unobserved space and met nothing), as DIR/debug_NAME.png and .exr; may be repeated")
-      ->check(CLI::IsMember(std::vector<std::string>{"voxels", "bricks", "probes", "confidence", "observed"}));
+      ->check(CLI::IsMember(debugViewsByName()));
   command->add_option("--debug-camera", options->debugCamera,
                       "The debug views' camera, PX,PY,PZ,TX,TY,TZ,VFOV_DEG (default: the rendering camera): ssvgi's "
                       "voxels and probes seen from elsewhere, e.g. the surfaces the rendering camera never sees");

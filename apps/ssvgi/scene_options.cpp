@@ -9,10 +9,10 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <functional>
 #include <sstream>
 #include <stdexcept>
 #include <type_traits>
+#include <variant>
 #include <vector>
 
 namespace ssvgi::cli {
@@ -95,6 +95,14 @@ renderer::Camera parseCamera(const std::string& text, const std::string& option,
   return camera;
 }
 
+void pointSun(renderer::Scene& scene, float azimuthDegrees, float elevationDegrees) {
+  scene.sun.direction = renderer::sunDirection(azimuthDegrees, elevationDegrees);
+  if (scene.sunCycle) {
+    scene.sunCycle->azimuthDegrees = azimuthDegrees;
+    scene.sunCycle->elevationDegrees = elevationDegrees;
+  }
+}
+
 ResolvedScene resolveScene(const SceneOptions& options) {
   ResolvedScene resolved;
   resolved.scene = loadScene(options);
@@ -120,12 +128,8 @@ ResolvedScene resolveScene(const SceneOptions& options) {
     const auto v = parseNumbers(options.sun, 3, "--sun");
     if (v[2] < 0.0f) throw std::runtime_error("--sun " + options.sun + ": the illuminance must not be negative");
     scene.sun.enabled = true;
-    scene.sun.direction = renderer::sunDirection(v[0], v[1]);
+    pointSun(scene, v[0], v[1]);
     scene.sun.illuminance = glm::vec3(v[2]);
-    if (scene.sunCycle) {
-      scene.sunCycle->azimuthDegrees = v[0];
-      scene.sunCycle->elevationDegrees = v[1];
-    }
   }
 
   if (options.sky == "none") {
@@ -152,13 +156,6 @@ ssvgi::Settings giSettingsForTier(const std::string& tier) {
 
 namespace {
 
-// A field of ssvgi::Settings as --gi-set parses it and the stats show it.
-struct SettingField {
-  const char* name;
-  std::function<void(ssvgi::Settings&, const std::string& value)> parse;
-  std::function<nlohmann::json(const ssvgi::Settings&)> show;
-};
-
 uint32_t parseCount(const std::string& text, const std::string& option) {
   try {
     size_t used = 0;
@@ -169,53 +166,55 @@ uint32_t parseCount(const std::string& text, const std::string& option) {
   throw std::runtime_error(option + ": '" + text + "' is not a whole number");
 }
 
-template <typename Value>
-SettingField settingField(const char* name, Value ssvgi::Settings::*member) {
-  const auto parse = [name, member](ssvgi::Settings& settings, const std::string& text) {
-    const std::string option = std::string("--gi-set ") + name;
-    if constexpr (std::is_same_v<Value, float>) {
-      settings.*member = parseNumbers(text, 1, option)[0];
-    } else if constexpr (std::is_same_v<Value, uint32_t>) {
-      settings.*member = parseCount(text, option);
-    } else if constexpr (std::is_same_v<Value, bool>) {
-      if (text != "true" && text != "false") throw std::runtime_error(option + ": expected true or false");
-      settings.*member = text == "true";
-    } else {  // three axes, X,Y,Z
-      std::vector<std::string> items;
-      std::stringstream stream(text);
-      for (std::string item; std::getline(stream, item, ',');) items.push_back(item);
-      if (items.size() != 3) throw std::runtime_error(option + " " + text + ": expected X,Y,Z");
-      for (size_t axis = 0; axis < 3; ++axis) (settings.*member)[axis] = parseCount(items[axis], option);
-    }
-  };
-  return {name, parse, [member](const ssvgi::Settings& settings) { return nlohmann::json(settings.*member); }};
+// Sets `field` of `settings` from its --gi-set text.
+void parseSetting(const SettingField& field, ssvgi::Settings& settings, const std::string& text) {
+  const std::string option = std::string("--gi-set ") + field.name;
+  std::visit(
+      [&](auto member) {
+        using Value = std::remove_reference_t<decltype(settings.*member)>;
+        if constexpr (std::is_same_v<Value, float>) {
+          settings.*member = parseNumbers(text, 1, option)[0];
+        } else if constexpr (std::is_same_v<Value, uint32_t>) {
+          settings.*member = parseCount(text, option);
+        } else if constexpr (std::is_same_v<Value, bool>) {
+          if (text != "true" && text != "false") throw std::runtime_error(option + ": expected true or false");
+          settings.*member = text == "true";
+        } else {  // three axes, X,Y,Z
+          std::vector<std::string> items;
+          std::stringstream stream(text);
+          for (std::string item; std::getline(stream, item, ',');) items.push_back(item);
+          if (items.size() != 3) throw std::runtime_error(option + " " + text + ": expected X,Y,Z");
+          for (size_t axis = 0; axis < 3; ++axis) (settings.*member)[axis] = parseCount(items[axis], option);
+        }
+      },
+      field.member);
 }
+
+}  // namespace
 
 const std::vector<SettingField>& settingFields() {
   using ssvgi::Settings;
   static const std::vector<SettingField> fields = {
-      settingField("voxelSize", &Settings::voxelSize),
-      settingField("volumeBricks", &Settings::volumeBricks),
-      settingField("brickPoolCapacity", &Settings::brickPoolCapacity),
-      settingField("invalidFramesToClear", &Settings::invalidFramesToClear),
-      settingField("emptyFramesToRelease", &Settings::emptyFramesToRelease),
-      settingField("allocationPixelStride", &Settings::allocationPixelStride),
-      settingField("probeGrid", &Settings::probeGrid),
-      settingField("probeSpacing", &Settings::probeSpacing),
-      settingField("probeBudget", &Settings::probeBudget),
-      settingField("raysPerProbe", &Settings::raysPerProbe),
-      settingField("probeHistoryCap", &Settings::probeHistoryCap),
-      settingField("probeReservoirs", &Settings::probeReservoirs),
-      settingField("probeReservoirHistoryCap", &Settings::probeReservoirHistoryCap),
-      settingField("probeSampleClamp", &Settings::probeSampleClamp),
-      settingField("probeChangeThreshold", &Settings::probeChangeThreshold),
-      settingField("skyOnlyThroughObservedSpace", &Settings::skyOnlyThroughObservedSpace),
-      settingField("voxelRelightPeriod", &Settings::voxelRelightPeriod),
+      {"voxelSize", &Settings::voxelSize},
+      {"volumeBricks", &Settings::volumeBricks},
+      {"brickPoolCapacity", &Settings::brickPoolCapacity},
+      {"invalidFramesToClear", &Settings::invalidFramesToClear},
+      {"emptyFramesToRelease", &Settings::emptyFramesToRelease},
+      {"allocationPixelStride", &Settings::allocationPixelStride},
+      {"probeGrid", &Settings::probeGrid},
+      {"probeSpacing", &Settings::probeSpacing},
+      {"probeBudget", &Settings::probeBudget},
+      {"raysPerProbe", &Settings::raysPerProbe},
+      {"probeHistoryCap", &Settings::probeHistoryCap},
+      {"probeReservoirs", &Settings::probeReservoirs},
+      {"probeReservoirHistoryCap", &Settings::probeReservoirHistoryCap},
+      {"probeSampleClamp", &Settings::probeSampleClamp},
+      {"probeChangeThreshold", &Settings::probeChangeThreshold},
+      {"skyOnlyThroughObservedSpace", &Settings::skyOnlyThroughObservedSpace},
+      {"voxelRelightPeriod", &Settings::voxelRelightPeriod},
   };
   return fields;
 }
-
-}  // namespace
 
 void addGiOptions(CLI::App& command, GiOptions& options) {
   command.add_option("--tier", options.tier, "GI quality tier (SPEC §4.7)")
@@ -260,14 +259,15 @@ ssvgi::Settings giSettings(const GiOptions& options, const renderer::Scene& scen
                                     [&](const SettingField& candidate) { return name == candidate.name; });
     if (equals == std::string::npos || field == settingFields().end())
       throw std::runtime_error("--gi-set " + assignment + ": expected NAME=VALUE with NAME a field of ssvgi::Settings");
-    field->parse(settings, assignment.substr(equals + 1));
+    parseSetting(*field, settings, assignment.substr(equals + 1));
   }
   return settings;
 }
 
 nlohmann::json giSettingsJson(const ssvgi::Settings& settings) {
   nlohmann::json json = nlohmann::json::object();
-  for (const SettingField& field : settingFields()) json[field.name] = field.show(settings);
+  for (const SettingField& field : settingFields())
+    std::visit([&](auto member) { json[field.name] = settings.*member; }, field.member);
   return json;
 }
 

@@ -8,11 +8,13 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <optional>
 #include <string>
+#include <variant>
 #include <vector>
 
 namespace ssvgi::cli {
@@ -67,6 +69,10 @@ struct ResolvedScene {
 };
 ResolvedScene resolveScene(const SceneOptions& options);
 
+// Points the scene's sun at an azimuth (from +Z towards +X) and elevation in degrees; with a time-of-day cycle, that is
+// where the cycle starts (--sun, the viewer's sun controls).
+void pointSun(renderer::Scene& scene, float azimuthDegrees, float elevationDegrees);
+
 // `camera` placed by a view given as PX,PY,PZ,TX,TY,TZ,VFOV_DEG (the --camera syntax); throws std::runtime_error with
 // one line naming `option` when the text is not such a view.
 renderer::Camera parseCamera(const std::string& text, const std::string& option, renderer::Camera camera);
@@ -87,6 +93,15 @@ void addGiOptions(CLI::App& command, GiOptions& options);
 // The tier's settings with the scene's detail scale (renderer::Scene::giDetailScale) applied to the voxel size and
 // the probe spacing, then the overrides. Throws std::runtime_error with one line naming a bad override.
 ssvgi::Settings giSettings(const GiOptions& options, const renderer::Scene& scene);
+
+// A field of ssvgi::Settings by name: the one list that --gi-set parses, the stats show and the viewer edits.
+struct SettingField {
+  const char* name;
+  std::variant<float ssvgi::Settings::*, uint32_t ssvgi::Settings::*, bool ssvgi::Settings::*,
+               std::array<uint32_t, 3> ssvgi::Settings::*>
+      member;  // X,Y,Z for the three-axis ones
+};
+const std::vector<SettingField>& settingFields();
 
 // The settings as JSON, for the stats a command writes.
 nlohmann::json giSettingsJson(const ssvgi::Settings& settings);

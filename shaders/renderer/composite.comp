@@ -6,7 +6,8 @@
 // with the same weights and kept beside the E_indirect used, for the
 // renderer's confidence.exr; the composite does not blend to a fallback (it has none: GI off means no ambient at all).
 // It also writes the light without the GI's, emission + albedo/π · E_direct: ssvgi's lit frame, with the albedo, from
-// which the voxels keep their direct light and are relit by the probes (ssvgi::FrameDesc::litAlbedo).
+// which the voxels keep their direct light and are relit by the probes (ssvgi::FrameDesc::litAlbedo). The final
+// radiance may show one part of the light alone on surfaces (the viewer's direct only / indirect only, kShow*).
 #include "shared/renderer_interface.h"
 #include "ssvgi/resolve.glsl"
 
@@ -49,6 +50,9 @@ void main() {
     vec3 emission = texelFetch(emissionBuffer, pixel, 0).rgb;
     radianceWithoutGi = emission + albedo * (1.0 / kPi) * direct;
     radiance = emission + albedo * (1.0 / kPi) * (direct + indirect.rgb);
+    uint shown = uint(frame.lightCountAndExposure.w);
+    if (shown == kShowDirectLight) radiance = radianceWithoutGi;
+    if (shown == kShowIndirectLight) radiance = albedo * (1.0 / kPi) * indirect.rgb;
   }
   imageStore(finalRadiance, pixel, vec4(radiance, 1.0));
   imageStore(indirectUsed, pixel, indirect);

@@ -26,10 +26,17 @@ struct FrameConstants {
   vec4 viewportSize;            // width, height, 1/width, 1/height
   vec4 sunDirectionAndEnabled;  // xyz: unit vector towards the sun; w: 1 when the sun is on
   vec4 sunIlluminance;          // rgb: irradiance on a surface facing the sun, W/m²; w: sun shadow texel size, m
-  vec4 lightCountAndExposure;   // x: local light count; y: exposure multiplier; z: indirect irradiance on (1) / off (0)
+  vec4 lightCountAndExposure;   // x: local light count; y: exposure multiplier; z: indirect irradiance on (1) / off (0);
+                                // w: the light the final image shows on surfaces, kShow* (renderer::ShownLight)
   SkyParameters sky;
 };
 SSVGI_CHECK_SIZE(FrameConstants, 4 * 64 + 6 * 16 + 32);
+
+// What the composite's final radiance holds on surfaces (the sky stays): all the light, direct and emitted light only,
+// or only the GI's light, albedo/π · E_indirect.
+SSVGI_CONSTANT(uint, kShowAllLight, 0u);
+SSVGI_CONSTANT(uint, kShowDirectLight, 1u);
+SSVGI_CONSTANT(uint, kShowIndirectLight, 2u);
 
 // A local light as the lighting shader reads it.
 struct GpuLight {

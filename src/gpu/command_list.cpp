@@ -207,4 +207,54 @@ void CommandList::clearImage(const Image& image, const VkClearColorValue& value)
                                     &range);
 }
 
+namespace {
+
+VkImageBlit wholeImageBlit(VkExtent2D sourceSize, VkExtent2D destinationSize) {
+  VkImageBlit region{};
+  region.srcSubresource = region.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+  region.srcOffsets[1] = {int32_t(sourceSize.width), int32_t(sourceSize.height), 1};
+  region.dstOffsets[1] = {int32_t(destinationSize.width), int32_t(destinationSize.height), 1};
+  return region;
+}
+
+VkExtent2D sizeOf(const Image& image) { return {image.desc().width, image.desc().height}; }
+
+}  // namespace
+
+void CommandList::blitImage(const Image& source, const Image& destination) {
+  use(source, Usage::TransferSource);
+  use(destination, Usage::TransferDestination);
+  flushBarriers();
+  const VkImageBlit region = wholeImageBlit(sizeOf(source), sizeOf(destination));
+  device_.vk().vkCmdBlitImage(commandBuffer_, source.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                              destination.handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region,
+                              VK_FILTER_NEAREST);
+}
+
+void CommandList::blitToExternalImage(const Image& source, VkImage destination, VkExtent2D destinationSize,
+                                      VkImageLayout currentLayout, VkImageLayout finalLayout) {
+  use(source, Usage::TransferSource);
+  flushBarriers();
+  // The owner's earlier use is unknown: wait for all of it, and let all later work wait for the blit.
+  VkImageMemoryBarrier barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+  barrier.srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT;
+  barrier.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  barrier.oldLayout = currentLayout;
+  barrier.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+  barrier.srcQueueFamilyIndex = barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  barrier.image = destination;
+  barrier.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  device_.vk().vkCmdPipelineBarrier(commandBuffer_, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                                    0, 0, nullptr, 0, nullptr, 1, &barrier);
+  const VkImageBlit region = wholeImageBlit(sizeOf(source), destinationSize);
+  device_.vk().vkCmdBlitImage(commandBuffer_, source.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, destination,
+                              VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region, VK_FILTER_NEAREST);
+  barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  barrier.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT;
+  barrier.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+  barrier.newLayout = finalLayout;
+  device_.vk().vkCmdPipelineBarrier(commandBuffer_, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                                    VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 0, 0, nullptr, 0, nullptr, 1, &barrier);
+}
+
 }  // namespace ssvgi::gpu

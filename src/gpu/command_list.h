@@ -69,6 +69,13 @@ class CommandList {
   void updateBuffer(const Buffer& buffer, VkDeviceSize offset, const void* data, VkDeviceSize bytes);
   void copyBuffer(const Buffer& source, const Buffer& destination, VkDeviceSize bytes);
   void clearImage(const Image& image, const VkClearColorValue& value);
+  // Copies a colour image's mip 0, layer 0 into another's, scaled to its size (nearest texel: exact at equal sizes)
+  // and converted to its format (vkCmdBlitImage).
+  void blitImage(const Image& source, const Image& destination);
+  // The same into a colour image someone else owns (a swapchain's), in `currentLayout` before and left in
+  // `finalLayout` for its owner, all of this command list's earlier work on it done.
+  void blitToExternalImage(const Image& source, VkImage destination, VkExtent2D destinationSize,
+                           VkImageLayout currentLayout, VkImageLayout finalLayout);
 
  private:
   VkDescriptorSet writeDescriptors(const PipelineLayout& layout, const std::string& name, const Bindings& bindings,

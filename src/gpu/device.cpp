@@ -131,7 +131,7 @@ DeviceReport describe(VkPhysicalDevice physicalDevice, uint32_t index) {
   return report;
 }
 
-VkInstance createInstance(bool validation, bool debugUtils) {
+VkInstance createInstance(bool validation, bool debugUtils, const std::vector<std::string>& extraExtensions = {}) {
   VkApplicationInfo application{VK_STRUCTURE_TYPE_APPLICATION_INFO};
   application.pApplicationName = "ssvgi";
   application.pEngineName = "ssvgi";
@@ -141,6 +141,7 @@ VkInstance createInstance(bool validation, bool debugUtils) {
   if (validation) layers.push_back(kValidationLayer);
   std::vector<const char*> extensions;
   if (debugUtils) extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+  for (const std::string& extension : extraExtensions) extensions.push_back(extension.c_str());
 
   VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
   info.pApplicationInfo = &application;
@@ -185,7 +186,7 @@ Device::Device(const DeviceDesc& desc) {
     throw GpuError("validation was requested but VK_LAYER_KHRONOS_validation is not installed "
                    "(install vulkan-validationlayers)");
   const bool debugUtils = hasInstanceExtension(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
-  instance_ = createInstance(desc.validation, debugUtils);
+  instance_ = createInstance(desc.validation, debugUtils, desc.instanceExtensions);
 
   if (debugUtils) {
     loadDebugUtils();
@@ -266,10 +267,20 @@ Device::Device(const DeviceDesc& desc) {
   VkPhysicalDeviceVulkan12Features features12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, &features13};
   VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &features12};
 
+  std::vector<const char*> extensions;
+  for (const std::string& extension : desc.deviceExtensions) extensions.push_back(extension.c_str());
   VkDeviceCreateInfo info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &features};
   info.queueCreateInfoCount = 1;
   info.pQueueCreateInfos = &queueInfo;
-  VK_CHECK(vkCreateDevice(physicalDevice_, &info, nullptr, &device_));
+  info.enabledExtensionCount = uint32_t(extensions.size());
+  info.ppEnabledExtensionNames = extensions.data();
+  const VkResult created = vkCreateDevice(physicalDevice_, &info, nullptr, &device_);
+  if (created == VK_ERROR_EXTENSION_NOT_PRESENT) {
+    std::string names;
+    for (const std::string& extension : desc.deviceExtensions) names += (names.empty() ? "" : ", ") + extension;
+    throw GpuError(std::string(properties_.deviceName) + " lacks a device extension of " + names, created);
+  }
+  VK_CHECK(created);
   vk_ = loadVulkanFunctions(getInstanceProcAddr_, instance_, nullptr, device_);
   vkGetDeviceQueue(device_, queueFamily_, 0, &queue_);
 

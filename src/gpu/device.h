@@ -18,6 +18,10 @@ struct DeviceDesc {
   // `listDevices()`.
   std::string selector = "auto";
   bool validation = false;  // enable VK_LAYER_KHRONOS_validation and count its errors (tests always do)
+  // Extensions beyond the ones the layer enables itself: a window's surface and swapchain (`ssvgi view`). The
+  // swapchain's device functions are then in vk() (VulkanFunctions' window list).
+  std::vector<std::string> instanceExtensions;
+  std::vector<std::string> deviceExtensions;
 };
 
 // What `ssvgi info` prints: a device and each capability ssvgi needs, present or missing.

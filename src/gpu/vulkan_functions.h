@@ -19,13 +19,16 @@ namespace ssvgi::gpu {
   X(vkBindBufferMemory)                  \
   X(vkBindImageMemory)                   \
   X(vkCmdBindDescriptorSets)             \
+  X(vkCmdBeginRenderPass)                \
   X(vkCmdBindPipeline)                   \
+  X(vkCmdBlitImage)                      \
   X(vkCmdClearColorImage)                \
   X(vkCmdCopyBuffer)                     \
   X(vkCmdCopyBufferToImage)              \
   X(vkCmdCopyImageToBuffer)              \
   X(vkCmdDispatch)                       \
   X(vkCmdDispatchIndirect)               \
+  X(vkCmdEndRenderPass)                  \
   X(vkCmdFillBuffer)                     \
   X(vkCmdPipelineBarrier)                \
   X(vkCmdPushConstants)                  \
@@ -38,21 +41,27 @@ namespace ssvgi::gpu {
   X(vkCreateComputePipelines)            \
   X(vkCreateDescriptorPool)              \
   X(vkCreateDescriptorSetLayout)         \
+  X(vkCreateFence)                       \
+  X(vkCreateFramebuffer)                 \
   X(vkCreateGraphicsPipelines)           \
   X(vkCreateImage)                       \
   X(vkCreateImageView)                   \
   X(vkCreatePipelineLayout)              \
   X(vkCreateQueryPool)                   \
+  X(vkCreateRenderPass)                  \
   X(vkCreateSampler)                     \
   X(vkCreateShaderModule)                \
   X(vkDestroyBuffer)                     \
   X(vkDestroyDescriptorPool)             \
   X(vkDestroyDescriptorSetLayout)        \
+  X(vkDestroyFence)                      \
+  X(vkDestroyFramebuffer)                \
   X(vkDestroyImage)                      \
   X(vkDestroyImageView)                  \
   X(vkDestroyPipeline)                   \
   X(vkDestroyPipelineLayout)             \
   X(vkDestroyQueryPool)                  \
+  X(vkDestroyRenderPass)                 \
   X(vkDestroySampler)                    \
   X(vkDestroyShaderModule)               \
   X(vkFreeMemory)                        \
@@ -61,7 +70,9 @@ namespace ssvgi::gpu {
   X(vkGetQueryPoolResults)               \
   X(vkMapMemory)                         \
   X(vkResetDescriptorPool)               \
-  X(vkUpdateDescriptorSets)
+  X(vkResetFences)                       \
+  X(vkUpdateDescriptorSets)              \
+  X(vkWaitForFences)
 
 // Core in Vulkan 1.3, used only by the host renderer's graphics passes: null on a Vulkan 1.1 or 1.2 device, which the
 // GI library accepts.
@@ -69,11 +80,20 @@ namespace ssvgi::gpu {
   X(vkCmdBeginRendering)                     \
   X(vkCmdEndRendering)
 
+// VK_KHR_swapchain, for a window (`ssvgi view`, DeviceDesc::deviceExtensions): null on a device without it.
+#define SSVGI_VULKAN_DEVICE_FUNCTIONS_SWAPCHAIN(X) \
+  X(vkAcquireNextImageKHR)                         \
+  X(vkCreateSwapchainKHR)                          \
+  X(vkDestroySwapchainKHR)                         \
+  X(vkGetSwapchainImagesKHR)                       \
+  X(vkQueuePresentKHR)
+
 struct VulkanFunctions {
 #define SSVGI_VULKAN_FUNCTION_MEMBER(name) PFN_##name name = nullptr;
   SSVGI_VULKAN_INSTANCE_FUNCTIONS(SSVGI_VULKAN_FUNCTION_MEMBER)
   SSVGI_VULKAN_DEVICE_FUNCTIONS(SSVGI_VULKAN_FUNCTION_MEMBER)
   SSVGI_VULKAN_DEVICE_FUNCTIONS_1_3(SSVGI_VULKAN_FUNCTION_MEMBER)
+  SSVGI_VULKAN_DEVICE_FUNCTIONS_SWAPCHAIN(SSVGI_VULKAN_FUNCTION_MEMBER)
 #undef SSVGI_VULKAN_FUNCTION_MEMBER
 };
 
