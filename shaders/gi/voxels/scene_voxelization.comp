@@ -59,34 +59,6 @@ void injectLight(inout Voxel voxel, bool occupied, bool blendsWithHeld, ivec2 te
   voxel.albedo = packVoxelAlbedo(albedo);
 }
 
-// Whether the surface whose plane (through `held`, facing `normal`) cuts this voxel really runs through it: the view
-// shows the same plane at the point of that plane nearest the voxel's centre, and that point lies in the voxel. A
-// wall seen at a grazing angle then holds all of its voxels from the first injection: its random points mostly see
-// the wall further on, outside their voxel, so the rule of the random point alone left it full of holes for dozens of
-// frames, and the probes saw the sky through them (the dark room with the capture around the camera took a thousand
-// frames to lose that light). At the rim of an opening or past a corner the view shows something else there.
-bool surfaceContinuesThrough(vec3 voxelMin, vec3 held, vec3 normal) {
-  float voxelSize = volume.voxelSize.x;
-  vec3 centre = voxelMin + 0.5 * voxelSize;
-  vec3 planePoint = centre - normal * dot(centre - held, normal);
-  if (any(lessThan(planePoint, voxelMin)) || any(greaterThanEqual(planePoint, voxelMin + voxelSize))) return false;
-  vec4 clip = frame.litViewProjection * vec4(planePoint, 1.0);
-  vec3 ndc = clip.xyz / clip.w;
-  vec2 litSize = vec2(frame.litSize);
-  vec2 pixel = giNdcToPixel(ndc.xy, litSize);
-  if (!(clip.w > 0.0 && ndc.z <= 1.0 && ndc.z >= 0.0) || any(lessThan(pixel, vec2(0.0))) ||
-      any(greaterThanEqual(pixel, litSize)))
-    return false;
-  ivec2 texel = ivec2(pixel);
-  float depth = texelFetch(litDepth, texel, 0).r;
-  if (depth <= 0.0) return false;
-  vec3 seenNormal = normalize(texelFetch(litNormal, texel, 0).xyz);
-  vec3 seenHeld = heldSurfacePoint(reconstructPosition(frame.litInverseViewProjection, vec2(texel), litSize, depth),
-                                   seenNormal);
-  float halfExtent = 0.5 * voxelSize * dot(abs(seenNormal), vec3(1.0));
-  return dot(seenNormal, normal) > kVoxelSameSurfaceCosine && abs(dot(centre - seenHeld, seenNormal)) < halfExtent;
-}
-
 shared uint occupancyLow;
 shared uint occupancyHigh;
 
@@ -153,15 +125,14 @@ void main() {
     vec3 volumeCentre = (vec3(volume.originBrick.xyz) + 0.5 * vec3(volume.dimensionsBricks.xyz)) * volume.voxelSize.y;
     bool turnsSurfaceAround = occupied && dot(storedNormal, normal) < 0.0 &&
                               dot(normal, volumeCentre - (voxelMin + 0.5 * voxelSize)) <= 0.0;
-    bool holdsSurface = depth > 0.0 && !turnsSurfaceAround &&
-                        (all(greaterThanEqual(held, voxelMin)) && all(lessThan(held, voxelMin + voxelSize)) ||
-                         cutBySurfacePlane && surfaceContinuesThrough(voxelMin, held, normal));
+    bool holdsSurface = depth > 0.0 && !turnsSurfaceAround && all(greaterThanEqual(held, voxelMin)) &&
+                        all(lessThan(held, voxelMin + voxelSize));
     // An occupied voxel also takes the colour of a pixel of its own surface (the seen surface's plane cuts it, the
     // normals agree) up to a voxel away: few random points of a voxel on a wall seen at a grazing angle land on its
     // own pixels, and its radiance would lag a change of light by many frames.
     bool refreshesColour = depth > 0.0 && occupied && cutBySurfacePlane &&
                            distance(held, clamp(held, voxelMin, voxelMin + voxelSize)) <= voxelSize &&
-                           dot(storedNormal, normal) > kVoxelSameSurfaceCosine;
+                           dot(storedNormal, normal) > 0.9;
     if (holdsSurface || refreshesColour) {
       // The lit frame's light stays where it keeps coming (kVoxelExtraViewsBeforeWrite): an extra view counts its
       // visit and writes only once there have been enough since the lit frame last wrote.
