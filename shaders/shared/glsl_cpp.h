@@ -1,8 +1,9 @@
 // Lets one header be compiled both as GLSL and as C++, so that struct layouts, binding slots, constants and small
 // functions (sky radiance, SH, packing) are written once and shared by the shaders and the host (SPEC §2).
 //
-// Rules for shared headers: std430/std140-safe members only (scalars, vec2, vec4, mat4; no vec3 members, whose
-// alignment differs), every struct followed by SSVGI_CHECK_SIZE, functions written in the common subset of GLSL and
+// Rules for shared headers: std430/std140-safe members only (scalars, vec2, vec4, mat4; a vec3 or ivec3, whose
+// alignment differs, only on a 16-byte boundary and followed by a 4-byte scalar, the two filling 16 bytes in both
+// languages), every struct followed by SSVGI_CHECK_SIZE, functions written in the common subset of GLSL and
 // glm (no swizzle assignment, no `inout`: use SSVGI_INOUT).
 #ifndef SSVGI_GLSL_CPP_H
 #define SSVGI_GLSL_CPP_H

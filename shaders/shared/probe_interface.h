@@ -63,16 +63,27 @@ SSVGI_CHECK_SIZE(Probe, 40);
 
 // What ProbePlacement and ProbeTrace need to know of this frame's update (uniform buffer, one per frame in flight).
 struct ProbeUpdate {
-  ivec4 originProbe;     // xyz: world probe coordinate of the updated level's minimum corner; w: the level
-  ivec4 dimensions;      // xyz: probes per level and axis (multiples of kProbeBlockSize); w: probes per level
-  vec4 distances;        // x: the level's spacing (m); y: how far rays are traced (m); z: the distance SH's clamp (m);
-                         // w: the SH projection weight 4π / rays per probe (SPEC §2)
-  uvec4 settings;        // x: rays per probe; y: history cap; z: probe budget per frame; w: occupancy level (2–4) whose
-                         // cells ProbePlacement searches for voxels
-  uvec4 reservoirs;      // x: 1 when this level keeps reservoirs (Settings::probeReservoirs, level 0 only); y: their
-                         // M cap (Settings::probeReservoirHistoryCap); z: the frame index (seeds their random choices)
-  vec4 sampleClamp;      // x: Settings::probeSampleClamp (0: off); y: Settings::probeChangeThreshold (0: off)
-  Sh2Rgb skyRadiance;    // the host's sky (FrameDesc::skyRadianceSh): what a ray that leaves the voxel volume sees
+  ivec3 originProbe;             // world probe coordinate of the updated level's minimum corner
+  int level;
+  ivec3 probesPerAxis;           // multiples of kProbeBlockSize
+  int probesPerLevel;
+  float spacing;                 // metres between the level's probes
+  float rayLength;               // how far rays are traced, metres
+  float distanceRange;           // the distance SH's clamp, metres
+  float projectionWeight;        // the SH projection weight 4π / rays per probe (SPEC §2)
+  uint raysPerProbe;
+  uint historyCap;               // Settings::probeHistoryCap
+  uint probeBudget;              // probes updated per frame at most
+  uint placementSearchLevel;     // the occupancy level (2–4) whose cells ProbePlacement searches for voxels
+  uint keepsReservoirs;          // 1 when this level keeps reservoirs (Settings::probeReservoirs, level 0 only)
+  uint reservoirHistoryCap;      // their M cap (Settings::probeReservoirHistoryCap)
+  uint frameIndex;               // seeds the reservoirs' random choices and the probes' dither
+  float sampleClamp;             // Settings::probeSampleClamp (0: off)
+  float changeThreshold;         // Settings::probeChangeThreshold (0: off)
+  uint padding0;                 // std140: the sky's SH starts on 16 bytes
+  uint padding1;
+  uint padding2;
+  Sh2Rgb skyRadiance;            // the host's sky (FrameDesc::skyRadianceSh): what a ray that leaves the voxel volume sees
 };
 SSVGI_CHECK_SIZE(ProbeUpdate, 6 * 16 + 48);
 

@@ -406,9 +406,9 @@ class ContextImplementation final : public Context {
         scene_.place(glm::vec3(frame.cameraPosition), desc.frameIndex, scrolled);
     const uint32_t probeBlocksInView = probes_.prepare(desc.frameIndex, glm::vec3(frame.cameraPosition),
                                                        frame.frustumPlanes, desc.skyRadianceSh, volume);
-    slot.probeLevel = uint32_t(probes_.current().originProbe.w);
+    slot.probeLevel = uint32_t(probes_.current().level);
     gi::GatherTargets::ProbeLevels probeLevels{};
-    probeLevels.dimensions = glm::ivec3(probes_.current().dimensions);
+    probeLevels.dimensions = probes_.current().probesPerAxis;
     for (uint32_t level = 0; level < shader::kProbeLevels; ++level) {
       probeLevels.origins[level] = probes_.levelOrigin(level, glm::vec3(frame.cameraPosition));
       probeLevels.spacings[level] = probes_.levelSpacing(level);

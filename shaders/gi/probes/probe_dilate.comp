@@ -24,13 +24,13 @@ void main() {
   if (probePlacement(probes[probeIndex].state) != kProbeStateInvalid) return;
 
   uint thread = gl_LocalInvocationID.x;
-  uint levelStart = uint(update.originProbe.w) * uint(update.dimensions.w);
-  ivec3 probe = probeWorldCoordinate(probeIndex % uint(update.dimensions.w), update.originProbe.xyz, update.dimensions.xyz);
+  uint levelStart = uint(update.level) * uint(update.probesPerLevel);
+  ivec3 probe = probeWorldCoordinate(probeIndex % uint(update.probesPerLevel), update.originProbe, update.probesPerAxis);
   neighbourRadiance[thread] = Sh2Rgb(vec4(0.0), vec4(0.0), vec4(0.0));
   neighbourUsable[thread] = 0.0;
   if (thread < kProbeNeighbourCount) {
     ivec3 coordinate = probe + probeNeighbourOffset(thread);
-    Probe neighbour = probes[levelStart + probeSlotIndex(coordinate, update.dimensions.xyz)];
+    Probe neighbour = probes[levelStart + probeSlotIndex(coordinate, update.probesPerAxis)];
     // Invalid neighbours are not usable, so no workgroup reads a probe that another one writes.
     if (probeIsUsable(neighbour, coordinate)) {
       neighbourRadiance[thread] = probeRadianceSh(neighbour);

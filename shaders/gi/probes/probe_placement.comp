@@ -25,7 +25,7 @@ layout(binding = kBindProbeList) buffer ProbeList {
 // (a cell of a grid level is wholly inside or outside it; outside, its toroidal bit belongs to another cell). The
 // cells searched are clipped to the volume first, so that no probe spacing makes the loop longer than the volume.
 bool voxelsWithin(vec3 lo, vec3 hi) {
-  uint level = update.settings.w;
+  uint level = update.placementSearchLevel;
   float cellSize = volume.voxelSize.x * float(1u << level);
   int bricksPerCell = 1 << (level - kFirstGridLevel);
   ivec3 volumeFirst = volume.originBrick.xyz / bricksPerCell;  // the volume's origin is a whole number of cells
@@ -46,18 +46,18 @@ void main() {
   uint inBlock = gl_LocalInvocationID.x;
   uvec3 probeInBlock = uvec3(inBlock % kProbeBlockSize, (inBlock / kProbeBlockSize) % kProbeBlockSize,
                              inBlock / (kProbeBlockSize * kProbeBlockSize));
-  ivec3 probe = update.originProbe.xyz + ivec3(block * kProbeBlockSize + probeInBlock);
-  float spacing = update.distances.x;
+  ivec3 probe = update.originProbe + ivec3(block * kProbeBlockSize + probeInBlock);
+  float spacing = update.spacing;
   vec3 lo = vec3(probe - 1) * spacing;
   vec3 hi = vec3(probe + 1) * spacing;
   if (!boxInFrustum(lo, hi, frame.frustumPlanes) || !voxelsWithin(lo, hi)) return;
 
   uint slot = atomicAdd(list.count, 1u);
-  if (slot >= update.settings.z) {  // over budget: undo, so that count ends as the number listed
+  if (slot >= update.probeBudget) {  // over budget: undo, so that count ends as the number listed
     atomicAdd(list.count, uint(-1));
     return;
   }
   atomicAdd(list.groupCountX, 1u);
-  uint level = uint(update.originProbe.w);
-  listedProbes[slot] = level * uint(update.dimensions.w) + probeSlotIndex(probe, update.dimensions.xyz);
+  uint level = uint(update.level);
+  listedProbes[slot] = level * uint(update.probesPerLevel) + probeSlotIndex(probe, update.probesPerAxis);
 }

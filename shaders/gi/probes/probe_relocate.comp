@@ -50,7 +50,7 @@ void main() {
   if (thread < kProbeNeighbourCount) {
     vec4 basis = sh2Basis(normalize(vec3(probeNeighbourOffset(thread))));
     normalDotAlong[thread] = dot(probeNormalDotSh(probe), basis);
-    distanceAlong[thread] = dot(probeDistanceSh(probe, update.distances.x), basis);
+    distanceAlong[thread] = dot(probeDistanceSh(probe, update.spacing), basis);
   }
   barrier();
   if (thread != 0u) return;
@@ -64,10 +64,10 @@ void main() {
     return;
   }
 
-  float spacing = update.distances.x;
+  float spacing = update.spacing;
   float offsetStep = spacing / kProbeOffsetStepsPerSpacing;
-  ivec3 coordinate = probeWorldCoordinate(probeIndex % uint(update.dimensions.w), update.originProbe.xyz,
-                                          update.dimensions.xyz);
+  ivec3 coordinate = probeWorldCoordinate(probeIndex % uint(update.probesPerLevel), update.originProbe,
+                                          update.probesPerAxis);
   vec3 offset = vec3(unpackProbeOffset(probeOffsetCode(state))) * offsetStep;  // zero for an invalid probe
   vec3 direction = normalize(vec3(probeNeighbourOffset(uint(nearest))));
   // How far the offset can go along the direction before one of its components reaches the bound.

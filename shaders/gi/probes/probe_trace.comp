@@ -95,7 +95,7 @@ vec3 skyRadiance(vec3 direction) {
 // with a voxel between it and this one is left out: it may stand on the other side of a wall (`ssvgi scenario leak`).
 bool coarserLevelRadiance(ivec3 probe, vec3 position, out Sh2Rgb radiance) {
   radiance = Sh2Rgb(vec4(0.0), vec4(0.0), vec4(0.0));
-  uint coarserLevel = uint(update.originProbe.w) + 1u;
+  uint coarserLevel = uint(update.level) + 1u;
   if (coarserLevel >= kProbeLevels) return false;
   ivec3 base = probe >> 1;  // the coarser cell holding the probe (arithmetic shift: floor for negative coordinates)
   vec3 fraction = vec3(probe & 1) * 0.5;
@@ -105,9 +105,9 @@ bool coarserLevelRadiance(ivec3 probe, vec3 position, out Sh2Rgb radiance) {
     vec3 axisWeights = mix(vec3(1.0) - fraction, fraction, vec3(side));
     float weight = axisWeights.x * axisWeights.y * axisWeights.z;
     ivec3 coarser = base + side;
-    Probe candidate = probes[coarserLevel * uint(update.dimensions.w) + probeSlotIndex(coarser, update.dimensions.xyz)];
+    Probe candidate = probes[coarserLevel * uint(update.probesPerLevel) + probeSlotIndex(coarser, update.probesPerAxis)];
     if (weight == 0.0 || !probeIsUsable(candidate, coarser)) continue;
-    vec3 coarserPosition = probeWorldPosition(coarser, 2.0 * update.distances.x, candidate.state);
+    vec3 coarserPosition = probeWorldPosition(coarser, 2.0 * update.spacing, candidate.state);
     float separation = distance(coarserPosition, position);
     if (separation > 0.5 * volume.voxelSize.x &&
         traceVoxelsHierarchical(coarserPosition, (position - coarserPosition) / separation,
@@ -145,7 +145,7 @@ Sh2Rgb updateStratum(uint stratum, StratifiedRays rays, uint firstDirection, uin
                      Sh2Rgb history, uint reservoirSlot, uint seed) {
   uint firstRay = stratum * rays.raysPerStratum;
   uint reusedRay = firstRay + rays.candidates;
-  vec3 random = hashToUnitCube(uvec3(seed, update.reservoirs.z, stratum));
+  vec3 random = hashToUnitCube(uvec3(seed, update.frameIndex, stratum));
   float solidAngle = kProbeStratumSolidAngle;
 
   // Temporal reuse: the stored reservoir, its sample re-traced this frame (never clamped). Capping M bounds how long
@@ -154,7 +154,7 @@ Sh2Rgb updateStratum(uint stratum, StratifiedRays rays, uint firstDirection, uin
   uint kept = probeReservoirSample(reservoir);
   vec3 keptRadiance = rayRadiance[reusedRay];
   float keptTarget = probeSampleLuminance(keptRadiance);
-  uint reusedCount = keptTarget > 0.0 ? min(min(probeReservoirCount(reservoir), update.reservoirs.y),
+  uint reusedCount = keptTarget > 0.0 ? min(min(probeReservoirCount(reservoir), update.reservoirHistoryCap),
                                             rays.candidates * reusableUpdates)
                                       : 0u;
   float weightSum = probeReservoirMeanWeight(reservoir) * float(reusedCount);
@@ -199,7 +199,7 @@ Sh2Rgb updateStratum(uint stratum, StratifiedRays rays, uint firstDirection, uin
 }
 
 // This update's dither of the probe's 8-bit values (SH, change statistics).
-float probeDither(uint probeIndex) { return hashToUnitCube(uvec3(probeIndex, update.reservoirs.z, kProbeStrata)).x; }
+float probeDither(uint probeIndex) { return hashToUnitCube(uvec3(probeIndex, update.frameIndex, kProbeStrata)).x; }
 
 // Less lag (SPEC §6.2; shared/probe_interface.h): an update whose trimmed mean strays from its history's by more than
 // its usual noise shortens the history in proportion. Its deviation is then not learnt as noise, so that a change does
@@ -208,7 +208,7 @@ float probeDither(uint probeIndex) { return hashToUnitCube(uvec3(probeIndex, upd
 // update blends with.
 uint followChange(uint probeIndex, uint storedCount, float trimmedMean) {
   uint historyCount = storedCount;
-  float threshold = update.sampleClamp.y;
+  float threshold = update.changeThreshold;
   ProbeChange change =
       storedCount > 0u ? unpackProbeChange(changes[probeIndex]) : ProbeChange(trimmedMean, 0.0, 0u, 0u);
   float deviation = (trimmedMean - change.mean) / max(trimmedMean + change.mean, 1e-20);
@@ -239,8 +239,8 @@ uint followChange(uint probeIndex, uint storedCount, float trimmedMean) {
 void main() {
   uint probeIndex = listedProbes[gl_WorkGroupID.x];
   uint ray = gl_LocalInvocationID.x;
-  ivec3 dimensions = update.dimensions.xyz;
-  ivec3 probe = probeWorldCoordinate(probeIndex % uint(update.dimensions.w), update.originProbe.xyz, dimensions);
+  ivec3 dimensions = update.probesPerAxis;
+  ivec3 probe = probeWorldCoordinate(probeIndex % uint(update.probesPerLevel), update.originProbe, dimensions);
   Probe stored = probes[probeIndex];
   uint state = stored.state;
   // History, offset and placement count only if this slot has held this probe (a slot that scrolled to another probe
@@ -252,10 +252,10 @@ void main() {
   uint firstDirection = ownsSlot ? probeNextDirection(state) : 0u;
   uint offsetCode = ownsSlot ? probeOffsetCode(state) : 0u;
   uint placement = ownsSlot ? probePlacement(state) : kProbeStateActive;
-  vec3 origin = probeWorldPosition(probe, update.distances.x, ownsSlot ? state : 0u);
+  vec3 origin = probeWorldPosition(probe, update.spacing, ownsSlot ? state : 0u);
 
-  uint raysPerProbe = update.settings.x;
-  bool keepsReservoirs = update.reservoirs.x != 0u;
+  uint raysPerProbe = update.raysPerProbe;
+  bool keepsReservoirs = update.keepsReservoirs != 0u;
   uint raysPerStratum = max(raysPerProbe / kProbeStrata, 1u);  // ≥ 2 with reservoirs (validateSettings)
   StratifiedRays rays = StratifiedRays(raysPerStratum, raysPerStratum - 1u);
   uint stratum = ray / rays.raysPerStratum;
@@ -291,10 +291,10 @@ void main() {
       uniformWeight = reusesReservoir ? 0.0 : kProbeStratumSolidAngle / float(rays.candidates);
     } else {
       direction = probeRayDirection(firstDirection, ray);
-      uniformWeight = update.distances.w;
+      uniformWeight = update.projectionWeight;
     }
     bool watchesObservedSpace = volume.settings.z != 0u;
-    hit = traceVoxelsHierarchical(origin, direction, update.distances.y, watchesObservedSpace);
+    hit = traceVoxelsHierarchical(origin, direction, update.rayLength, watchesObservedSpace);
     rayUnknown[ray] = !hit.hit && hit.unobserved;  // neither a surface nor the sky (SPEC §6.4)
     rayRadiance[ray] = hit.hit ? hit.radiance : skyRadiance(direction);
   }
@@ -329,7 +329,7 @@ void main() {
     // geometry, which is what negative values will tell the virtual offset.
     float normalDot = hit.hit ? dot(-direction, hit.normal) : 1.0;
     // An unknown ray's distance: how far its way is known to be free.
-    float distance = min(unknown ? hit.unobservedDistance : hit.distance, update.distances.z);
+    float distance = min(unknown ? hit.unobservedDistance : hit.distance, update.distanceRange);
     // L_lm = (4π/N) Σ L(ω_i) Y_lm(ω_i) (SPEC §2): each thread contributes its term.
     vec4 weightedBasis = sh2Basis(direction) * uniformWeight;
     partialSums[0][ray] = radiance.r * weightedBasis;
@@ -373,7 +373,7 @@ void main() {
 
   if (keepsReservoirs) {
     // The clamp: the brightest direction the reservoirs hold, re-traced this frame (none for empty reservoirs).
-    float clampFactor = update.sampleClamp.x;
+    float clampFactor = update.sampleClamp;
     clampScale[ray] = 1.0;
     if (clampFactor > 0.0 && ray < raysPerProbe && !reusesReservoir) {
       float historyMaximum = 0.0;
@@ -418,8 +418,8 @@ void main() {
   Sh2Rgb radiance = Sh2Rgb(mix(history.r, partialSums[0][0], radianceAlpha),
                            mix(history.g, partialSums[1][0], radianceAlpha),
                            mix(history.b, partialSums[2][0], radianceAlpha));
-  float range = update.distances.z;
-  vec4 distanceHistory = historyCount > 0u ? probeDistanceSh(stored, update.distances.x) : vec4(0.0);
+  float range = update.distanceRange;
+  vec4 distanceHistory = historyCount > 0u ? probeDistanceSh(stored, update.spacing) : vec4(0.0);
   vec4 normalDotHistory = historyCount > 0u ? probeNormalDotSh(stored) : vec4(0.0);
   float dither = probeDither(probeIndex);
   uint distanceSh = packProbeUnitSh(mix(distanceHistory, partialSums[3][0], alpha) / range, dither);
@@ -429,7 +429,7 @@ void main() {
   uint nextDirection = keepsReservoirs
                            ? (firstDirection + rays.candidates) % (rays.candidates * kProbeStratumDirectionCount)
                            : (firstDirection + raysPerProbe) % kProbeRayDirectionCount;
-  uint nextState = packProbeState(min(historyCount + 1u, update.settings.y), nextDirection, placement, offsetCode);
+  uint nextState = packProbeState(min(historyCount + 1u, update.historyCap), nextDirection, placement, offsetCode);
   float knownFraction = float(knownRays) / float(raysPerProbe);
   float knownHistory = historyCount > 0u ? probeKnownFraction(stored) : knownFraction;
   uint tag = packProbeTag(probe, mix(knownHistory, knownFraction, alpha), dither);

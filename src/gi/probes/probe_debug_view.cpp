@@ -12,7 +12,7 @@ void ProbeDebugView::record(gpu::CommandList& commands, const VoxelScene& scene,
                             glm::vec3 probeCamera, const View& camera, VkImage target, VkImageView targetView) {
   auto scope = commands.scope("ssvgi: ProbeDebugView");
   commands.useExternalImage(target, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL);
-  const glm::ivec3 dimensions = glm::ivec3(probes.current().dimensions);
+  const glm::ivec3 dimensions = probes.current().probesPerAxis;
   const shader::ProbeDebugViewPush push{
       debugViewCamera(camera, 0u),
       glm::ivec4(probes.levelOrigin(0, probeCamera), glm::floatBitsToInt(probes.levelSpacing(0))),

@@ -67,14 +67,23 @@ uint32_t ProbeVolume::prepare(uint32_t frameIndex, glm::vec3 cameraPosition, con
       std::clamp(int(std::floor(std::log2(spacing / voxels.voxelSize.x))), int(shader::kFirstGridLevel),
                  int(shader::kOccupancyLevels) - 1);
 
-  current_.originProbe = glm::ivec4(origin, int(level));
-  current_.dimensions = glm::ivec4(dimensions, int(probesPerLevel()));
-  current_.distances = glm::vec4(spacing, maxTraceDistance, shader::kProbeDistanceRangeSpacings * spacing,
-                                 4.0f * shader::kPi / float(settings_.raysPerProbe));
-  current_.settings = glm::uvec4(settings_.raysPerProbe, settings_.probeHistoryCap, settings_.probeBudget, searchLevel);
-  current_.reservoirs = glm::uvec4(settings_.probeReservoirs && level == 0 ? 1u : 0u, settings_.probeReservoirHistoryCap,
-                                   frameIndex, 0u);
-  current_.sampleClamp = glm::vec4(settings_.probeSampleClamp, settings_.probeChangeThreshold, 0.0f, 0.0f);
+  current_.originProbe = origin;
+  current_.level = int(level);
+  current_.probesPerAxis = dimensions;
+  current_.probesPerLevel = int(probesPerLevel());
+  current_.spacing = spacing;
+  current_.rayLength = maxTraceDistance;
+  current_.distanceRange = shader::kProbeDistanceRangeSpacings * spacing;
+  current_.projectionWeight = 4.0f * shader::kPi / float(settings_.raysPerProbe);
+  current_.raysPerProbe = settings_.raysPerProbe;
+  current_.historyCap = settings_.probeHistoryCap;
+  current_.probeBudget = settings_.probeBudget;
+  current_.placementSearchLevel = uint32_t(searchLevel);
+  current_.keepsReservoirs = settings_.probeReservoirs && level == 0 ? 1u : 0u;
+  current_.reservoirHistoryCap = settings_.probeReservoirHistoryCap;
+  current_.frameIndex = frameIndex;
+  current_.sampleClamp = settings_.probeSampleClamp;
+  current_.changeThreshold = settings_.probeChangeThreshold;
   std::memcpy(&current_.skyRadiance, skyRadianceSh.data(), sizeof(current_.skyRadiance));
 
   // SPEC §4.5: "the CPU culls the level's volume against the frustum coarsely" — per block, the union of its probes'
