@@ -213,7 +213,7 @@ std::vector<ssvgi::ExtraView> ExtraViews::record(gpu::CommandList& commands, con
     shader::FrameConstants viewFrame = frame;
     setFrameView(viewFrame, view, jitteredProjection(projection, jitter, target.size, target.size), target.size,
                  target.size);
-    viewFrame.lightCountAndExposure.z = 0.0f;  // direct and emitted light only: ssvgi adds the rest
+    viewFrame.addsIndirectLight = 0u;  // direct and emitted light only: ssvgi adds the rest
     std::memcpy(target.frameConstants.mapped(), &viewFrame, sizeof(viewFrame));
     gbufferPass_.record(commands, scene, target.frameConstants, target.gbuffer);
     directLighting_.record(commands, target.frameConstants, lights, shadows, target.gbuffer, pointSampler,

@@ -42,7 +42,8 @@ shader::FrameConstants makeFrameConstants(const Scene& scene, const AnimatedStat
   setFrameView(frame, state.camera, width, height);
   frame.sunDirectionAndEnabled = glm::vec4(glm::normalize(state.sun.direction), state.sun.enabled ? 1.0f : 0.0f);
   frame.sunIlluminance = glm::vec4(state.sun.illuminance, 0.0f);
-  frame.lightCountAndExposure = glm::vec4(float(scene.lights.size()), exposure, 0.0f, 0.0f);
+  frame.localLightCount = uint32_t(scene.lights.size());
+  frame.exposure = exposure;
   frame.sky = makeSkyParameters(scene.sky, state.sun);
   return frame;
 }
@@ -157,8 +158,8 @@ void Renderer::render(const AnimatedState& state) {
   shader::FrameConstants frame = makeFrameConstants(scene_, state, settings_.width, settings_.height, settings_.exposure);
   if (!firstFrame) frame.previousViewProjection = previousViewProjection_;
   const bool giLighting = gi_ && settings_.giLighting;
-  if (giLighting) frame.lightCountAndExposure.z = 1.0f;  // the composite adds ssvgi's indirect irradiance
-  frame.lightCountAndExposure.w = float(settings_.shownLight);
+  if (giLighting) frame.addsIndirectLight = 1u;  // the composite adds ssvgi's indirect irradiance
+  frame.shownLight = uint32_t(settings_.shownLight);
 
   std::vector<shader::GpuLight> lights;
   for (const LocalLight& light : scene_.lights) lights.push_back(toGpuLight(light));

@@ -173,7 +173,7 @@ vec3 directIrradiance(vec3 position, vec3 normal, vec3 shadowOrigin) {
     float cosine = dot(normal, toSun);
     if (cosine > 0.0 && !occluded(shadowOrigin, toSun, kInfiniteDistance)) irradiance += frame.sunIlluminance.rgb * cosine;
   }
-  uint lightCount = uint(frame.lightCountAndExposure.x);
+  uint lightCount = frame.localLightCount;
   for (uint i = 0u; i < lightCount; ++i) {
     GpuLight light = lights[i];
     vec3 toLight = light.positionAndType.xyz - position;

@@ -39,7 +39,7 @@ void main() {
     radiance = evaluateSky(frame.sky, direction);
   } else {
     vec3 albedo = texelFetch(albedoBuffer, pixel, 0).rgb;
-    if (frame.lightCountAndExposure.z > 0.0) {
+    if (frame.addsIndirectLight != 0u) {
       SsvgiResolveView view = SsvgiResolveView(frame.inverseViewProjection, frame.cameraPosition.xyz,
                                                frame.viewportSize.xy);
       SsvgiResolved resolved =
@@ -50,7 +50,7 @@ void main() {
     vec3 emission = texelFetch(emissionBuffer, pixel, 0).rgb;
     radianceWithoutGi = emission + albedo * (1.0 / kPi) * direct;
     radiance = emission + albedo * (1.0 / kPi) * (direct + indirect.rgb);
-    uint shown = uint(frame.lightCountAndExposure.w);
+    uint shown = frame.shownLight;
     if (shown == kShowDirectLight) radiance = radianceWithoutGi;
     if (shown == kShowIndirectLight) radiance = albedo * (1.0 / kPi) * indirect.rgb;
   }

@@ -63,7 +63,7 @@ void main() {
     float cosine = dot(normal, frame.sunDirectionAndEnabled.xyz);
     if (cosine > 0.0) irradiance += frame.sunIlluminance.rgb * cosine * sunVisibility(position, normal);
   }
-  uint lightCount = uint(frame.lightCountAndExposure.x);
+  uint lightCount = frame.localLightCount;
   for (uint i = 0u; i < lightCount; ++i) {
     GpuLight light = lights[i];
     vec3 toLight = light.positionAndType.xyz - position;

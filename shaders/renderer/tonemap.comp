@@ -19,6 +19,6 @@ vec3 linearToSrgb(vec3 linear) {
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(pixel, ivec2(frame.viewportSize.xy)))) return;
-  vec3 radiance = imageLoad(hdr, pixel).rgb * frame.lightCountAndExposure.y;
+  vec3 radiance = imageLoad(hdr, pixel).rgb * frame.exposure;
   imageStore(ldr, pixel, vec4(linearToSrgb(acesFitted(radiance)), 1.0));
 }

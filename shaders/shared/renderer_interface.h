@@ -26,8 +26,10 @@ struct FrameConstants {
   vec4 viewportSize;            // width, height, 1/width, 1/height
   vec4 sunDirectionAndEnabled;  // xyz: unit vector towards the sun; w: 1 when the sun is on
   vec4 sunIlluminance;          // rgb: irradiance on a surface facing the sun, W/m²; w: sun shadow texel size, m
-  vec4 lightCountAndExposure;   // x: local light count; y: exposure multiplier; z: indirect irradiance on (1) / off (0);
-                                // w: the light the final image shows on surfaces, kShow* (renderer::ShownLight)
+  uint localLightCount;
+  float exposure;               // multiplier before tonemapping
+  uint addsIndirectLight;       // 1: the composite adds albedo/π · ssvgi's indirect irradiance
+  uint shownLight;              // the light the final image shows on surfaces, kShow* (renderer::ShownLight)
   SkyParameters sky;
 };
 SSVGI_CHECK_SIZE(FrameConstants, 4 * 64 + 6 * 16 + 32);
