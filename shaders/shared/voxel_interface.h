@@ -39,6 +39,13 @@ SSVGI_CONSTANT(uint, kBindInjectionAlbedo, kBindFirstPassSlot + 3u);  // its alb
 SSVGI_CONSTANT(uint, kBindInjectionBricks, kBindFirstPassSlot + 4u);  // IndirectList of the bricks to inject
 SSVGI_CONSTANT(uint, kBindInjectionIrradiance, kBindFirstPassSlot + 5u);  // ssvgi's last output (sampled; read for
                                                                           // kViewIsLitWithOutput)
+// HiZBuild's, BrickAllocate's and BrickCulling's own slots.
+SSVGI_CONSTANT(uint, kBindHiZDepth, kBindFirstPassSlot);                // the camera's depth (sampled)
+SSVGI_CONSTANT(uint, kBindHiZPyramid, kBindFirstPassSlot + 1u);         // float[]: the Hi-Z levels HiZBuild writes
+SSVGI_CONSTANT(uint, kBindAllocationDepth, kBindFirstPassSlot);         // the camera's depth (sampled)
+SSVGI_CONSTANT(uint, kBindAllocationNormal, kBindFirstPassSlot + 1u);   // its world normal (sampled)
+SSVGI_CONSTANT(uint, kBindCullingHiZ, kBindFirstPassSlot);              // float[]: the Hi-Z levels
+SSVGI_CONSTANT(uint, kBindCullingVisibleBricks, kBindFirstPassSlot + 1u);  // IndirectList of the bricks in view
 
 // Per-frame description of the volume (uniform buffer).
 struct VoxelVolume {

@@ -7,8 +7,8 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(binding = kBindFirstPassSlot) uniform sampler2D depthBuffer;
-layout(binding = kBindFirstPassSlot + 1u) uniform sampler2D normalBuffer;
+layout(binding = kBindAllocationDepth) uniform sampler2D depthBuffer;
+layout(binding = kBindAllocationNormal) uniform sampler2D normalBuffer;
 
 void main() {
   uint stride = frame.allocationPixelStride;

@@ -8,8 +8,8 @@
 layout(local_size_x = 64) in;
 
 layout(binding = kBindPoolState) buffer PoolBlock { BrickPoolState pool; };
-layout(binding = kBindFirstPassSlot) readonly buffer HiZ { float hiz[]; };
-layout(binding = kBindFirstPassSlot + 1u) buffer VisibleBricks {
+layout(binding = kBindCullingHiZ) readonly buffer HiZ { float hiz[]; };
+layout(binding = kBindCullingVisibleBricks) buffer VisibleBricks {
   IndirectList visible;
   uint visibleBricks[];
 };

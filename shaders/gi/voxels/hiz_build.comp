@@ -7,8 +7,8 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(binding = kBindFirstPassSlot) uniform sampler2D depthBuffer;
-layout(binding = kBindFirstPassSlot + 1u) buffer HiZ { float hiz[]; };
+layout(binding = kBindHiZDepth) uniform sampler2D depthBuffer;
+layout(binding = kBindHiZPyramid) buffer HiZ { float hiz[]; };
 layout(push_constant) uniform Push { uint level; } push;
 
 float source(ivec2 texel, uvec4 sourceLevel) {

@@ -12,8 +12,8 @@ void BrickAllocate::record(gpu::CommandList& commands, const VoxelScene& scene, 
   commands.dispatch(pipeline_,
                     scene.bindings()
                         .buffer(shader::kBindGiFrame, inputs.frame)
-                        .externalSampled(shader::kBindFirstPassSlot, inputs.depth, inputs.pointSampler)
-                        .externalSampled(shader::kBindFirstPassSlot + 1, inputs.normal, inputs.pointSampler),
+                        .externalSampled(shader::kBindAllocationDepth, inputs.depth, inputs.pointSampler)
+                        .externalSampled(shader::kBindAllocationNormal, inputs.normal, inputs.pointSampler),
                     {threads.x, threads.y, 1});
 }
 

@@ -10,8 +10,8 @@ void HiZBuild::record(gpu::CommandList& commands, const VoxelFrameInputs& inputs
   auto scope = commands.scope("ssvgi: HiZBuild");
   const gpu::Bindings bindings = gpu::Bindings()
                                      .buffer(shader::kBindGiFrame, inputs.frame)
-                                     .externalSampled(shader::kBindFirstPassSlot, inputs.depth, inputs.pointSampler)
-                                     .buffer(shader::kBindFirstPassSlot + 1, inputs.hiz);
+                                     .externalSampled(shader::kBindHiZDepth, inputs.depth, inputs.pointSampler)
+                                     .buffer(shader::kBindHiZPyramid, inputs.hiz);
   for (uint32_t level = 0; level < levels; ++level) {
     const glm::uvec3 texels(frame.hizLevels[level].y, frame.hizLevels[level].z, 1);
     commands.dispatch(pipeline_, bindings, texels, level);
