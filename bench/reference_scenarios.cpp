@@ -199,7 +199,6 @@ IndirectErrorResult measureIndirectError(gpu::Device& device, const ScenarioRend
 
   const PixelMask mask = reference::maskFromDepth(viewDistance);
   result.comparison = reference::compareImages(gi, referenceIndirect, &mask, options.downsample);
-  result.meanRatio = sumOverMask(gi, mask) / sumOverMask(referenceIndirect, mask);
   result.referenceNoiseFloor =
       reference::compareImages(halves[0], halves[1], &mask, options.downsample).relativeMeanAbsoluteError / 2.0;
   return result;
@@ -277,7 +276,7 @@ nlohmann::json toJson(const IndirectErrorResult& result) {
           {"ssim", result.comparison.ssim},
           {"validPixels", result.comparison.validPixels},
           {"downsample", result.comparison.downsample},
-          {"meanRatio", result.meanRatio},
+          {"meanRatio", result.comparison.meanRatio},
           {"referenceNoiseFloor", result.referenceNoiseFloor},
           {"referenceSamplesPerPixel", result.referenceSamples},
           {"convergence", toJson(result.convergence)}};

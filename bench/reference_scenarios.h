@@ -48,8 +48,6 @@ struct IndirectErrorOptions {
 
 struct IndirectErrorResult {
   reference::ImageComparison comparison;  // E_indirect of the GI against the reference's: SPEC §7's figure
-  // Σ GI / Σ reference over the surface pixels and channels: > 1 where the GI is too bright overall.
-  double meanRatio = 0.0;
   // The relative mean absolute error a perfect E_indirect would show against this reference, from its noise alone:
   // the error between its two independent halves / 2 (each half has √2 × the whole's noise, their difference √2 ×
   // a half's). The figure above means little unless it is well above this.

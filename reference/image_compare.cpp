@@ -164,6 +164,7 @@ ImageComparison compare(const FloatImage& test, const FloatImage& reference, con
 
   const uint32_t colourChannels = std::min(reference.channels, 3u);
   double absoluteDifferenceSum = 0.0, absoluteReferenceSum = 0.0, squaredDifferenceSum = 0.0;
+  double testSum = 0.0, referenceSum = 0.0;
   double referenceLuminanceSum = 0.0;
   std::vector<double> testLuminance(valid.valid.size(), 0.0), referenceLuminance(valid.valid.size(), 0.0);
   ImageComparison comparison{.pixels = valid.valid.size(), .downsample = k};
@@ -179,6 +180,8 @@ ImageComparison compare(const FloatImage& test, const FloatImage& reference, con
         if (!std::isfinite(r)) throw notFiniteError(names.reference, x, y, k);
         absoluteDifferenceSum += std::abs(t - r);
         absoluteReferenceSum += std::abs(r);
+        testSum += t;
+        referenceSum += r;
         squaredDifferenceSum += (t - r) * (t - r);
       }
       testLuminance[pixel] = luminance(testBlocks, pixel);
@@ -196,6 +199,7 @@ ImageComparison compare(const FloatImage& test, const FloatImage& reference, con
                             " is black over the valid pixels: an error relative to it has no meaning");
 
   comparison.relativeMeanAbsoluteError = absoluteDifferenceSum / absoluteReferenceSum;
+  comparison.meanRatio = referenceSum > 0.0 ? testSum / referenceSum : 0.0;
   comparison.rmse = std::sqrt(squaredDifferenceSum / double(comparison.validPixels * colourChannels));
   comparison.ssim = meanSsim(testLuminance, referenceLuminance, valid, meanReferenceLuminance);
   return comparison;

@@ -52,6 +52,10 @@ struct ImageComparison {
   // Σ|test − reference| / Σ|reference| over the colour channels: 0.1 means the test is off by 10 % of the
   // reference's light on average. This is SPEC §7's "error vs reference".
   double relativeMeanAbsoluteError = 0.0;
+  // Σ test / Σ reference over the colour channels: how much of the reference's light the test has in all, whatever
+  // its distribution (1.2: 20 % too much; 0 where the reference's sum is not positive). The error above does not
+  // say which way it is off.
+  double meanRatio = 0.0;
   // sqrt(mean((test − reference)²)) over the colour channels, in the images' own unit (W/m² for irradiance).
   double rmse = 0.0;
   // Mean structural similarity of luminance (Wang, Bovik, Sheikh and Simoncelli 2004, "Image quality assessment: from

@@ -29,6 +29,7 @@ int runCompare(const CompareOptions& options) {
 
   if (options.json) {
     const nlohmann::json result = {{"relativeMeanAbsoluteError", comparison.relativeMeanAbsoluteError},
+                                   {"meanRatio", comparison.meanRatio},
                                    {"rmse", comparison.rmse},
                                    {"ssim", comparison.ssim},
                                    {"validPixels", comparison.validPixels},
@@ -43,6 +44,7 @@ int runCompare(const CompareOptions& options) {
   std::printf("pixels     %llu of %llu compared (%s; %s)\n\n", static_cast<unsigned long long>(comparison.validPixels),
               static_cast<unsigned long long>(comparison.pixels), blocks.c_str(), mask.c_str());
   std::printf("relative mean absolute error  %.4g\n", comparison.relativeMeanAbsoluteError);
+  std::printf("mean ratio (test/reference)   %.4g\n", comparison.meanRatio);
   std::printf("RMSE                          %.4g\n", comparison.rmse);
   std::printf("SSIM (luminance)              %.4f\n", comparison.ssim);
   return 0;
@@ -71,7 +73,7 @@ CommandRunner addCompareCommand(CLI::App& app) {
                    "are valid; partial blocks at the edges are dropped")
       ->capture_default_str();
   command->add_flag("--json", options->json,
-                    "Print one JSON object: relativeMeanAbsoluteError, rmse, ssim, validPixels, downsample");
+                    "Print one JSON object: relativeMeanAbsoluteError, meanRatio, rmse, ssim, validPixels, downsample");
   return [options] { return runCompare(*options); };
 }
 
