@@ -168,6 +168,86 @@ TEST(Sh2Test, irradianceMatchesNumericalCosineIntegral) {
   }
 }
 
+// A uniform cone of radiance L and half-angle α about an axis, and its exact SH2 coefficients: L00 = L·Y00·Ω with
+// Ω = 2π(1 − cos α), and band 1 L·Y1·∫ω dω = L·Y1·π·sin²α·axis. Its exact irradiance on the surface facing the axis
+// is π·L·sin²α.
+struct UniformCone {
+  float radiance = 1.0f;
+  float halfAngle = 0.5f;
+  glm::vec3 axis = glm::normalize(glm::vec3(0.4f, 1.0f, -0.3f));
+
+  glm::vec3 operator()(glm::vec3 direction) const {
+    return glm::vec3(glm::dot(direction, axis) >= std::cos(halfAngle) ? radiance : 0.0f);
+  }
+  glm::vec4 coefficients() const {
+    const float solidAngle = 2.0f * shader::kPi * (1.0f - std::cos(halfAngle));
+    const glm::vec3 band1 = radiance * shader::kSh2Band1Basis * shader::kPi * std::sin(halfAngle) *
+                            std::sin(halfAngle) * axis;
+    return {radiance * shader::kSh2Band0Basis * solidAngle, band1.y, band1.z, band1.x};
+  }
+};
+
+TEST(Sh2Test, coneFitIrradianceOfAUniformConeIsExactOnItsAxis) {
+  for (float degrees : {2.0f, 10.0f, 30.0f, 60.0f, 89.0f}) {
+    const UniformCone cone{.halfAngle = glm::radians(degrees)};
+    const double exact = kPi * cone.radiance * std::sin(cone.halfAngle) * std::sin(cone.halfAngle);
+    EXPECT_NEAR(shader::sh2ConeFitIrradiance(cone.coefficients(), cone.axis), exact, 1e-4 * exact)
+        << "half-angle " << degrees << "°";
+  }
+}
+
+// Off the axis the fit is not exact, but nearer the truth than the linear formula, which flattens a small cone's light
+// (3/4 of it facing it, 1/4 at 90° to it) — and facing away from it, where there is none, it gives none.
+TEST(Sh2Test, coneFitIrradianceOfASmallConeIsNearerTheTruthThanTheLinearFormula) {
+  const UniformCone cone{.halfAngle = glm::radians(10.0f)};
+  const glm::vec3 helper = glm::normalize(glm::cross(cone.axis, glm::vec3(1.0f, 0.0f, 0.0f)));
+  for (float degrees : {20.0f, 45.0f, 70.0f}) {
+    const float angle = glm::radians(degrees);
+    const glm::vec3 normal = std::cos(angle) * cone.axis + std::sin(angle) * helper;
+    const double exact = bruteForceIrradiance(cone, normal).x;
+    const double fit = shader::sh2ConeFitIrradiance(cone.coefficients(), normal);
+    const double linear = shader::sh2Irradiance(cone.coefficients(), normal);
+    EXPECT_LT(std::abs(fit - exact), std::abs(linear - exact)) << degrees << "° off the axis";
+  }
+  const glm::vec3 away = -cone.axis;
+  EXPECT_EQ(shader::sh2ConeFitIrradiance(cone.coefficients(), away), 0.0f);
+}
+
+// Uniform light plus light from one hemisphere is exactly bands 0 and 1 in E, so the linear formula is exact there,
+// and the fit must be the linear formula.
+TEST(Sh2Test, coneFitIrradianceIsTheLinearFormulaForUniformPlusHemisphereLight) {
+  for (float background : {0.0f, 0.3f, 2.0f}) {
+    const UniformCone hemisphere{.radiance = 1.5f, .halfAngle = 0.5f * shader::kPi};
+    const glm::vec4 coefficients =
+        hemisphere.coefficients() + glm::vec4(background * shader::kSh2Band0Basis * 4.0f * shader::kPi, 0, 0, 0);
+    for (const glm::vec3& normal : testNormals()) {
+      const float linear = shader::sh2Irradiance(coefficients, normal);
+      EXPECT_NEAR(shader::sh2ConeFitIrradiance(coefficients, normal), linear, 1e-4f * (linear + 1.0f))
+          << "background " << background;
+    }
+  }
+}
+
+// Over all normals its mean is the linear formula's (π·L00·Y00: band 1 averages to nothing), and it is never negative.
+TEST(Sh2Test, coneFitIrradianceKeepsTheMeanOverNormalsAndIsNeverNegative) {
+  constexpr uint32_t kNormals = 16384;
+  for (float degrees : {5.0f, 40.0f, 90.0f}) {
+    const glm::vec4 coefficients = UniformCone{.halfAngle = glm::radians(degrees)}.coefficients() +
+                                   glm::vec4(0.1f * shader::kSh2Band0Basis * 4.0f * shader::kPi, 0, 0, 0);
+    double sum = 0.0;
+    float smallest = 1.0f;
+    for (uint32_t index = 0; index < kNormals; ++index) {
+      const float irradiance = shader::sh2ConeFitIrradiance(coefficients, shader::haltonSphereDirection(index));
+      sum += irradiance;
+      smallest = std::min(smallest, irradiance);
+    }
+    const double mean = shader::kSh2Band0CosineConvolution * shader::kSh2Band0Basis * coefficients.x;
+    // Quasi-Monte Carlo over 16384 normals of a function with a sharp lobe: 0.5 % is a few times its error.
+    EXPECT_NEAR(sum / kNormals, mean, 5e-3 * mean) << "half-angle " << degrees << "°";
+    EXPECT_GE(smallest, 0.0f);
+  }
+}
+
 TEST(SamplingTest, radicalInverseMirrorsDigitsAboutTheRadixPoint) {
   EXPECT_EQ(shader::radicalInverse(0u, 2u), 0.0f);
   EXPECT_EQ(shader::radicalInverse(1u, 2u), 0.5f);
