@@ -535,7 +535,7 @@ TEST_F(GatherCornell, theFloorBesideTheRedWallGetsRedderIndirectLightLikeInTheRe
   RecordProperty("referenceBleed", std::to_string(referenceBleed));
   ASSERT_GT(referenceBleed, 1.5);  // the scene bleeds
   // Probes half a metre apart blur the walls' light over the floor, so ssvgi keeps only part of the reference's bleed
-  // (measured 2026-11-22: ssvgi 1.73, reference 2.16); at least half of its excess over grey.
+  // (docs/QUALITY.md, "What the scenario tests' bounds rest on"); at least half of its excess over grey.
   EXPECT_GT(bleed - 1.0, 0.5 * (referenceBleed - 1.0));
 }
 

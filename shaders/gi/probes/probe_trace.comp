@@ -29,15 +29,15 @@
 // candidates' weights are from the updates that drew them, so the reservoir lags, by no more than the probe's history
 // (the bound on M below). The old weights are not re-weighted by the re-traced ray's radiance this frame, as ReSTIR
 // does with an exact target: a voxel's radiance is itself an estimate, and a sample kept because it was bright when
-// drawn is, this frame, on average less bright, so re-weighting by it biased every reservoir low (−8 % in cornell)
-// and passed that one voxel's noise on to the whole stratum. The re-traced ray still gives L(y')/p̂(y'), the colour,
-// and a kept sample that has gone dark empties its reservoir (what it stood for is gone). The second part, by the
-// c uniform candidates, is stratified Monte Carlo with H as control variate, whose own integral is exact
-// (probeStratumDeviation); H is fixed before the candidates are drawn, so it changes only the variance. It is left
-// with the way the light varies across the stratum — band 1, which E(n) along the axes mostly depends on — and
-// without the control variate 3 candidates per stratum do worse there than the plain 32 rays (docs/QUALITY.md,
-// "Probe stability"). Under constant radiance L·W = L·Ω_s exactly, H converges to the constant, and the estimate is
-// the plain stratified one, so a uniform sky converges to the analytic SH either way.
+// drawn is, this frame, on average less bright, so re-weighting by it biased every reservoir low (cornell's probes
+// came out too dark: docs/QUALITY.md, "Probe stability") and passed that one voxel's noise on to the whole stratum.
+// The re-traced ray still gives L(y')/p̂(y'), the colour, and a kept sample that has gone dark empties its reservoir
+// (what it stood for is gone). The second part, by the c uniform candidates, is stratified Monte Carlo with H as
+// control variate, whose own integral is exact (probeStratumDeviation); H is fixed before the candidates are drawn, so
+// it changes only the variance. It is left with the way the light varies across the stratum — band 1, which E(n)
+// along the axes mostly depends on — and without the control variate 3 candidates per stratum do worse there than
+// the plain 32 rays (docs/QUALITY.md, "Probe stability"). Under constant radiance L·W = L·Ω_s exactly, H converges to
+// the constant, and the estimate is the plain stratified one, so a uniform sky converges to the analytic SH either way.
 //
 // The luminance clamp (Settings::probeSampleClamp; the talk: "limit the current frame's brightness by the history's
 // maximum"): a candidate's radiance enters the estimate scaled down to at most clamp × the brightest direction the
@@ -368,7 +368,7 @@ void main() {
   historyCount = blendedHistoryCount;
   // The updates a reservoir may stand for: as many as the probe blends with, and none once Less lag has cut the
   // history to less than half — a change, not noise: the reservoir and the history would otherwise each follow part
-  // of the way, one after the other (cornell's lag: 79 frames, against 51 with this and 47 without reservoirs).
+  // of the way, one after the other, and cornell's lag grew (docs/QUALITY.md, "Probe stability").
   uint reusableUpdates = 2u * historyCount < storedCount ? 0u : historyCount;
 
   if (keepsReservoirs) {
