@@ -797,10 +797,7 @@ TEST_F(ProbeCache, anInvalidProbeTakesTheMeanRadianceOfItsUsableNeighbours) {
     const glm::ivec3 coordinate = kProbe + shader::probeNeighbourOffset(i);
     const shader::Probe& neighbour = probes[shader::probeSlotIndex(coordinate, probeGrid())];
     if (!shader::probeIsUsable(neighbour, coordinate)) continue;
-    const shader::Sh2Rgb radiance = radianceSh(neighbour);
-    mean.r += radiance.r;
-    mean.g += radiance.g;
-    mean.b += radiance.b;
+    mean = shader::sh2Add(mean, radianceSh(neighbour));
     ++usable;
   }
   // At least the 9 above the block's top (they see its front faces and the sky).

@@ -48,21 +48,20 @@ GatheredLight gatherLevel(uint level, vec3 position, vec3 normal, bool testVisib
   // behind a wall do not see the point on its front as unoccluded.
   vec3 biased = position + normal * (kGatherNormalBiasSpacings * spacing);
   vec3 grid = biased / spacing;
-  ivec3 base = ivec3(floor(grid));
-  vec3 fraction = grid - vec3(base);
+  ivec3 cell = ivec3(floor(grid));
+  vec3 fraction = grid - vec3(cell);
   vec3 irradiance = vec3(0.0);
   float known = 0.0;
   float totalWeight = 0.0;
-  for (int corner = 0; corner < 8; ++corner) {
-    ivec3 offset = ivec3(corner & 1, (corner >> 1) & 1, corner >> 2);
-    ivec3 probe = base + offset;
+  for (int corner = 0; corner < kProbeCellCorners; ++corner) {
+    ProbeCellCorner around = probeCellCorner(cell, fraction, corner);
+    ivec3 probe = around.probe;
     if (any(lessThan(probe, origin)) || any(greaterThanEqual(probe, origin + dimensions))) continue;
     Probe stored = probes[level * uint(gather.probesPerLevel) + probeSlotIndex(probe, dimensions)];
     // A probe never traced, inside geometry, just moved, or a slot that still holds a probe the level scrolled away
     // from, knows nothing here.
     if (!probeIsUsable(stored, probe)) continue;
-    vec3 trilinear = mix(vec3(1.0) - fraction, fraction, vec3(offset));
-    float weight = trilinear.x * trilinear.y * trilinear.z;
+    float weight = around.weight;
     vec3 probePosition = probeWorldPosition(probe, spacing, stored.state);  // with its virtual offset
     // "Normal Weight": probes behind the surface count less (from the true point, as DDGI does).
     vec3 toProbe = probePosition - position;
