@@ -5,6 +5,7 @@
 #include "gi/voxels/trace_rays.h"
 #include "gpu/command_list.h"
 #include "gpu/profiler.h"
+#include "shared/ndc.h"
 
 #include <glm/gtc/constants.hpp>
 
@@ -38,8 +39,7 @@ class SurfaceRays {
   // The ray from `pixel` whose direction is the cosine-distributed image of `unitSquare` (Malley's method).
   shader::VoxelTraceRay ray(uint32_t pixel, glm::vec2 unitSquare, float maxDistance) const {
     const uint32_t width = viewDistance_.width, height = viewDistance_.height;
-    const glm::vec2 ndc((float(pixel % width) + 0.5f) / float(width) * 2.0f - 1.0f,
-                        1.0f - (float(pixel / width) + 0.5f) / float(height) * 2.0f);
+    const glm::vec2 ndc = shader::pixelToNdc(glm::vec2(pixel % width, pixel / width), glm::vec2(width, height));
     const glm::vec4 onPlane = inverseViewProjection_ * glm::vec4(ndc, 0.5f, 1.0f);
     const glm::vec3 view = glm::normalize(glm::vec3(onPlane) / onPlane.w - camera_.position);
     const glm::vec3 n = glm::normalize(glm::vec3(normal_.pixels[pixel * 3], normal_.pixels[pixel * 3 + 1],

@@ -66,11 +66,7 @@ void PointRadianceTracer::trace(uint32_t directions) {
 std::vector<shader::Sh2Rgb> PointRadianceTracer::radiance() {
   std::vector<shader::Sh2Rgb> radiance = gpu::readBufferAs<shader::Sh2Rgb>(device_, sums_);
   const float weight = rounds_ > 0 ? 4.0f * shader::kPi / float(directionsPerPoint()) : 0.0f;
-  for (shader::Sh2Rgb& point : radiance) {
-    point.r *= weight;
-    point.g *= weight;
-    point.b *= weight;
-  }
+  for (shader::Sh2Rgb& point : radiance) point = shader::sh2Scale(point, weight);
   return radiance;
 }
 

@@ -262,11 +262,11 @@ TEST_F(CliReference, writesTheSameEightFilesAsRenderAtTheRequestedSize) {
 }
 
 TEST_F(CliReference, cornellBoxHasBounceLight) {
-  // Light bounces all over the box (albedo ~0.7, a glowing ceiling panel), so E_indirect is of the order of E_direct
-  // (measured: 0.98 of it over the image). The box is open towards the camera and there is no sky: the short box's
-  // front face sends most of its paths out of the open side into black, and the floor below them lies in that box's
-  // shadow, so after 8 samples a few of its pixels have found no light yet (26 of 1,024 on lavapipe); 90 % of all
-  // surface pixels must have.
+  // Light bounces all over the box (albedo ~0.7, a glowing ceiling panel), so E_indirect is of the order of E_direct.
+  // The box is open towards the camera and there is no sky: the short box's front face sends most of its paths out of
+  // the open side into black, and the floor below them lies in that box's shadow, so after 8 samples a few of its
+  // pixels have found no light yet (docs/QUALITY.md, "What the tests establish"); 90 % of all surface pixels must
+  // have.
   ASSERT_EQ(referenceRun().exitCode, 0) << referenceRun().output;
   const auto indirect = renderer::readExr(referenceOut() / "irradiance_indirect.exr");
   const auto direct = renderer::readExr(referenceOut() / "irradiance_direct.exr");
@@ -329,8 +329,8 @@ TEST_F(CliReference, renderedDirectLightIsWithinFivePercentOfTheReference) {
   // light panel's shadow on the ceiling, cast at a grazing angle; (b) at pixels whose centre falls on a box edge,
   // where the rasterizer's tie rules and the ray's nearest hit may take different faces, one lit and one not. Each
   // pixel of such an edge weighs 1/1024 of the image at 32x32, and the edges are a few per cent of the pixels.
-  // Measured on lavapipe: 0.8 % (0.78 % at 256x256, see docs/QUALITY.md); 5 % leaves room for other rasterizers'
-  // rules and shadow-map resolutions. The mask keeps the comparison to pixels where the renderer drew a surface.
+  // docs/QUALITY.md ("What the tests establish", "Direct light") has what lavapipe gives; 5 % leaves room for other
+  // rasterizers' rules and shadow-map resolutions. The mask keeps the comparison to pixels where the renderer drew a surface.
   ASSERT_EQ(referenceRun().exitCode, 0) << referenceRun().output;
   ASSERT_EQ(renderRun().exitCode, 0) << renderRun().output;
   const CliRun run = runCli("compare " + (renderOut() / "irradiance_direct.exr").string() + " " +
@@ -605,9 +605,9 @@ TEST(Cli, viewScriptedRunSavesTheRenderersImageWithThePanelOverIt) {
   // Outside the panel the window shows the renderer's tonemapped image, copied: the same renderer, settings, view and
   // frames as render's final.png, through the same tonemap. The two processes' images can differ only where the GPU's
   // work is not deterministic — the order in which lavapipe's threads win ssvgi's atomics (which pool slot a brick
-  // takes), which could move an 8-bit value by a count here and there; they were identical when this was written
-  // (mean 0). A mean of 1 count allows for that and no more: one frame more gives 5.1 on this part of the view, the
-  // GI off 5.9 (2026-12-02, lavapipe).
+  // takes), which could move an 8-bit value by a count here and there; they were identical when this was written. A
+  // mean of 1 count allows for that and no more: one frame more, or the GI off, moves this part of the view by several
+  // counts (docs/QUALITY.md, "What the tests establish").
   EXPECT_LE(meanAbsoluteDifference(window, rendered, panelWidth, 240), 1.0);
   // Inside it the panel was drawn over the image.
   EXPECT_GT(meanAbsoluteDifference(window, rendered, 0, panelWidth), 10.0);

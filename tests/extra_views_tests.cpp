@@ -214,7 +214,7 @@ TEST_F(ExtraViews, theSunsTexelGridStaysFixedInTheWorldAsTheCameraMoves) {
     ASSERT_EQ(renderer.extraViews().size(), 1u);
     const ExtraView& view = renderer.extraViews()[0];
     const glm::vec4 clip = matrixOf(view) * glm::vec4(point, 1.0f);
-    const glm::vec2 pixel = shader::giNdcToPixel(glm::vec2(clip) / clip.w, glm::vec2(64.0f));
+    const glm::vec2 pixel = shader::ndcToPixel(glm::vec2(clip) / clip.w, glm::vec2(64.0f));
     // The jitter moves the image by (x right, y down) pixels.
     const glm::vec2 jitter = shader::halton23(render) - glm::vec2(0.5f);
     positionsInTexel.push_back(glm::fract(pixel - jitter));

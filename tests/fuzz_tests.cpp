@@ -8,9 +8,9 @@
 // or duplicated; indices moved; floats of the buffer replaced by NaN, infinities and extremes).
 //
 // Deterministic: case i draws from a generator seeded with (SSVGI_FUZZ_SEED, i), 1 by default, so a failing case is
-// reproduced by its number alone. ctest runs kDefaultCases of each kind (3.4 s of CPU; 15 s in the sanitized build,
-// 2026-12-02). A longer campaign, best in the sanitized build, which also catches memory errors that do not crash
-// (20,000 of each with SSVGI_FUZZ_SEED=3 found nothing):
+// reproduced by its number alone. ctest runs kDefaultCases of each kind, a few seconds (docs/PERFORMANCE.md, "Tests").
+// A longer campaign, best in the sanitized build, which also catches memory errors that do not crash (what the
+// campaigns found: docs/QUALITY.md, "What the tests establish"):
 //
 //   SSVGI_FUZZ_CASES=200000 SSVGI_FUZZ_SEED=2 ./build/tests/ssvgi_cpu_tests_sanitized --gtest_filter='Fuzz*'
 //

@@ -562,8 +562,8 @@ TEST_F(ProbeChangeDetection, aProbeWhoseSurroundingsBrightenFollowsWithinAnUpdat
 // noise floor at first; two in a row stray the same way by 1.5 floors from the 2nd on, and the probe then follows
 // with a history of at most 1 (kProbeChangeRecoveryHistory). Worked through by hand for these exact walls (every ray
 // sees the walls, so every trimmed mean is their radiance), the rules give after 12 updates 0.92 of the walls'
-// radiance, the single-update rule alone 0.69 and the plain blend 0.42 (the GPU: 0.69 with the drift rule switched
-// off in the shader, 2026-12-01); the bounds lie between.
+// radiance, the single-update rule alone 0.69 and the plain blend 0.42 (the GPU agrees: docs/QUALITY.md, "What the
+// scenario tests' bounds rest on"); the bounds lie between.
 TEST_F(ProbeChangeDetection, aProbeWhoseSurroundingsBrightenStepByStepKeepsUpWithThem) {
   constexpr float kStart = 0.25f, kGrowth = 1.1f;
   constexpr uint32_t kSteps = 12;
@@ -797,10 +797,7 @@ TEST_F(ProbeCache, anInvalidProbeTakesTheMeanRadianceOfItsUsableNeighbours) {
     const glm::ivec3 coordinate = kProbe + shader::probeNeighbourOffset(i);
     const shader::Probe& neighbour = probes[shader::probeSlotIndex(coordinate, probeGrid())];
     if (!shader::probeIsUsable(neighbour, coordinate)) continue;
-    const shader::Sh2Rgb radiance = radianceSh(neighbour);
-    mean.r += radiance.r;
-    mean.g += radiance.g;
-    mean.b += radiance.b;
+    mean = shader::sh2Add(mean, radianceSh(neighbour));
     ++usable;
   }
   // At least the 9 above the block's top (they see its front faces and the sky).
@@ -902,9 +899,8 @@ DarkRoomProbes measureDarkRoomProbes(bool reservoirs, uint32_t warmUpdates, uint
 class ProbeStability : public testing::GpuTest {};
 
 // SPEC §4.5's stability, as the issue asks: reservoirs on at least halve the probes' frame-to-frame variation in the
-// dark room and keep their mean within 3 %. Measured 2026-12-02 (lavapipe, 2 cores): off 0.0033, on 0.0011 (2.9×),
-// mean +1.2 % (docs/QUALITY.md, "Probe stability"). The whole run is deterministic on one driver; the margin is for
-// another's rounding. 1.5 M rays.
+// dark room and keep their mean within 3 % (what it measures: docs/QUALITY.md, "Probe stability"). The whole run is
+// deterministic on one driver; the margin is for another's rounding. 1.5 M rays.
 TEST_F(ProbeStability, inTheDarkRoomReservoirsHalveTheFrameToFrameVariationOfProbeIrradianceAndKeepItsMean) {
   constexpr uint32_t kWarmUpdates = 40, kMeasuredUpdates = 16;
   const DarkRoomProbes off = measureDarkRoomProbes(false, kWarmUpdates, kMeasuredUpdates);

@@ -43,8 +43,8 @@ TEST_F(Scenario, twoRoomsLeaksUnderTwoPercentOfTheLitRoomsIndirectLightIntoTheDa
 
 TEST_F(Scenario, withTheDoorRemovedTheDarkRoomReceivesTheLitRoomsLight) {
   // The leak figure's control: the same views and frames, with a real light path through the doorway. The dark room
-  // then gets more than twice the bound (4.9 %, measured 2026-12-01 on lavapipe, against 0.4 % with the door shut),
-  // so the bound above is not met by a setup that measures nothing.
+  // then gets more than twice the bound (docs/QUALITY.md, "What the scenario tests' bounds rest on"), so the bound
+  // above is not met by a setup that measures nothing.
   renderer::Scene openDoor = *renderer::makeBuiltinScene("two-rooms");
   std::erase_if(openDoor.instances, [&](const renderer::Instance& instance) {
     return openDoor.materials[openDoor.meshes[instance.mesh].material].name == "door";
@@ -64,8 +64,8 @@ TEST_F(Scenario, cornellLightSwitchedOnArrivesSoonerWithChangeDetection) {
   // The ceiling light of the Cornell box switched on after 64 frames lit by the panel alone: the indirect light
   // doubles. Change detection (SPEC §6.2) lets the probes take the first bounce at once instead of 1/33 of it per
   // update, and the bounces after it, which come through the lit-frame loop in small steps, with a short history while
-  // they keep coming (two updates in a row straying the same way). Measured 2026-12-01 on lavapipe, 48 frames after
-  // the switch: 93 % of the way with it, 35 % without, 63 % with the single-update rule alone; 80 % lies between.
+  // they keep coming (two updates in a row straying the same way). 80 % lies between the progress 48 frames after the
+  // switch with it and with the single-update rule alone (docs/QUALITY.md, "What the scenario tests' bounds rest on").
   const bench::ScenarioView view = builtinView("cornell");
   bench::LagOptions options;
   options.framesAfterSwitch = 48;
@@ -89,10 +89,10 @@ TEST_F(Scenario, cornellLightSwitchedOnArrivesSoonerWithChangeDetection) {
 }
 
 // Look away (SPEC §6.1): cornell's ceiling light is switched off while the camera looks out of the box for 16 frames;
-// back at the view, its bounce light must go from the voxels and probes. Measured 2026-12-02 on lavapipe at this size:
-// 2.26× the never-on run's E_indirect away from it before, 2.25 on the first frame back, 0.61 on the 32nd, 0.40 on the
-// 48th — it goes as light switched off goes (issue 14's 10 % within 24 frames is not reached). Half of the difference
-// before looking away is the bound: light kept for good in voxels nobody relights would stay near it.
+// back at the view, its bounce light must go from the voxels and probes. It goes as light switched off goes, at the
+// probes' pace: issue 14's 10 % within 24 frames is not reached (docs/QUALITY.md, "What the scenario tests' bounds
+// rest on"). Half of the difference before looking away is the bound: light kept for good in voxels nobody relights
+// would stay near it.
 TEST_F(Scenario, cornellLightSwitchedOffWhileTheCameraLooksAwayFadesOnceItLooksBack) {
   const bench::ScenarioView view = builtinView("cornell");
   const bench::LookAwayResult lookAway = bench::measureLookAway(device(), testRendering(view.scene), view);
@@ -103,9 +103,9 @@ TEST_F(Scenario, cornellLightSwitchedOffWhileTheCameraLooksAwayFadesOnceItLooksB
 }
 
 // Recovered: E_indirect within 10 % (relative mean absolute difference) of a run that sat at the new view all along.
-// The two runs never become identical — the cut one keeps the voxels and probes of the old view — and settle about
-// 4 % apart (measured 2026-12-01, lavapipe, the teleport below at this size: 39 % apart at the cut, 9 % by its 5th
-// frame, 3.3 % at the 32nd); 10 % lies between that residue and the cut itself.
+// The two runs never become identical — the cut one keeps the voxels and probes of the old view — and settle a few
+// per cent apart; 10 % lies between that residue and the cut itself (docs/QUALITY.md, "What the scenario tests' bounds
+// rest on").
 constexpr double kRecoveryTolerance = 0.1;
 
 struct CameraCut {

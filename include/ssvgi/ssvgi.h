@@ -72,19 +72,19 @@ struct Settings {
   // and trace their rays through them; unbiased where the light holds still. Level 0 only, for memory: 8 × 4 bytes per probe
   // (1.77 MB at high tier), paid for by 8-bit distance and normal-dot SH (docs/ARCHITECTURE.md, "Probe memory").
   // Off: every probe traces the next raysPerProbe of the 1024 fixed directions, as levels 1 and 2 always do.
-  // With them the dark room's probes vary 2.9× less from update to update, their mean within 1.2 % (docs/QUALITY.md,
-  // "Probe stability"). Off by default: their temporal reuse adds lag — cornell after a light is switched on reaches
-  // 90 % in 51 frames instead of 47 — and cornell's probes are further from the reference, 11.2 % instead of 7.6 %.
+  // With them the dark room's probes vary less from update to update and keep their mean. Off by default: their
+  // temporal reuse adds lag after a light is switched on, and cornell's probes lie further from the reference
+  // (docs/QUALITY.md, "Probe stability", has the figures).
   bool probeReservoirs = false;                   // needs raysPerProbe ≥ 16 (per stratum ≥ 1 new candidate + its
                                                   // reservoir's ray)
   uint32_t probeReservoirHistoryCap = 48;         // cap of a reservoir's M (candidates it stands for), 1..252: with 3
                                                   // new candidates per update it remembers about 16 updates
   float probeSampleClamp = 0.0f;                  // with reservoirs: a new sample's luminance is clamped to this ×
                                                   // the brightest direction the probe's reservoirs hold (the talk's
-                                                  // "history maximum"); 0: no clamp, else ≥ 1. Off by default: at 4
-                                                  // it did not lower the dark room's variation and darkened
-                                                  // cornell's probes by 2.4 % (a small emitter is often in no
-                                                  // reservoir, so its rays stay clamped)
+                                                  // "history maximum"); 0: no clamp, else ≥ 1. Off by default: it
+                                                  // does not lower the dark room's variation and darkens cornell's
+                                                  // probes (a small emitter is often in no reservoir, so its rays
+                                                  // stay clamped; docs/QUALITY.md, "Probe stability")
   // Less lag (SPEC §6.2): an update of a probe that differs from its history by more than this many standard
   // deviations of its usual difference shortens the probe's history in proportion (shared/probe_interface.h), so a
   // light switched on or off is followed in a few updates. 0: off (plain α = 1/(m+1)).

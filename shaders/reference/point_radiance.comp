@@ -30,17 +30,14 @@ vec3 arrivingRadiance(vec3 origin, vec3 direction, uint random) {
 }
 
 void addSample(inout Sh2Rgb sum, vec3 radiance, vec3 direction) {
-  vec4 basis = sh2Basis(direction);
-  sum.r += radiance.r * basis;
-  sum.g += radiance.g * basis;
-  sum.b += radiance.b * basis;
+  sum = sh2Add(sum, sh2Project(radiance, sh2Basis(direction)));
 }
 
 void main() {
   uint point = gl_WorkGroupID.x;
   uint lane = gl_LocalInvocationID.x;
   vec3 origin = points[point].xyz;
-  Sh2Rgb sum = Sh2Rgb(vec4(0.0), vec4(0.0), vec4(0.0));
+  Sh2Rgb sum = sh2Zero();
   for (uint roundIndex = push.firstRound; roundIndex < push.firstRound + push.roundCount; ++roundIndex) {
     // Each path of the pair has random numbers of its own: sample indices 2·pair and 2·pair + 1.
     uint pair = roundIndex * kPointRadianceLanes + lane;
@@ -53,10 +50,6 @@ void main() {
   barrier();
   if (lane != 0u) return;
   Sh2Rgb total = sums[point];
-  for (uint i = 0u; i < kPointRadianceLanes; ++i) {
-    total.r += laneSums[i].r;
-    total.g += laneSums[i].g;
-    total.b += laneSums[i].b;
-  }
+  for (uint i = 0u; i < kPointRadianceLanes; ++i) total = sh2Add(total, laneSums[i]);
   sums[point] = total;
 }

@@ -54,7 +54,7 @@ void main() {
     imageStore(viewDistance, pixel, vec4(0.0));
     return;
   }
-  vec4 world = frame.inverseViewProjection * vec4(pixelToNdc(vec2(pixel), frame.viewportSize), depth, 1.0);
+  vec4 world = frame.inverseViewProjection * vec4(viewportPixelToNdc(vec2(pixel), frame.viewportSize), depth, 1.0);
   vec3 position = world.xyz / world.w;
   vec3 normal = normalize(texelFetch(normalBuffer, pixel, 0).xyz);
 

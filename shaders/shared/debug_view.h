@@ -2,6 +2,7 @@
 #ifndef SSVGI_SHARED_DEBUG_VIEW_H
 #define SSVGI_SHARED_DEBUG_VIEW_H
 #include "shared/glsl_cpp.h"
+#include "shared/ndc.h"
 
 SSVGI_SHARED_BEGIN
 
@@ -34,8 +35,8 @@ SSVGI_CHECK_SIZE(ConfidenceDebugViewPush, 96);
 
 // The unit direction of the camera ray through a pixel's centre (rows top to bottom).
 SSVGI_INLINE vec3 debugViewDirection(DebugViewCamera camera, uvec2 pixel) {
-  vec2 uv = (vec2(pixel) + vec2(0.5f)) / vec2(camera.sizeAndMode.x, camera.sizeAndMode.y);
-  vec4 onPlane = camera.inverseViewProjection * vec4(uv.x * 2.0f - 1.0f, 1.0f - uv.y * 2.0f, 0.5f, 1.0f);
+  vec2 ndc = pixelToNdc(vec2(pixel), vec2(camera.sizeAndMode.x, camera.sizeAndMode.y));
+  vec4 onPlane = camera.inverseViewProjection * vec4(ndc, 0.5f, 1.0f);
   return normalize(vec3(onPlane) / onPlane.w - vec3(camera.position));
 }
 

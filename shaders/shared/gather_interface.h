@@ -58,17 +58,28 @@ SSVGI_CONSTANT(uint, kBindGatherOutput, kBindFirstPassSlot + 6u);          // rg
 SSVGI_CONSTANT(uint, kBindGatherConfidence, kBindFirstPassSlot + 7u);      // r8, 1/2: confidence 0–1
 SSVGI_CONSTANT(uint, kBindGatherDebugTarget, kBindFirstPassSlot + 8u);     // rgba32f: ConfidenceDebugView's image
 
+// Where a probe level lies this frame.
+struct GatherProbeLevel {
+  ivec3 origin;   // world probe coordinate of the level's minimum corner
+  float spacing;  // metres between its probes
+};
+SSVGI_CHECK_SIZE(GatherProbeLevel, 16);
+
 // What the gather passes know of this frame beyond GiFrame (uniform buffer, one per frame in flight).
 struct GatherConstants {
-  mat4 historyViewProjection;         // the camera of the last dispatch, whose output is this frame's history
+  mat4 historyViewProjection;  // the camera of the last dispatch, whose output is this frame's history
   mat4 historyInverseViewProjection;
-  ivec4 probeOrigins[kProbeLevels];   // xyz: world probe coordinate of each level's minimum corner this frame
-  ivec4 probeDimensions;              // xyz: probes per level and axis; w: probes per level
-  vec4 probeSpacings;                 // xyz: probe spacing of levels 0, 1, 2 (m)
-  uvec4 sizes;                        // xy: tiles (1/4 resolution); zw: half resolution
-  uvec4 frame;                        // x: frame index; y: 1 when the history is usable (same size, dispatched before)
+  GatherProbeLevel probeLevels[kProbeLevels];
+  ivec3 probesPerAxis;         // of every level
+  int probesPerLevel;
+  uvec2 tiles;                 // the tile irradiance's size (1/4 resolution)
+  uvec2 halfSize;              // the half-resolution images' size
+  uint frameIndex;
+  uint historyUsable;          // 1 when the history is usable (same size, dispatched before)
+  uint padding0;
+  uint padding1;
 };
-SSVGI_CHECK_SIZE(GatherConstants, 2 * 64 + 3 * 16 + 4 * 16);
+SSVGI_CHECK_SIZE(GatherConstants, 2 * 64 + 3 * 16 + 16 + 16 + 16);
 
 // The pixel a tile samples in frame `frameIndex`: the 4×4 Bayer order, so that consecutive frames sample far apart
 // and all 16 pixels are visited in any 16 consecutive frames (SPEC §4.6).

@@ -4,6 +4,7 @@
 #define SSVGI_SHARED_GI_FRAME_H
 
 #include "shared/glsl_cpp.h"
+#include "shared/ndc.h"
 
 SSVGI_SHARED_BEGIN
 
@@ -38,14 +39,9 @@ struct GiFrame {
 };
 SSVGI_CHECK_SIZE(GiFrame, 4 * 64 + 3 * 16 + 6 * 16 + 16 * 16);
 
-// Pixel centre -> NDC for a frame of `size` pixels (rows top to bottom, NDC +y up, as the host renderer).
-SSVGI_INLINE vec2 giPixelToNdc(vec2 pixel, vec2 size) {
-  vec2 uv = (pixel + vec2(0.5f)) / size;
-  return vec2(uv.x * 2.0f - 1.0f, 1.0f - uv.y * 2.0f);
-}
-
-// NDC -> continuous pixel coordinates (inverse of giPixelToNdc without the half-pixel).
-SSVGI_INLINE vec2 giNdcToPixel(vec2 ndc, vec2 size) { return vec2(0.5f + 0.5f * ndc.x, 0.5f - 0.5f * ndc.y) * size; }
+// ndcToPixel (shared/ndc.h) under its former name, for scene_voxelization.comp and voxel_scene_tests.cpp until they
+// call ndcToPixel; then to be deleted.
+SSVGI_INLINE vec2 giNdcToPixel(vec2 ndc, vec2 size) { return ndcToPixel(ndc, size); }
 
 // Whether an axis-aligned box reaches into a frustum given by inward planes (frustumPlanes): for each plane, the box's
 // corner farthest along its normal must lie inside. Conservative: a box outside near a frustum corner may pass.

@@ -156,6 +156,23 @@ SSVGI_INLINE bool probeIsUsable(Probe probe, ivec3 worldProbe) {
          probeHistoryCount(probe.state) > 0u;
 }
 
+// The 8 probes around a point of a level's grid — the corners of the grid cell that holds it — with their trilinear
+// weights: `cell` is the cell's minimum corner, `fraction` where the point lies in it (0–1 per axis); corner i
+// (0..7) is cell + (i & 1, (i >> 1) & 1, i >> 2). The gather and a new probe's start from the coarser level walk
+// them alike: for (int corner = 0; corner < kProbeCellCorners; ++corner).
+SSVGI_CONSTANT(int, kProbeCellCorners, 8);
+struct ProbeCellCorner {
+  ivec3 probe;   // world probe coordinate
+  float weight;  // trilinear weight, Σ over the 8 corners = 1
+};
+SSVGI_CHECK_SIZE(ProbeCellCorner, 16);
+
+SSVGI_INLINE ProbeCellCorner probeCellCorner(ivec3 cell, vec3 fraction, int corner) {
+  ivec3 side = ivec3(corner & 1, (corner >> 1) & 1, corner >> 2);
+  vec3 axisWeights = mix(vec3(1.0f) - fraction, fraction, vec3(side));
+  return ProbeCellCorner(cell + side, axisWeights.x * axisWeights.y * axisWeights.z);
+}
+
 // The 26 neighbours of a probe in its level's grid (index 0..25; the probe itself, index 13 of the 3×3×3 block, is
 // skipped). ProbeRelocate evaluates the SH along their directions, ProbeDilate reads them.
 SSVGI_CONSTANT(uint, kProbeNeighbourCount, 26u);

@@ -3,6 +3,7 @@
 #define SSVGI_SHARED_RENDERER_INTERFACE_H
 
 #include "shared/glsl_cpp.h"
+#include "shared/ndc.h"
 #include "shared/sky.h"
 
 SSVGI_SHARED_BEGIN
@@ -113,14 +114,11 @@ SSVGI_CONSTANT(uint, kBindTonemapFrame, 0u);
 SSVGI_CONSTANT(uint, kBindTonemapInput, 1u);
 SSVGI_CONSTANT(uint, kBindTonemapOutput, 2u);        // out: rgba8, sRGB-encoded
 
-// Pixel -> normalised device coordinates for the pixel centre. Rows run top to bottom; the renderer flips the viewport
-// (negative height) so that NDC +y is up, as in the projection matrices.
-SSVGI_INLINE vec2 pixelToNdc(vec2 pixel, vec4 viewportSize) {
-  vec2 uv = (pixel + vec2(0.5f)) * vec2(viewportSize.z, viewportSize.w);
-  return vec2(uv.x * 2.0f - 1.0f, 1.0f - uv.y * 2.0f);
+// pixelToNdc (shared/ndc.h) with the pixel scaled by 1/size, as the renderer has always done: dividing instead changes
+// its images, and the reference's, in the last bits (and the cornell error figure in its fourth digit).
+SSVGI_INLINE vec2 viewportPixelToNdc(vec2 pixel, vec4 viewportSize) {
+  return uvToNdc((pixel + vec2(0.5f)) * vec2(viewportSize.z, viewportSize.w));
 }
-
-SSVGI_INLINE vec2 ndcToUv(vec2 ndc) { return vec2(0.5f + 0.5f * ndc.x, 0.5f - 0.5f * ndc.y); }
 
 // Radiant intensity reaching a point from a local light, per unit of cos(incidence): I · spot · window / d², as glTF's
 // KHR_lights_punctual recommends (smooth range window, quadratic spot falloff).

@@ -74,6 +74,28 @@ SSVGI_INLINE vec3 sh2ConeFitIrradiance(Sh2Rgb radiance, vec3 normal) {
               sh2ConeFitIrradiance(radiance.b, normal));
 }
 
+// Arithmetic on RGB SH2, channel by channel: what sums, means, blends and projections of radiance SH are made of.
+SSVGI_INLINE Sh2Rgb sh2Zero() { return Sh2Rgb(vec4(0.0f), vec4(0.0f), vec4(0.0f)); }
+SSVGI_INLINE Sh2Rgb sh2Add(Sh2Rgb a, Sh2Rgb b) { return Sh2Rgb(a.r + b.r, a.g + b.g, a.b + b.b); }
+SSVGI_INLINE Sh2Rgb sh2Scale(Sh2Rgb a, float factor) { return Sh2Rgb(a.r * factor, a.g * factor, a.b * factor); }
+// A weighted sum over its total weight: the weighted mean.
+SSVGI_INLINE Sh2Rgb sh2Divide(Sh2Rgb a, float divisor) { return Sh2Rgb(a.r / divisor, a.g / divisor, a.b / divisor); }
+// (1 − t)·a + t·b.
+SSVGI_INLINE Sh2Rgb sh2Mix(Sh2Rgb a, Sh2Rgb b, float t) {
+  return Sh2Rgb(mix(a.r, b.r, t), mix(a.g, b.g, t), mix(a.b, b.b, t));
+}
+
+// One sample's term of the projection: radiance L arriving from a direction, times `weightedBasis`, the direction's
+// sh2Basis times the sample's weight (4π/N for N uniform samples).
+SSVGI_INLINE Sh2Rgb sh2Project(vec3 radiance, vec4 weightedBasis) {
+  return Sh2Rgb(radiance.r * weightedBasis, radiance.g * weightedBasis, radiance.b * weightedBasis);
+}
+
+// The radiance the SH2 holds in a direction, given the direction's sh2Basis.
+SSVGI_INLINE vec3 sh2Evaluate(Sh2Rgb radiance, vec4 basis) {
+  return vec3(dot(radiance.r, basis), dot(radiance.g, basis), dot(radiance.b, basis));
+}
+
 SSVGI_SHARED_END
 
 #endif

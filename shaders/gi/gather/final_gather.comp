@@ -16,8 +16,8 @@ layout(binding = kBindGatherTileIrradiance, rgba16f) writeonly uniform image2D t
 
 void main() {
   uvec2 tile = gl_GlobalInvocationID.xy;
-  if (any(greaterThanEqual(tile, gather.sizes.xy))) return;
-  uint frameIndex = gather.frame.x;
+  if (any(greaterThanEqual(tile, gather.tiles))) return;
+  uint frameIndex = gather.frameIndex;
   ivec2 pixel = ivec2(min(tile * kGatherTileSize + gatherSampleOffset(frameIndex), frame.size - 1u));
   float depth = texelFetch(depthBuffer, pixel, 0).r;
   if (depth <= 0.0) {  // nothing drawn (Upsample skips the tile)

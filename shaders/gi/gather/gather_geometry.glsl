@@ -54,10 +54,10 @@ struct TileNeighbourhood {
 };
 
 TileNeighbourhood tileNeighbourhood(Surface surface, ivec2 pixel) {
-  ivec2 sampleOffset = ivec2(gatherSampleOffset(gather.frame.x));
+  ivec2 sampleOffset = ivec2(gatherSampleOffset(gather.frameIndex));
   vec2 tileCoordinate = vec2(pixel - sampleOffset) / float(kGatherTileSize);
   ivec2 firstTile = ivec2(floor(tileCoordinate));
-  ivec2 lastTile = ivec2(gather.sizes.xy) - 1;
+  ivec2 lastTile = ivec2(gather.tiles) - 1;
   TileNeighbourhood result = TileNeighbourhood(vec3(0.0), 0.0, vec3(1e30), vec3(0.0));
   float totalWeight = 0.0;
   for (int y = -1; y <= 2; ++y)

@@ -12,8 +12,8 @@ layout(binding = kBindGatherProbes) readonly buffer Probes { Probe probes[]; };
 
 // How far a point lies inside the cells of a level, in spacings; negative when some of its 8 probes are outside it.
 float insideMargin(uint level, vec3 position) {
-  vec3 probeUnits = position / gather.probeSpacings[level] - vec3(gather.probeOrigins[level].xyz);
-  vec3 margins = min(probeUnits, vec3(gather.probeDimensions.xyz - 1) - probeUnits);
+  vec3 probeUnits = position / gather.probeLevels[level].spacing - vec3(gather.probeLevels[level].origin);
+  vec3 margins = min(probeUnits, vec3(gather.probesPerAxis - 1) - probeUnits);
   return min(margins.x, min(margins.y, margins.z));
 }
 
@@ -41,28 +41,27 @@ struct GatheredLight {
 // `testVisibility`: leave out a probe with a voxel between it and the point (a voxel trace per probe). Only a pass that
 // does not write the voxels may trace them.
 GatheredLight gatherLevel(uint level, vec3 position, vec3 normal, bool testVisibility) {
-  float spacing = gather.probeSpacings[level];
-  ivec3 origin = gather.probeOrigins[level].xyz;
-  ivec3 dimensions = gather.probeDimensions.xyz;
+  float spacing = gather.probeLevels[level].spacing;
+  ivec3 origin = gather.probeLevels[level].origin;
+  ivec3 dimensions = gather.probesPerAxis;
   // "Normal Bias" (the talk): interpolate and test visibility from a point off the surface, so that the probes just
   // behind a wall do not see the point on its front as unoccluded.
   vec3 biased = position + normal * (kGatherNormalBiasSpacings * spacing);
   vec3 grid = biased / spacing;
-  ivec3 base = ivec3(floor(grid));
-  vec3 fraction = grid - vec3(base);
+  ivec3 cell = ivec3(floor(grid));
+  vec3 fraction = grid - vec3(cell);
   vec3 irradiance = vec3(0.0);
   float known = 0.0;
   float totalWeight = 0.0;
-  for (int corner = 0; corner < 8; ++corner) {
-    ivec3 offset = ivec3(corner & 1, (corner >> 1) & 1, corner >> 2);
-    ivec3 probe = base + offset;
+  for (int corner = 0; corner < kProbeCellCorners; ++corner) {
+    ProbeCellCorner around = probeCellCorner(cell, fraction, corner);
+    ivec3 probe = around.probe;
     if (any(lessThan(probe, origin)) || any(greaterThanEqual(probe, origin + dimensions))) continue;
-    Probe stored = probes[level * uint(gather.probeDimensions.w) + probeSlotIndex(probe, dimensions)];
+    Probe stored = probes[level * uint(gather.probesPerLevel) + probeSlotIndex(probe, dimensions)];
     // A probe never traced, inside geometry, just moved, or a slot that still holds a probe the level scrolled away
     // from, knows nothing here.
     if (!probeIsUsable(stored, probe)) continue;
-    vec3 trilinear = mix(vec3(1.0) - fraction, fraction, vec3(offset));
-    float weight = trilinear.x * trilinear.y * trilinear.z;
+    float weight = around.weight;
     vec3 probePosition = probeWorldPosition(probe, spacing, stored.state);  // with its virtual offset
     // "Normal Weight": probes behind the surface count less (from the true point, as DDGI does).
     vec3 toProbe = probePosition - position;

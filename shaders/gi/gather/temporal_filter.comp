@@ -25,7 +25,7 @@ vec4 reprojectHistory(Surface surface, vec2 size) {
   vec4 clip = gather.historyViewProjection * vec4(surface.position, 1.0);
   if (clip.w <= 0.0) return vec4(0.0);
   // Half-resolution texel h holds full-resolution pixel 2h, centred at 2h + 0.5.
-  vec2 texelCoordinate = (giNdcToPixel(clip.xy / clip.w, size) - 0.5) / 2.0;
+  vec2 texelCoordinate = (ndcToPixel(clip.xy / clip.w, size) - 0.5) / 2.0;
   ivec2 firstTexel = ivec2(floor(texelCoordinate));
   vec2 fraction = texelCoordinate - vec2(firstTexel);
   vec3 sum = vec3(0.0);
@@ -33,7 +33,7 @@ vec4 reprojectHistory(Surface surface, vec2 size) {
   for (int corner = 0; corner < 4; ++corner) {
     ivec2 offset = ivec2(corner & 1, corner >> 1);
     ivec2 texel = firstTexel + offset;
-    if (any(lessThan(texel, ivec2(0))) || any(greaterThanEqual(texel, ivec2(gather.sizes.zw)))) continue;
+    if (any(lessThan(texel, ivec2(0))) || any(greaterThanEqual(texel, ivec2(gather.halfSize)))) continue;
     vec4 stored = imageLoad(history, texel);
     if (stored.a <= 0.0) continue;
     vec3 storedPosition = reconstructPosition(gather.historyInverseViewProjection, vec2(2 * texel), size, stored.a);
@@ -47,7 +47,7 @@ vec4 reprojectHistory(Surface surface, vec2 size) {
 
 void main() {
   ivec2 halfPixel = ivec2(gl_GlobalInvocationID.xy);
-  if (any(greaterThanEqual(halfPixel, ivec2(gather.sizes.zw))) || gather.frame.y == 0u) return;
+  if (any(greaterThanEqual(halfPixel, ivec2(gather.halfSize))) || gather.historyUsable == 0u) return;
   ivec2 pixel = 2 * halfPixel;
   float depth = texelFetch(depthBuffer, pixel, 0).r;
   if (depth <= 0.0) return;

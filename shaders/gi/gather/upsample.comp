@@ -13,7 +13,7 @@ layout(binding = kBindGatherConfidence, r8) writeonly uniform image2D confidence
 
 void main() {
   ivec2 halfPixel = ivec2(gl_GlobalInvocationID.xy);
-  if (any(greaterThanEqual(halfPixel, ivec2(gather.sizes.zw)))) return;
+  if (any(greaterThanEqual(halfPixel, ivec2(gather.halfSize)))) return;
   ivec2 pixel = 2 * halfPixel;
   float depth = texelFetch(depthBuffer, pixel, 0).r;
   TileNeighbourhood tiles = TileNeighbourhood(vec3(0.0), 0.0, vec3(1e30), vec3(0.0));

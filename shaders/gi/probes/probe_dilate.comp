@@ -26,7 +26,7 @@ void main() {
   uint thread = gl_LocalInvocationID.x;
   uint levelStart = uint(update.level) * uint(update.probesPerLevel);
   ivec3 probe = probeWorldCoordinate(probeIndex % uint(update.probesPerLevel), update.originProbe, update.probesPerAxis);
-  neighbourRadiance[thread] = Sh2Rgb(vec4(0.0), vec4(0.0), vec4(0.0));
+  neighbourRadiance[thread] = sh2Zero();
   neighbourUsable[thread] = 0.0;
   if (thread < kProbeNeighbourCount) {
     ivec3 coordinate = probe + probeNeighbourOffset(thread);
@@ -40,16 +40,15 @@ void main() {
   barrier();
   if (thread != 0u) return;
 
-  Sh2Rgb sum = Sh2Rgb(vec4(0.0), vec4(0.0), vec4(0.0));
+  Sh2Rgb sum = sh2Zero();
   float count = 0.0;
   for (uint i = 0u; i < kProbeNeighbourCount; ++i) {
-    sum.r += neighbourRadiance[i].r;
-    sum.g += neighbourRadiance[i].g;
-    sum.b += neighbourRadiance[i].b;
+    sum = sh2Add(sum, neighbourRadiance[i]);
     count += neighbourUsable[i];
   }
   if (count == 0.0) return;  // nothing around to fill from: it keeps what it has until a neighbour is traced
-  probes[probeIndex].radianceRed = packSh2Half(sum.r / count);
-  probes[probeIndex].radianceGreen = packSh2Half(sum.g / count);
-  probes[probeIndex].radianceBlue = packSh2Half(sum.b / count);
+  Sh2Rgb mean = sh2Divide(sum, count);
+  probes[probeIndex].radianceRed = packSh2Half(mean.r);
+  probes[probeIndex].radianceGreen = packSh2Half(mean.g);
+  probes[probeIndex].radianceBlue = packSh2Half(mean.b);
 }

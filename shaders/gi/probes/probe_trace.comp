@@ -29,15 +29,15 @@
 // candidates' weights are from the updates that drew them, so the reservoir lags, by no more than the probe's history
 // (the bound on M below). The old weights are not re-weighted by the re-traced ray's radiance this frame, as ReSTIR
 // does with an exact target: a voxel's radiance is itself an estimate, and a sample kept because it was bright when
-// drawn is, this frame, on average less bright, so re-weighting by it biased every reservoir low (−8 % in cornell)
-// and passed that one voxel's noise on to the whole stratum. The re-traced ray still gives L(y')/p̂(y'), the colour,
-// and a kept sample that has gone dark empties its reservoir (what it stood for is gone). The second part, by the
-// c uniform candidates, is stratified Monte Carlo with H as control variate, whose own integral is exact
-// (probeStratumDeviation); H is fixed before the candidates are drawn, so it changes only the variance. It is left
-// with the way the light varies across the stratum — band 1, which E(n) along the axes mostly depends on — and
-// without the control variate 3 candidates per stratum do worse there than the plain 32 rays (docs/QUALITY.md,
-// "Probe stability"). Under constant radiance L·W = L·Ω_s exactly, H converges to the constant, and the estimate is
-// the plain stratified one, so a uniform sky converges to the analytic SH either way.
+// drawn is, this frame, on average less bright, so re-weighting by it biased every reservoir low (cornell's probes
+// came out too dark: docs/QUALITY.md, "Probe stability") and passed that one voxel's noise on to the whole stratum.
+// The re-traced ray still gives L(y')/p̂(y'), the colour, and a kept sample that has gone dark empties its reservoir
+// (what it stood for is gone). The second part, by the c uniform candidates, is stratified Monte Carlo with H as
+// control variate, whose own integral is exact (probeStratumDeviation); H is fixed before the candidates are drawn, so
+// it changes only the variance. It is left with the way the light varies across the stratum — band 1, which E(n)
+// along the axes mostly depends on — and without the control variate 3 candidates per stratum do worse there than
+// the plain 32 rays (docs/QUALITY.md, "Probe stability"). Under constant radiance L·W = L·Ω_s exactly, H converges to
+// the constant, and the estimate is the plain stratified one, so a uniform sky converges to the analytic SH either way.
 //
 // The luminance clamp (Settings::probeSampleClamp; the talk: "limit the current frame's brightness by the history's
 // maximum"): a candidate's radiance enters the estimate scaled down to at most clamp × the brightest direction the
@@ -59,9 +59,10 @@ layout(binding = kBindProbeList) readonly buffer ProbeList {
 layout(binding = kBindProbeReservoirs) buffer Reservoirs { uint reservoirs[]; };
 layout(binding = kBindProbeChanges) buffer Changes { uint changes[]; };
 
-// Per thread: its sample times the basis, for the five SH2 of a probe (radiance R, G, B, distance, normal-dot).
-const uint kSh2PerProbe = 5u;
-shared vec4 partialSums[kSh2PerProbe][kProbeTraceGroupSize];
+// Per thread: its sample times the basis, for the SH2 of a probe: radiance, distance, normal-dot.
+shared Sh2Rgb radianceSums[kProbeTraceGroupSize];
+shared vec4 distanceSums[kProbeTraceGroupSize];
+shared vec4 normalDotSums[kProbeTraceGroupSize];
 // With reservoirs: each ray's radiance, for the reservoir update of its stratum, and the factor the clamp scales it by
 // in the estimate (1: not clamped).
 shared vec3 rayRadiance[kProbeTraceGroupSize];
@@ -77,14 +78,12 @@ shared uint blendedHistoryCount;
 shared bool rayUnknown[kProbeTraceGroupSize];
 shared uint knownRays;
 shared vec3 knownMeanRadiance;
-shared vec4 heldRadiance[3];
+shared Sh2Rgb heldRadiance;
 shared bool startsFromCoarserLevel;
 
 vec3 skyRadiance(vec3 direction) {
-  vec4 basis = sh2Basis(direction);
-  Sh2Rgb sky = update.skyRadiance;
   // SH2 rings below zero opposite a bright sky; negative radiance is not light.
-  return max(vec3(dot(sky.r, basis), dot(sky.g, basis), dot(sky.b, basis)), vec3(0.0));
+  return max(sh2Evaluate(update.skyRadiance, sh2Basis(direction)), vec3(0.0));
 }
 
 // What a new probe of this level starts from: the radiance of the coarser level at its position, trilinear over the
@@ -94,17 +93,16 @@ vec3 skyRadiance(vec3 direction) {
 // it is usable, and always on the coarsest level: the probe then starts from its first trace alone. A coarser probe
 // with a voxel between it and this one is left out: it may stand on the other side of a wall (`ssvgi scenario leak`).
 bool coarserLevelRadiance(ivec3 probe, vec3 position, out Sh2Rgb radiance) {
-  radiance = Sh2Rgb(vec4(0.0), vec4(0.0), vec4(0.0));
+  radiance = sh2Zero();
   uint coarserLevel = uint(update.level) + 1u;
   if (coarserLevel >= kProbeLevels) return false;
-  ivec3 base = probe >> 1;  // the coarser cell holding the probe (arithmetic shift: floor for negative coordinates)
+  ivec3 cell = probe >> 1;  // the coarser cell holding the probe (arithmetic shift: floor for negative coordinates)
   vec3 fraction = vec3(probe & 1) * 0.5;
   float weightSum = 0.0;
-  for (int corner = 0; corner < 8; ++corner) {
-    ivec3 side = ivec3(corner & 1, (corner >> 1) & 1, corner >> 2);
-    vec3 axisWeights = mix(vec3(1.0) - fraction, fraction, vec3(side));
-    float weight = axisWeights.x * axisWeights.y * axisWeights.z;
-    ivec3 coarser = base + side;
+  for (int corner = 0; corner < kProbeCellCorners; ++corner) {
+    ProbeCellCorner around = probeCellCorner(cell, fraction, corner);
+    float weight = around.weight;
+    ivec3 coarser = around.probe;
     Probe candidate = probes[coarserLevel * uint(update.probesPerLevel) + probeSlotIndex(coarser, update.probesPerAxis)];
     if (weight == 0.0 || !probeIsUsable(candidate, coarser)) continue;
     vec3 coarserPosition = probeWorldPosition(coarser, 2.0 * update.spacing, candidate.state);
@@ -113,16 +111,11 @@ bool coarserLevelRadiance(ivec3 probe, vec3 position, out Sh2Rgb radiance) {
         traceVoxelsHierarchical(coarserPosition, (position - coarserPosition) / separation,
                                 separation - 0.5 * volume.voxelSize.x, kIgnoreObservedSpace).hit)
       continue;
-    Sh2Rgb coarserRadiance = probeRadianceSh(candidate);
-    radiance.r += weight * coarserRadiance.r;
-    radiance.g += weight * coarserRadiance.g;
-    radiance.b += weight * coarserRadiance.b;
+    radiance = sh2Add(radiance, sh2Scale(probeRadianceSh(candidate), weight));
     weightSum += weight;
   }
   if (weightSum == 0.0) return false;
-  radiance.r /= weightSum;
-  radiance.g /= weightSum;
-  radiance.b /= weightSum;
+  radiance = sh2Divide(radiance, weightSum);
   return true;
 }
 
@@ -132,6 +125,11 @@ struct StratifiedRays {
   uint raysPerStratum;
   uint candidates;  // per stratum: raysPerStratum − 1
 };
+
+StratifiedRays stratifiedRays() {
+  uint raysPerStratum = max(update.raysPerProbe / kProbeStrata, 1u);  // ≥ 2 with reservoirs (validateSettings)
+  return StratifiedRays(raysPerStratum, raysPerStratum - 1u);
+}
 
 // The sample index in its stratum's direction set of candidate `candidate` of an update starting at `firstDirection`.
 uint candidateSample(uint firstDirection, uint candidate) {
@@ -160,7 +158,7 @@ Sh2Rgb updateStratum(uint stratum, StratifiedRays rays, uint firstDirection, uin
   float weightSum = probeReservoirMeanWeight(reservoir) * float(reusedCount);
 
   vec4 meanBasis = probeStratumMeanBasis(stratum);
-  Sh2Rgb deviation = Sh2Rgb(vec4(0.0), vec4(0.0), vec4(0.0));
+  Sh2Rgb deviation = sh2Zero();
   for (uint candidate = 0u; candidate < rays.candidates; ++candidate) {
     uint sampleIndex = candidateSample(firstDirection, candidate);
     // The reservoir weighs the candidate as traced, the estimate takes it clamped: a bright direction found for the
@@ -179,23 +177,21 @@ Sh2Rgb updateStratum(uint stratum, StratifiedRays rays, uint firstDirection, uin
     }
     // The second integral, ∫_s L·(Y − Ȳ_s), by the candidates, weight Ω_s / c each, less the control variate's.
     vec4 basis = sh2Basis(probeStratumDirection(stratum, sampleIndex));
-    vec3 residual = radiance - vec3(dot(history.r, basis), dot(history.g, basis), dot(history.b, basis));
+    vec3 residual = radiance - sh2Evaluate(history, basis);
     vec4 weightedDeviation = (basis - meanBasis) * (solidAngle / float(rays.candidates));
-    deviation.r += residual.r * weightedDeviation;
-    deviation.g += residual.g * weightedDeviation;
-    deviation.b += residual.b * weightedDeviation;
+    deviation = sh2Add(deviation, sh2Project(residual, weightedDeviation));
   }
   mat3 covariance = probeStratumCovariance(stratum);
-  deviation.r += probeStratumDeviation(covariance, history.r);
-  deviation.g += probeStratumDeviation(covariance, history.g);
-  deviation.b += probeStratumDeviation(covariance, history.b);
+  deviation = sh2Add(deviation, Sh2Rgb(probeStratumDeviation(covariance, history.r),
+                                       probeStratumDeviation(covariance, history.g),
+                                       probeStratumDeviation(covariance, history.b)));
   uint count = reusedCount + rays.candidates;
   float contributionWeight = weightSum > 0.0 ? weightSum / (float(count) * keptTarget) : 0.0;
   uint storedCandidates = weightSum > 0.0 ? count : 0u;  // nothing bright seen: empty
   reservoirs[reservoirSlot] = packProbeReservoir(min(weightSum / float(count), 65504.0), kept, storedCandidates);
   // The first integral, Ȳ_s·∫_s L, by the reservoir: L(y')·W.
   vec3 total = keptRadiance * contributionWeight;
-  return Sh2Rgb(total.r * meanBasis + deviation.r, total.g * meanBasis + deviation.g, total.b * meanBasis + deviation.b);
+  return sh2Add(sh2Project(total, meanBasis), deviation);
 }
 
 // This update's dither of the probe's 8-bit values (SH, change statistics).
@@ -236,118 +232,156 @@ uint followChange(uint probeIndex, uint storedCount, float trimmedMean) {
   return historyCount;
 }
 
-void main() {
-  uint probeIndex = listedProbes[gl_WorkGroupID.x];
-  uint ray = gl_LocalInvocationID.x;
-  ivec3 dimensions = update.probesPerAxis;
-  ivec3 probe = probeWorldCoordinate(probeIndex % uint(update.probesPerLevel), update.originProbe, dimensions);
-  Probe stored = probes[probeIndex];
-  uint state = stored.state;
-  // History, offset and placement count only if this slot has held this probe (a slot that scrolled to another probe
-  // is stale). An invalid probe keeps its history count but has no offset: it is traced from its grid position.
-  bool ownsSlot = probePlacement(state) != kProbeStateNeverTraced && probeHoldsCoordinate(stored, probe);
-  uint historyCount = ownsSlot ? probeHistoryCount(state) : 0u;
-  // The probe's radiance so far: what this update blends into, and the reservoirs' control variate.
-  Sh2Rgb history = historyCount > 0u ? probeRadianceSh(stored) : Sh2Rgb(vec4(0.0), vec4(0.0), vec4(0.0));
-  uint firstDirection = ownsSlot ? probeNextDirection(state) : 0u;
-  uint offsetCode = ownsSlot ? probeOffsetCode(state) : 0u;
-  uint placement = ownsSlot ? probePlacement(state) : kProbeStateActive;
-  vec3 origin = probeWorldPosition(probe, update.spacing, ownsSlot ? state : 0u);
+// The probe a workgroup updates, as it stands before the update.
+struct ListedProbe {
+  uint index;            // its slot in the probe buffer
+  ivec3 coordinate;      // its world probe coordinate
+  Probe stored;
+  uint historyCount;     // m: 0 for a probe that starts afresh
+  Sh2Rgb history;        // its radiance so far: what this update blends into, and the reservoirs' control variate
+  uint firstDirection;   // where this update's rays start in the probe's direction set
+  uint offsetCode;
+  uint placement;
+  vec3 origin;           // where its rays leave from: its position plus its virtual offset
+};
 
-  uint raysPerProbe = update.raysPerProbe;
+// History, offset and placement count only if this slot has held this probe (a slot that scrolled to another probe
+// is stale). An invalid probe keeps its history count but has no offset: it is traced from its grid position.
+ListedProbe readProbe(uint probeIndex) {
+  ListedProbe probe;
+  probe.index = probeIndex;
+  probe.coordinate =
+      probeWorldCoordinate(probeIndex % uint(update.probesPerLevel), update.originProbe, update.probesPerAxis);
+  probe.stored = probes[probeIndex];
+  uint state = probe.stored.state;
+  bool ownsSlot =
+      probePlacement(state) != kProbeStateNeverTraced && probeHoldsCoordinate(probe.stored, probe.coordinate);
+  probe.historyCount = ownsSlot ? probeHistoryCount(state) : 0u;
+  probe.history = probe.historyCount > 0u ? probeRadianceSh(probe.stored) : sh2Zero();
+  probe.firstDirection = ownsSlot ? probeNextDirection(state) : 0u;
+  probe.offsetCode = ownsSlot ? probeOffsetCode(state) : 0u;
+  probe.placement = ownsSlot ? probePlacement(state) : kProbeStateActive;
+  probe.origin = probeWorldPosition(probe.coordinate, update.spacing, ownsSlot ? state : 0u);
+  return probe;
+}
+
+// A thread's ray.
+struct ProbeRay {
+  bool traced;           // the thread has a ray: it is one of the first raysPerProbe
+  uint stratum;          // with reservoirs: the stratum it belongs to
+  bool reusesReservoir;  // with reservoirs: it re-traces its stratum's reservoir sample
+  uint reservoirSlot;
+  uint reservoir;        // its stratum's stored reservoir
+  vec3 direction;
+  // The projection weight of its distance and normal-dot: 4π/N over the sphere, Ω_s/c per candidate of a stratum; a
+  // re-traced reservoir ray is not uniform and leaves them out.
+  float uniformWeight;
+};
+
+// Without reservoirs the ray is the next of the probe's 1024 directions; with them a candidate of its stratum's set
+// or the re-traced reservoir sample (see the top of this file).
+ProbeRay chooseRay(ListedProbe probe, uint ray) {
+  StratifiedRays rays = stratifiedRays();
   bool keepsReservoirs = update.keepsReservoirs != 0u;
-  uint raysPerStratum = max(raysPerProbe / kProbeStrata, 1u);  // ≥ 2 with reservoirs (validateSettings)
-  StratifiedRays rays = StratifiedRays(raysPerStratum, raysPerStratum - 1u);
-  uint stratum = ray / rays.raysPerStratum;
-  bool reusesReservoir = ray % rays.raysPerStratum == rays.candidates;
+  ProbeRay chosen;
+  chosen.traced = ray < update.raysPerProbe;
+  chosen.stratum = ray / rays.raysPerStratum;
+  chosen.reusesReservoir = ray % rays.raysPerStratum == rays.candidates;
   // A probe that starts afresh (m = 0: new, stale, or just moved by ProbeRelocate) starts with empty reservoirs: what
   // they hold was seen from elsewhere.
-  uint reservoirSlot = probeIndex * kProbeStrata + stratum;
-  uint reservoir = keepsReservoirs && ray < raysPerProbe && historyCount > 0u ? reservoirs[reservoirSlot] : 0u;
-
-  if (ray == 0u) {
-    Sh2Rgb start;
-    startsFromCoarserLevel = historyCount == 0u && coarserLevelRadiance(probe, origin, start);
-    Sh2Rgb held = historyCount > 0u ? history : start;
-    heldRadiance[0] = held.r;
-    heldRadiance[1] = held.g;
-    heldRadiance[2] = held.b;
+  chosen.reservoirSlot = probe.index * kProbeStrata + chosen.stratum;
+  chosen.reservoir =
+      keepsReservoirs && chosen.traced && probe.historyCount > 0u ? reservoirs[chosen.reservoirSlot] : 0u;
+  chosen.direction = vec3(0.0, 0.0, 1.0);
+  chosen.uniformWeight = 0.0;
+  if (!chosen.traced) return chosen;
+  if (keepsReservoirs) {
+    uint sampleIndex = chosen.reusesReservoir ? probeReservoirSample(chosen.reservoir)
+                                              : candidateSample(probe.firstDirection, ray % rays.raysPerStratum);
+    chosen.direction = probeStratumDirection(chosen.stratum, sampleIndex);
+    chosen.uniformWeight = chosen.reusesReservoir ? 0.0 : kProbeStratumSolidAngle / float(rays.candidates);
+  } else {
+    chosen.direction = probeRayDirection(probe.firstDirection, ray);
+    chosen.uniformWeight = update.projectionWeight;
   }
-  barrier();
+  return chosen;
+}
 
-  for (uint sh = 0u; sh < kSh2PerProbe; ++sh) partialSums[sh][ray] = vec4(0.0);
+// What the probe holds before the update, for the rays that find nothing known: its history, or for a probe that
+// starts afresh the coarser level's radiance (black without one). One thread.
+void holdRadiance(ListedProbe probe) {
+  Sh2Rgb start;
+  startsFromCoarserLevel =
+      probe.historyCount == 0u && coarserLevelRadiance(probe.coordinate, probe.origin, start);
+  heldRadiance = probe.historyCount > 0u ? probe.history : start;
+}
+
+// Traces the thread's ray through the voxels: its radiance (black from behind), the sky's on a miss, and whether it
+// found neither a surface nor the sky (SPEC §6.4).
+VoxelHit traceRay(ListedProbe probe, ProbeRay chosen, uint ray) {
   rayRadiance[ray] = vec3(0.0);
   rayUnknown[ray] = false;
-  vec3 direction = vec3(0.0, 0.0, 1.0);
-  // The projection weight of this ray's distance and normal-dot: 4π/N over the sphere, Ω_s/c per candidate of a
-  // stratum; a re-traced reservoir ray is not uniform and leaves them out.
-  float uniformWeight = 0.0;
   VoxelHit hit;
-  if (ray < raysPerProbe) {
-    if (keepsReservoirs) {
-      uint sampleIndex = reusesReservoir ? probeReservoirSample(reservoir)
-                                         : candidateSample(firstDirection, ray % rays.raysPerStratum);
-      direction = probeStratumDirection(stratum, sampleIndex);
-      uniformWeight = reusesReservoir ? 0.0 : kProbeStratumSolidAngle / float(rays.candidates);
-    } else {
-      direction = probeRayDirection(firstDirection, ray);
-      uniformWeight = update.projectionWeight;
-    }
-    bool watchesObservedSpace = volume.settings.z != 0u;
-    hit = traceVoxelsHierarchical(origin, direction, update.rayLength, watchesObservedSpace);
-    rayUnknown[ray] = !hit.hit && hit.unobserved;  // neither a surface nor the sky (SPEC §6.4)
-    rayRadiance[ray] = hit.hit ? hit.radiance : skyRadiance(direction);
-  }
-  barrier();
-  // Unknown is not sky (SPEC §6.4): the estimate is formed over the rays that found something known. A ray into
-  // unobserved space stands for the mean of this update's known rays — for every direction of the probe alike, so
-  // that what the probe learns does not depend on what it held before, which would keep a camera cut's old light in
-  // it for good. A probe none of whose rays found anything known keeps what it holds.
-  if (ray == 0u) {
-    vec3 sum = vec3(0.0);
-    uint count = 0u;
-    for (uint other = 0u; other < raysPerProbe; ++other) {
-      if (rayUnknown[other]) continue;
-      sum += rayRadiance[other];
-      ++count;
-    }
-    knownRays = count;
-    knownMeanRadiance = count > 0u ? sum / float(count) : vec3(0.0);
-  }
-  barrier();
-  if (ray < raysPerProbe) {
-    vec3 radiance = rayRadiance[ray];
-    bool unknown = rayUnknown[ray];
-    if (unknown && knownRays > 0u) {
-      radiance = knownMeanRadiance;
-    } else if (unknown) {
-      vec4 basis = sh2Basis(direction);
-      radiance = max(vec3(dot(heldRadiance[0], basis), dot(heldRadiance[1], basis), dot(heldRadiance[2], basis)),
-                     vec3(0.0));
-    }
-    // A miss meets no surface, front or back: +1 (a front face head-on) keeps it from suggesting the probe is inside
-    // geometry, which is what negative values will tell the virtual offset.
-    float normalDot = hit.hit ? dot(-direction, hit.normal) : 1.0;
-    // An unknown ray's distance: how far its way is known to be free.
-    float distance = min(unknown ? hit.unobservedDistance : hit.distance, update.distanceRange);
-    // L_lm = (4π/N) Σ L(ω_i) Y_lm(ω_i) (SPEC §2): each thread contributes its term.
-    vec4 weightedBasis = sh2Basis(direction) * uniformWeight;
-    partialSums[0][ray] = radiance.r * weightedBasis;
-    partialSums[1][ray] = radiance.g * weightedBasis;
-    partialSums[2][ray] = radiance.b * weightedBasis;
-    partialSums[3][ray] = distance * weightedBasis;
-    partialSums[4][ray] = normalDot * weightedBasis;
-    // An empty reservoir's ray stands for nothing: black, so that it neither raises the clamp's maximum nor is kept.
-    bool emptyReservoir = keepsReservoirs && reusesReservoir && probeReservoirCount(reservoir) == 0u;
-    rayRadiance[ray] = emptyReservoir ? vec3(0.0) : radiance;
-  }
-  barrier();
+  if (!chosen.traced) return hit;
+  bool watchesObservedSpace = volume.settings.z != 0u;
+  hit = traceVoxelsHierarchical(probe.origin, chosen.direction, update.rayLength, watchesObservedSpace);
+  rayUnknown[ray] = !hit.hit && hit.unobserved;  // neither a surface nor the sky (SPEC §6.4)
+  rayRadiance[ray] = hit.hit ? hit.radiance : skyRadiance(chosen.direction);
+  return hit;
+}
 
-  // This ray's share of the trimmed mean: its rank among the rays (ties broken by index) decides whether it is among
-  // the brightest eighth, which are left out. With reservoirs their re-traced rays count too: they keep looking where
-  // the light was found, so they change little from one update to the next unless the light does, and leaving them
-  // out would make the statistic noisier than without reservoirs (24 rays instead of 32), which the change detection
-  // would take for change.
+// Unknown is not sky (SPEC §6.4): the estimate is formed over the rays that found something known. A ray into
+// unobserved space stands for the mean of this update's known rays — for every direction of the probe alike, so
+// that what the probe learns does not depend on what it held before, which would keep a camera cut's old light in
+// it for good. A probe none of whose rays found anything known keeps what it holds. One thread.
+void averageKnownRays() {
+  vec3 sum = vec3(0.0);
+  uint count = 0u;
+  for (uint other = 0u; other < update.raysPerProbe; ++other) {
+    if (rayUnknown[other]) continue;
+    sum += rayRadiance[other];
+    ++count;
+  }
+  knownRays = count;
+  knownMeanRadiance = count > 0u ? sum / float(count) : vec3(0.0);
+}
+
+// The thread's terms of the probe's three SH2, L_lm = (4π/N) Σ L(ω_i) Y_lm(ω_i) (SPEC §2).
+void projectRay(ProbeRay chosen, VoxelHit hit, uint ray) {
+  radianceSums[ray] = sh2Zero();
+  distanceSums[ray] = vec4(0.0);
+  normalDotSums[ray] = vec4(0.0);
+  if (!chosen.traced) return;
+  vec3 radiance = rayRadiance[ray];
+  bool unknown = rayUnknown[ray];
+  if (unknown && knownRays > 0u) {
+    radiance = knownMeanRadiance;
+  } else if (unknown) {
+    radiance = max(sh2Evaluate(heldRadiance, sh2Basis(chosen.direction)), vec3(0.0));
+  }
+  // A miss meets no surface, front or back: +1 (a front face head-on) keeps it from suggesting the probe is inside
+  // geometry, which is what negative values will tell the virtual offset.
+  float normalDot = hit.hit ? dot(-chosen.direction, hit.normal) : 1.0;
+  // An unknown ray's distance: how far its way is known to be free.
+  float distance = min(unknown ? hit.unobservedDistance : hit.distance, update.distanceRange);
+  vec4 weightedBasis = sh2Basis(chosen.direction) * chosen.uniformWeight;
+  radianceSums[ray] = sh2Project(radiance, weightedBasis);
+  distanceSums[ray] = distance * weightedBasis;
+  normalDotSums[ray] = normalDot * weightedBasis;
+  // An empty reservoir's ray stands for nothing: black, so that it neither raises the clamp's maximum nor is kept.
+  bool emptyReservoir =
+      update.keepsReservoirs != 0u && chosen.reusesReservoir && probeReservoirCount(chosen.reservoir) == 0u;
+  rayRadiance[ray] = emptyReservoir ? vec3(0.0) : radiance;
+}
+
+// Less lag's statistic, the update's trimmed mean, and the history count the update blends with (followChange), for
+// every thread. A ray's share of the trimmed mean: its rank among the rays (ties broken by index) decides whether it
+// is among the brightest eighth, which are left out. With reservoirs their re-traced rays count too: they keep
+// looking where the light was found, so they change little from one update to the next unless the light does, and
+// leaving them out would make the statistic noisier than without reservoirs (24 rays instead of 32), which the
+// change detection would take for change.
+uint detectChange(ListedProbe probe, uint ray) {
+  uint raysPerProbe = update.raysPerProbe;
   float luminance = probeSampleLuminance(rayRadiance[ray]);
   uint brighter = 0u;
   for (uint other = 0u; other < raysPerProbe; ++other) {
@@ -361,77 +395,107 @@ void main() {
   if (ray == 0u) {
     float trimmedMean = 0.0;
     for (uint other = 0u; other < raysPerProbe; ++other) trimmedMean += trimmedLuminance[other];
-    blendedHistoryCount = followChange(probeIndex, historyCount, trimmedMean);
+    blendedHistoryCount = followChange(probe.index, probe.historyCount, trimmedMean);
   }
   barrier();
-  uint storedCount = historyCount;
-  historyCount = blendedHistoryCount;
-  // The updates a reservoir may stand for: as many as the probe blends with, and none once Less lag has cut the
-  // history to less than half — a change, not noise: the reservoir and the history would otherwise each follow part
-  // of the way, one after the other (cornell's lag: 79 frames, against 51 with this and 47 without reservoirs).
-  uint reusableUpdates = 2u * historyCount < storedCount ? 0u : historyCount;
+  return blendedHistoryCount;
+}
 
-  if (keepsReservoirs) {
-    // The clamp: the brightest direction the reservoirs hold, re-traced this frame (none for empty reservoirs).
-    float clampFactor = update.sampleClamp;
-    clampScale[ray] = 1.0;
-    if (clampFactor > 0.0 && ray < raysPerProbe && !reusesReservoir) {
-      float historyMaximum = 0.0;
-      for (uint s = 0u; s < kProbeStrata; ++s)
-        historyMaximum = max(historyMaximum, probeSampleLuminance(rayRadiance[s * rays.raysPerStratum + rays.candidates]));
-      float luminance = probeSampleLuminance(rayRadiance[ray]);
-      float limit = clampFactor * historyMaximum;
-      if (historyMaximum > 0.0 && luminance > limit) clampScale[ray] = limit / luminance;
+// UpdateReservoirs (see the top of this file): the clamp's maximum, then each stratum's reservoir update, whose
+// radiance estimate replaces the rays' uniform ones (distance and normal-dot stay the candidates').
+void updateReservoirs(ListedProbe probe, ProbeRay chosen, uint ray, uint reusableUpdates) {
+  StratifiedRays rays = stratifiedRays();
+  // The clamp: the brightest direction the reservoirs hold, re-traced this frame (none for empty reservoirs).
+  float clampFactor = update.sampleClamp;
+  clampScale[ray] = 1.0;
+  if (clampFactor > 0.0 && chosen.traced && !chosen.reusesReservoir) {
+    float historyMaximum = 0.0;
+    for (uint s = 0u; s < kProbeStrata; ++s) {
+      uint reusedRay = s * rays.raysPerStratum + rays.candidates;
+      historyMaximum = max(historyMaximum, probeSampleLuminance(rayRadiance[reusedRay]));
     }
-    barrier();
-    // The strata's radiance estimates replace the rays' uniform ones (distance and normal-dot stay the candidates').
-    if (ray < raysPerProbe && ray % rays.raysPerStratum == 0u) {
-      Sh2Rgb estimate =
-          updateStratum(stratum, rays, firstDirection, reservoir, reusableUpdates, history, reservoirSlot, probeIndex);
-      partialSums[0][ray] = estimate.r;
-      partialSums[1][ray] = estimate.g;
-      partialSums[2][ray] = estimate.b;
-    } else {
-      for (uint sh = 0u; sh < 3u; ++sh) partialSums[sh][ray] = vec4(0.0);
-    }
-    barrier();
+    float luminance = probeSampleLuminance(rayRadiance[ray]);
+    float limit = clampFactor * historyMaximum;
+    if (historyMaximum > 0.0 && luminance > limit) clampScale[ray] = limit / luminance;
   }
+  barrier();
+  if (chosen.traced && ray % rays.raysPerStratum == 0u) {
+    radianceSums[ray] = updateStratum(chosen.stratum, rays, probe.firstDirection, chosen.reservoir, reusableUpdates,
+                                      probe.history, chosen.reservoirSlot, probe.index);
+  } else {
+    radianceSums[ray] = sh2Zero();
+  }
+  barrier();
+}
+
+// Sums the threads' terms into thread 0's.
+void sumOverRays(uint ray) {
   for (uint stride = kProbeTraceGroupSize / 2u; stride > 0u; stride /= 2u) {
     if (ray < stride) {
-      for (uint sh = 0u; sh < kSh2PerProbe; ++sh) partialSums[sh][ray] += partialSums[sh][ray + stride];
+      radianceSums[ray] = sh2Add(radianceSums[ray], radianceSums[ray + stride]);
+      distanceSums[ray] += distanceSums[ray + stride];
+      normalDotSums[ray] += normalDotSums[ray + stride];
     }
     barrier();
   }
-  if (ray != 0u) return;
+}
 
-  // S = (1-α)·S_hist + α·S_new with α = 1/(m+1) (SPEC §4.5): the mean of the updates so far until m reaches its cap,
-  // then an exponential window of about cap updates. A new probe (m = 0) takes its radiance half from the coarser
-  // level, half from this first trace — the coarser value counts as one earlier update, so its weight then decays as
-  // 1/(m+1) like any update's; without a coarser value, and always for distance and normal-dot (which belong to this
-  // probe's own position and spacing), it takes the first trace whole. A stale slot may hold anything: no history.
-  float alpha = 1.0 / float(historyCount + 1u);
+// S = (1-α)·S_hist + α·S_new with α = 1/(m+1) (SPEC §4.5): the mean of the updates so far until m reaches its cap,
+// then an exponential window of about cap updates. A new probe (m = 0) takes its radiance half from the coarser
+// level, half from this first trace — the coarser value counts as one earlier update, so its weight then decays as
+// 1/(m+1) like any update's; without a coarser value, and always for distance and normal-dot (which belong to this
+// probe's own position and spacing), it takes the first trace whole. A stale slot may hold anything: no history.
+// `probe.historyCount` is the count this update blends with. One thread.
+void writeProbe(ListedProbe probe) {
+  uint raysPerProbe = update.raysPerProbe;
+  float alpha = 1.0 / float(probe.historyCount + 1u);
   float radianceAlpha = alpha;
+  Sh2Rgb history = probe.history;
   if (startsFromCoarserLevel) {
-    history = Sh2Rgb(heldRadiance[0], heldRadiance[1], heldRadiance[2]);
+    history = heldRadiance;
     radianceAlpha = 0.5;
   }
-  Sh2Rgb radiance = Sh2Rgb(mix(history.r, partialSums[0][0], radianceAlpha),
-                           mix(history.g, partialSums[1][0], radianceAlpha),
-                           mix(history.b, partialSums[2][0], radianceAlpha));
+  Sh2Rgb radiance = sh2Mix(history, radianceSums[0], radianceAlpha);
   float range = update.distanceRange;
-  vec4 distanceHistory = historyCount > 0u ? probeDistanceSh(stored, update.spacing) : vec4(0.0);
-  vec4 normalDotHistory = historyCount > 0u ? probeNormalDotSh(stored) : vec4(0.0);
-  float dither = probeDither(probeIndex);
-  uint distanceSh = packProbeUnitSh(mix(distanceHistory, partialSums[3][0], alpha) / range, dither);
-  uint normalDotSh = packProbeUnitSh(mix(normalDotHistory, partialSums[4][0], alpha), dither);
+  vec4 distanceHistory = probe.historyCount > 0u ? probeDistanceSh(probe.stored, update.spacing) : vec4(0.0);
+  vec4 normalDotHistory = probe.historyCount > 0u ? probeNormalDotSh(probe.stored) : vec4(0.0);
+  float dither = probeDither(probe.index);
+  uint distanceSh = packProbeUnitSh(mix(distanceHistory, distanceSums[0], alpha) / range, dither);
+  uint normalDotSh = packProbeUnitSh(mix(normalDotHistory, normalDotSums[0], alpha), dither);
   // With reservoirs each stratum's candidates walk its 128-direction set, c per update: the counter runs modulo
   // c·128 so that it stays continuous modulo 128.
-  uint nextDirection = keepsReservoirs
-                           ? (firstDirection + rays.candidates) % (rays.candidates * kProbeStratumDirectionCount)
-                           : (firstDirection + raysPerProbe) % kProbeRayDirectionCount;
-  uint nextState = packProbeState(min(historyCount + 1u, update.historyCap), nextDirection, placement, offsetCode);
+  StratifiedRays rays = stratifiedRays();
+  uint nextDirection = update.keepsReservoirs != 0u
+                           ? (probe.firstDirection + rays.candidates) % (rays.candidates * kProbeStratumDirectionCount)
+                           : (probe.firstDirection + raysPerProbe) % kProbeRayDirectionCount;
+  uint nextState =
+      packProbeState(min(probe.historyCount + 1u, update.historyCap), nextDirection, probe.placement, probe.offsetCode);
   float knownFraction = float(knownRays) / float(raysPerProbe);
-  float knownHistory = historyCount > 0u ? probeKnownFraction(stored) : knownFraction;
-  uint tag = packProbeTag(probe, mix(knownHistory, knownFraction, alpha), dither);
-  probes[probeIndex] = makeProbe(radiance, distanceSh, normalDotSh, nextState, tag);
+  float knownHistory = probe.historyCount > 0u ? probeKnownFraction(probe.stored) : knownFraction;
+  uint tag = packProbeTag(probe.coordinate, mix(knownHistory, knownFraction, alpha), dither);
+  probes[probe.index] = makeProbe(radiance, distanceSh, normalDotSh, nextState, tag);
+}
+
+// The update as the list of its steps; the barriers between them are the workgroup's.
+void main() {
+  uint ray = gl_LocalInvocationID.x;
+  ListedProbe probe = readProbe(listedProbes[gl_WorkGroupID.x]);
+  ProbeRay chosen = chooseRay(probe, ray);
+  if (ray == 0u) holdRadiance(probe);
+  barrier();
+  VoxelHit hit = traceRay(probe, chosen, ray);
+  barrier();
+  if (ray == 0u) averageKnownRays();
+  barrier();
+  projectRay(chosen, hit, ray);
+  barrier();
+  uint storedCount = probe.historyCount;
+  probe.historyCount = detectChange(probe, ray);
+  // The updates a reservoir may stand for: as many as the probe blends with, and none once Less lag has cut the
+  // history to less than half — a change, not noise: the reservoir and the history would otherwise each follow part
+  // of the way, one after the other, and cornell's lag grew (docs/QUALITY.md, "Probe stability").
+  uint reusableUpdates = 2u * probe.historyCount < storedCount ? 0u : probe.historyCount;
+  if (update.keepsReservoirs != 0u) updateReservoirs(probe, chosen, ray, reusableUpdates);
+  sumOverRays(ray);
+  if (ray == 0u) writeProbe(probe);
 }

@@ -22,7 +22,7 @@ bool occludedByHiZ(vec3 lo, vec3 hi) {
     vec4 clip = frame.viewProjection * vec4(p, 1.0);
     if (clip.w <= 1e-4) return false;  // reaches behind the camera: assume visible
     vec3 ndc = clip.xyz / clip.w;
-    vec2 pixel = giNdcToPixel(ndc.xy, vec2(frame.size));
+    vec2 pixel = ndcToPixel(ndc.xy, vec2(frame.size));
     minPixel = min(minPixel, pixel);
     maxPixel = max(maxPixel, pixel);
     nearestDepth = max(nearestDepth, ndc.z);

@@ -40,7 +40,7 @@ void relightVoxel(uint brick, uint voxelIndex) {
   // two levels' answers (the gather's noise is averaged by its temporal filter, a voxel's is not).
   float noise = hashToUnitCube(uvec3(worldVoxel)).x;
   // With the gather's visibility trace (this pass writes only radiance, which no trace reads): without it the lit
-  // room's probes lit the dark side of `two-rooms`' wall (leak 3.0 % instead of 0.12 %, docs/QUALITY.md).
+  // room's probes lit the dark side of `two-rooms`' wall (docs/QUALITY.md, "Voxels follow the light").
   vec4 irradiance = probeIrradiance(surface, normal, noise, true);
   if (irradiance.a == 0.0) return;  // no probe knows its surroundings yet: it keeps the light it has
   vec3 direct = unpackR11G11B10F(voxel.directRadiance);

@@ -37,20 +37,21 @@ GatherTargets::GatherTargets(gpu::Device& device, uint32_t maxWidth, uint32_t ma
 
 void GatherTargets::prepare(uint32_t frameIndex, const glm::mat4& viewProjection, uint32_t width, uint32_t height,
                             const ProbeLevels& probes) {
-  const glm::uvec4 sizes(divideRoundingUp(width, shader::kGatherTileSize),
-                         divideRoundingUp(height, shader::kGatherTileSize), divideRoundingUp(width, 2),
-                         divideRoundingUp(height, 2));
-  const bool historyUsable = prepared_ && sizes == current_.sizes;
+  const glm::uvec2 tiles(divideRoundingUp(width, shader::kGatherTileSize),
+                         divideRoundingUp(height, shader::kGatherTileSize));
+  const glm::uvec2 halfSize(divideRoundingUp(width, 2), divideRoundingUp(height, 2));
+  const bool historyUsable = prepared_ && tiles == current_.tiles && halfSize == current_.halfSize;
   // The history is the last frame's output, seen through the last frame's camera.
   current_.historyViewProjection = prepared_ ? previousViewProjection_ : viewProjection;
   current_.historyInverseViewProjection = glm::inverse(current_.historyViewProjection);
-  for (uint32_t level = 0; level < shader::kProbeLevels; ++level) {
-    current_.probeOrigins[level] = glm::ivec4(probes.origins[level], 0);
-    current_.probeSpacings[int(level)] = probes.spacings[level];
-  }
-  current_.probeDimensions = glm::ivec4(probes.dimensions, probes.dimensions.x * probes.dimensions.y * probes.dimensions.z);
-  current_.sizes = sizes;
-  current_.frame = glm::uvec4(frameIndex, historyUsable ? 1u : 0u, 0u, 0u);
+  for (uint32_t level = 0; level < shader::kProbeLevels; ++level)
+    current_.probeLevels[level] = {probes.origins[level], probes.spacings[level]};
+  current_.probesPerAxis = probes.dimensions;
+  current_.probesPerLevel = probes.dimensions.x * probes.dimensions.y * probes.dimensions.z;
+  current_.tiles = tiles;
+  current_.halfSize = halfSize;
+  current_.frameIndex = frameIndex;
+  current_.historyUsable = historyUsable ? 1u : 0u;
   currentFrame_ = frameIndex % constants_.size();
   std::memcpy(constants_[currentFrame_].mapped(), &current_, sizeof(current_));
   if (prepared_) currentOutput_ = 1 - currentOutput_;

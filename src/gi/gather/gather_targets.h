@@ -33,8 +33,8 @@ class GatherTargets {
   const gpu::Image& output() const { return outputs_[currentOutput_]; }
   // r8, 1/2: the confidence (SPEC §6.4) of the output's E. Upsample writes it; one image, no history.
   const gpu::Image& confidence() const { return confidence_; }
-  glm::uvec2 tiles() const { return {current_.sizes.x, current_.sizes.y}; }
-  glm::uvec2 halfSize() const { return {current_.sizes.z, current_.sizes.w}; }
+  glm::uvec2 tiles() const { return current_.tiles; }
+  glm::uvec2 halfSize() const { return current_.halfSize; }
 
  private:
   std::vector<gpu::Buffer> constants_;
