@@ -4,6 +4,7 @@
 // R11G11B10F and octahedral packing the voxels use.
 #include "gi/voxels/build_octree.h"
 #include "gi/voxels/trace_rays.h"
+#include "gpu_host/transfers.h"
 #include "gpu_test_device.h"
 
 #include <algorithm>

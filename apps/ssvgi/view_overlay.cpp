@@ -12,7 +12,7 @@ void checkImGuiVulkanResult(VkResult result) { VK_CHECK(result); }
 
 // Draws over what the image holds (LOAD), in and out of COLOR_ATTACHMENT_OPTIMAL: the layout the barrier tracker
 // moves it to for Usage::ColorAttachment and expects it in afterwards.
-VkRenderPass createRenderPass(const gpu::Device& device) {
+VkRenderPass createRenderPass(const gpu::OwnedDevice& device) {
   VkAttachmentDescription attachment{};
   attachment.format = ImGuiOverlay::kTargetFormat;
   attachment.samples = VK_SAMPLE_COUNT_1_BIT;
@@ -38,7 +38,7 @@ VkRenderPass createRenderPass(const gpu::Device& device) {
 }
 
 // The font atlas's descriptor set is the only one ImGui allocates.
-VkDescriptorPool createDescriptorPool(const gpu::Device& device) {
+VkDescriptorPool createDescriptorPool(const gpu::OwnedDevice& device) {
   const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1};
   VkDescriptorPoolCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
   info.flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT;
@@ -52,7 +52,7 @@ VkDescriptorPool createDescriptorPool(const gpu::Device& device) {
 
 }  // namespace
 
-ImGuiOverlay::ImGuiOverlay(gpu::Device& device, GLFWwindow* window)
+ImGuiOverlay::ImGuiOverlay(gpu::OwnedDevice& device, GLFWwindow* window)
     : device_(device), renderPass_(createRenderPass(device)), descriptorPool_(createDescriptorPool(device)) {
   IMGUI_CHECKVERSION();
   ImGui::CreateContext();

@@ -20,7 +20,8 @@ VkSurfaceFormatKHR chooseFormat(VkPhysicalDevice physicalDevice, VkSurfaceKHR su
 
 }  // namespace
 
-Swapchain::Swapchain(gpu::Device& device, VkSurfaceKHR surface, VkExtent2D size) : device_(device), surface_(surface) {
+Swapchain::Swapchain(gpu::OwnedDevice& device, VkSurfaceKHR surface, VkExtent2D size)
+    : device_(device), surface_(surface) {
   if (!device.vk().vkCreateSwapchainKHR) throw gpu::GpuError("view: the device was created without VK_KHR_swapchain");
   VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
   VK_CHECK(device.vk().vkCreateFence(device.device(), &fenceInfo, nullptr, &acquired_));
