@@ -84,13 +84,12 @@ GraphicsPipeline::GraphicsPipeline(Device& device, const GraphicsPipelineDesc& d
   info.pColorBlendState = &blend;
   info.pDynamicState = &dynamic;
   info.layout = layout_.handle();
-  const VkResult result =
-      device.vk().vkCreateGraphicsPipelines(device.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_);
-  for (VkShaderModule module : modules) device.vk().vkDestroyShaderModule(device.device(), module, nullptr);
+  const VkResult result = vkCreateGraphicsPipelines(device.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_);
+  for (VkShaderModule module : modules) vkDestroyShaderModule(device.device(), module, nullptr);
   VK_CHECK(result);
   device.setName(pipeline_, VK_OBJECT_TYPE_PIPELINE, name_);
 }
 
-GraphicsPipeline::~GraphicsPipeline() { device_.vk().vkDestroyPipeline(device_.device(), pipeline_, nullptr); }
+GraphicsPipeline::~GraphicsPipeline() { vkDestroyPipeline(device_.device(), pipeline_, nullptr); }
 
 }  // namespace ssvgi::gpu

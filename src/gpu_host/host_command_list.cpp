@@ -33,16 +33,16 @@ void HostCommandList::beginRendering(const std::vector<Attachment>& colors, cons
   info.colorAttachmentCount = static_cast<uint32_t>(colorInfos.size());
   info.pColorAttachments = colorInfos.data();
   info.pDepthAttachment = depth.image ? &depthInfo : nullptr;
-  device().vk().vkCmdBeginRendering(handle(), &info);
+  vkCmdBeginRendering(handle(), &info);
   rendering_ = true;
   const VkViewport viewport{0.0f, float(height), float(width), -float(height), 0.0f, 1.0f};
-  device().vk().vkCmdSetViewport(handle(), 0, 1, &viewport);
+  vkCmdSetViewport(handle(), 0, 1, &viewport);
   const VkRect2D scissor{{0, 0}, {width, height}};
-  device().vk().vkCmdSetScissor(handle(), 0, 1, &scissor);
+  vkCmdSetScissor(handle(), 0, 1, &scissor);
 }
 
 void HostCommandList::endRendering() {
-  device().vk().vkCmdEndRendering(handle());
+  vkCmdEndRendering(handle());
   rendering_ = false;
 }
 
@@ -51,10 +51,10 @@ void HostCommandList::bindGraphics(const GraphicsPipeline& pipeline, const Bindi
   if (rendering_ && barriersPending())
     throw GpuError(pipeline.name() + ": a binding needs a barrier inside rendering; declare its usage before beginRendering");
   flushBarriers();
-  device().vk().vkCmdBindPipeline(handle(), VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
+  vkCmdBindPipeline(handle(), VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
   if (set) {
-    device().vk().vkCmdBindDescriptorSets(handle(), VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.layout().handle(), 0,
-                                         1, &set, 0, nullptr);
+    vkCmdBindDescriptorSets(handle(), VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.layout().handle(), 0, 1, &set, 0,
+                            nullptr);
   }
 }
 
@@ -77,9 +77,8 @@ void HostCommandList::blitImage(const Image& source, const Image& destination) {
   use(destination, Usage::TransferDestination);
   flushBarriers();
   const VkImageBlit region = wholeImageBlit(sizeOf(source), sizeOf(destination));
-  device().vk().vkCmdBlitImage(handle(), source.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                              destination.handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region,
-                              VK_FILTER_NEAREST);
+  vkCmdBlitImage(handle(), source.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, destination.handle(),
+                 VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region, VK_FILTER_NEAREST);
 }
 
 void HostCommandList::blitToExternalImage(const Image& source, VkImage destination, VkExtent2D destinationSize,
@@ -95,17 +94,17 @@ void HostCommandList::blitToExternalImage(const Image& source, VkImage destinati
   barrier.srcQueueFamilyIndex = barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
   barrier.image = destination;
   barrier.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-  device().vk().vkCmdPipelineBarrier(handle(), VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                                    0, 0, nullptr, 0, nullptr, 1, &barrier);
+  vkCmdPipelineBarrier(handle(), VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0,
+                       nullptr, 1, &barrier);
   const VkImageBlit region = wholeImageBlit(sizeOf(source), destinationSize);
-  device().vk().vkCmdBlitImage(handle(), source.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, destination,
-                              VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region, VK_FILTER_NEAREST);
+  vkCmdBlitImage(handle(), source.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, destination,
+                 VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region, VK_FILTER_NEAREST);
   barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
   barrier.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT;
   barrier.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
   barrier.newLayout = finalLayout;
-  device().vk().vkCmdPipelineBarrier(handle(), VK_PIPELINE_STAGE_TRANSFER_BIT,
-                                    VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 0, 0, nullptr, 0, nullptr, 1, &barrier);
+  vkCmdPipelineBarrier(handle(), VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 0, 0, nullptr, 0,
+                       nullptr, 1, &barrier);
 }
 
 }  // namespace ssvgi::gpu

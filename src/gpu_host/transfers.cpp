@@ -30,7 +30,7 @@ uint32_t bytesPerTexel(VkFormat format) {
 }
 
 // Moves a whole image between layouts inside the blocking transfers, where the tracker is not in use.
-void transitionForTransfer(const Device& device, VkCommandBuffer commandBuffer, const Image& image, VkImageLayout from,
+void transitionForTransfer(VkCommandBuffer commandBuffer, const Image& image, VkImageLayout from,
                            VkImageLayout to, VkAccessFlags srcAccess, VkAccessFlags dstAccess,
                            VkPipelineStageFlags srcStage, VkPipelineStageFlags dstStage) {
   VkImageMemoryBarrier barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
@@ -42,7 +42,7 @@ void transitionForTransfer(const Device& device, VkCommandBuffer commandBuffer, 
   barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
   barrier.image = image.handle();
   barrier.subresourceRange = {image.aspect(), 0, VK_REMAINING_MIP_LEVELS, 0, VK_REMAINING_ARRAY_LAYERS};
-  device.vk().vkCmdPipelineBarrier(commandBuffer, srcStage, dstStage, 0, 0, nullptr, 0, nullptr, 1, &barrier);
+  vkCmdPipelineBarrier(commandBuffer, srcStage, dstStage, 0, 0, nullptr, 0, nullptr, 1, &barrier);
 }
 
 VkBufferImageCopy layerCopy(const Image& image, uint32_t layer) {
@@ -61,13 +61,13 @@ void uploadBuffer(OwnedDevice& device, const Buffer& buffer, std::span<const std
   std::memcpy(staging.mapped(), data.data(), data.size());
   device.submitAndWait([&](VkCommandBuffer commandBuffer) {
     const VkBufferCopy region{0, offset, data.size()};
-    device.vk().vkCmdCopyBuffer(commandBuffer, staging.handle(), buffer.handle(), 1, &region);
+    vkCmdCopyBuffer(commandBuffer, staging.handle(), buffer.handle(), 1, &region);
     // Make the upload visible to every later use; the tracker starts from "written by a transfer".
     VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
     barrier.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
-    device.vk().vkCmdPipelineBarrier(commandBuffer, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
-                                     0, 1, &barrier, 0, nullptr, 0, nullptr);
+    vkCmdPipelineBarrier(commandBuffer, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 1,
+                         &barrier, 0, nullptr, 0, nullptr);
   });
   buffer.state() = {};
 }
@@ -78,14 +78,14 @@ std::vector<std::byte> readBuffer(OwnedDevice& device, const Buffer& buffer) {
     VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     barrier.srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT;
     barrier.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
-    device.vk().vkCmdPipelineBarrier(commandBuffer, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                                     0, 1, &barrier, 0, nullptr, 0, nullptr);
+    vkCmdPipelineBarrier(commandBuffer, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1,
+                         &barrier, 0, nullptr, 0, nullptr);
     const VkBufferCopy region{0, 0, buffer.size()};
-    device.vk().vkCmdCopyBuffer(commandBuffer, buffer.handle(), staging.handle(), 1, &region);
+    vkCmdCopyBuffer(commandBuffer, buffer.handle(), staging.handle(), 1, &region);
     barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
     barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-    device.vk().vkCmdPipelineBarrier(commandBuffer, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1,
-                                     &barrier, 0, nullptr, 0, nullptr);
+    vkCmdPipelineBarrier(commandBuffer, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &barrier, 0,
+                         nullptr, 0, nullptr);
   });
   std::vector<std::byte> bytes(buffer.size());
   std::memcpy(bytes.data(), staging.mapped(), bytes.size());
@@ -100,13 +100,13 @@ void uploadImage(OwnedDevice& device, const Image& image, std::span<const std::b
   std::memcpy(staging.mapped(), texels.data(), texels.size());
   const VkImageLayout current = image.state().layout;
   device.submitAndWait([&](VkCommandBuffer commandBuffer) {
-    transitionForTransfer(device, commandBuffer, image, current, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+    transitionForTransfer(commandBuffer, image, current, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
                           VK_ACCESS_MEMORY_WRITE_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
                           VK_PIPELINE_STAGE_TRANSFER_BIT);
     const VkBufferImageCopy region = layerCopy(image, layer);
-    device.vk().vkCmdCopyBufferToImage(commandBuffer, staging.handle(), image.handle(),
-                                       VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
-    transitionForTransfer(device, commandBuffer, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+    vkCmdCopyBufferToImage(commandBuffer, staging.handle(), image.handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
+                           &region);
+    transitionForTransfer(commandBuffer, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
                           VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT,
                           VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT);
   });
@@ -121,19 +121,19 @@ std::vector<std::byte> readImage(OwnedDevice& device, const Image& image, uint32
   const VkImageLayout current = image.state().layout;
   if (current == VK_IMAGE_LAYOUT_UNDEFINED) throw GpuError("reading image '" + desc.name + "' that was never written");
   device.submitAndWait([&](VkCommandBuffer commandBuffer) {
-    transitionForTransfer(device, commandBuffer, image, current, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+    transitionForTransfer(commandBuffer, image, current, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                           VK_ACCESS_MEMORY_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
                           VK_PIPELINE_STAGE_TRANSFER_BIT);
     const VkBufferImageCopy region = layerCopy(image, layer);
-    device.vk().vkCmdCopyImageToBuffer(commandBuffer, image.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                                       staging.handle(), 1, &region);
-    transitionForTransfer(device, commandBuffer, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, current, 0, 0,
+    vkCmdCopyImageToBuffer(commandBuffer, image.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging.handle(), 1,
+                           &region);
+    transitionForTransfer(commandBuffer, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, current, 0, 0,
                           VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT);
     VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
     barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-    device.vk().vkCmdPipelineBarrier(commandBuffer, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1,
-                                     &barrier, 0, nullptr, 0, nullptr);
+    vkCmdPipelineBarrier(commandBuffer, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &barrier, 0,
+                         nullptr, 0, nullptr);
   });
   std::vector<std::byte> bytes(size);
   std::memcpy(bytes.data(), staging.mapped(), size);
