@@ -2,10 +2,10 @@
 
 #include "camera.h"
 #include "gi/context_internals.h"
-#include "gi/voxels/trace_rays.h"
 #include "gpu/command_list.h"
 #include "gpu/profiler.h"
 #include "gpu_host/transfers.h"
+#include "trace_rays.h"
 
 #include <glm/gtc/constants.hpp>
 
