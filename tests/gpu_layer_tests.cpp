@@ -129,7 +129,8 @@ TEST(GpuDeviceSelection, anUnknownSelectorIsAClearError) {
     gpu::OwnedDevice device(gpu::DeviceDesc{"fastest", false});
     ADD_FAILURE() << "expected an error";
   } catch (const gpu::GpuError& error) {
-    EXPECT_NE(std::string(error.what()).find("--device must be auto, cpu, gpu or a device index"), std::string::npos);
+    EXPECT_NE(std::string(error.what()).find("device selector 'fastest': must be auto, cpu, gpu or a device index"),
+              std::string::npos);
   }
   EXPECT_THROW(gpu::OwnedDevice(gpu::DeviceDesc{"99", false}), gpu::GpuError);
 }
