@@ -1,6 +1,7 @@
 #include "reference_scenarios.h"
 
 #include "gi/context_internals.h"
+#include "gpu_host/transfers.h"
 #include "path_tracer.h"
 #include "point_radiance.h"
 #include "scenario_rendering.h"
@@ -171,7 +172,7 @@ bool insideBounds(glm::vec3 position, const renderer::Bounds& bounds) {
 
 }  // namespace
 
-IndirectErrorResult measureIndirectError(gpu::Device& device, const ScenarioRendering& rendering,
+IndirectErrorResult measureIndirectError(gpu::OwnedDevice& device, const ScenarioRendering& rendering,
                                          const ScenarioView& view, const IndirectErrorOptions& options) {
   IndirectErrorResult result;
   FloatImage gi, viewDistance;
@@ -204,7 +205,7 @@ IndirectErrorResult measureIndirectError(gpu::Device& device, const ScenarioRend
   return result;
 }
 
-ProbeIrradianceResult measureProbeIrradiance(gpu::Device& device, const ScenarioRendering& rendering,
+ProbeIrradianceResult measureProbeIrradiance(gpu::OwnedDevice& device, const ScenarioRendering& rendering,
                                              const ScenarioView& view, const ProbeIrradianceOptions& options) {
   ScenarioRenderer renderer(device, view.scene, rendering);
   ProbeIrradianceResult result;

@@ -4,7 +4,7 @@
 //   - the error of its indirect irradiance image against the reference's (SPEC §7 "error vs reference");
 //   - the irradiance its probes hold against the reference's at the same points (the probe radiance cache, §4.5).
 // Both report the reference's own noise, measured from two independent halves of it, as the floor under the figure.
-#include "gpu/device.h"
+#include "gpu_host/owned_device.h"
 #include "image_compare.h"
 #include "scenarios.h"
 
@@ -57,7 +57,7 @@ struct IndirectErrorResult {
 };
 
 // Renders the view with the GI until converged, path-traces the same view (animation time 0) and compares.
-IndirectErrorResult measureIndirectError(gpu::Device& device, const ScenarioRendering& rendering,
+IndirectErrorResult measureIndirectError(gpu::OwnedDevice& device, const ScenarioRendering& rendering,
                                          const ScenarioView& view, const IndirectErrorOptions& options = {});
 
 // ---------------------------------------------------------------------------------------------------------------------
@@ -100,7 +100,7 @@ struct ProbeIrradianceResult {
 // voxel (Settings::voxelSize) from every surface: the voxels place a surface only to within a voxel, so nearer than
 // that the distance to it — and the solid angle it fills — is not known to the GI at all; on a surface the
 // reference's own rays would start on it. Throws std::runtime_error when no probe qualifies.
-ProbeIrradianceResult measureProbeIrradiance(gpu::Device& device, const ScenarioRendering& rendering,
+ProbeIrradianceResult measureProbeIrradiance(gpu::OwnedDevice& device, const ScenarioRendering& rendering,
                                              const ScenarioView& view, const ProbeIrradianceOptions& options = {});
 
 nlohmann::json toJson(const IndirectErrorResult& result);

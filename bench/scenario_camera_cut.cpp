@@ -7,7 +7,7 @@
 
 namespace ssvgi::bench {
 
-CameraCutResult measureCameraCut(gpu::Device& device, const ScenarioRendering& rendering, const ScenarioView& view,
+CameraCutResult measureCameraCut(gpu::OwnedDevice& device, const ScenarioRendering& rendering, const ScenarioView& view,
                                  const CameraCutOptions& options) {
   ScenarioRenderer cut(device, view.scene, rendering);
   ScenarioRenderer settled(device, view.scene, rendering);

@@ -38,7 +38,7 @@ class RelativeChange {
 
 }  // namespace
 
-FlickerResult measureFlicker(gpu::Device& device, const ScenarioRendering& rendering, const ScenarioView& view,
+FlickerResult measureFlicker(gpu::OwnedDevice& device, const ScenarioRendering& rendering, const ScenarioView& view,
                              const FlickerOptions& options) {
   ScenarioRenderer renderer(device, view.scene, rendering);
   renderer.render(view.camera, options.convergenceFrames);

@@ -22,7 +22,7 @@ constexpr double kLagFraction = 0.9;
 
 }  // namespace
 
-LagResult measureLag(gpu::Device& device, const ScenarioRendering& rendering, const ScenarioView& view,
+LagResult measureLag(gpu::OwnedDevice& device, const ScenarioRendering& rendering, const ScenarioView& view,
                      const LagOptions& options) {
   requireLocalLight(view.scene, options.light, "lag");
   if (options.steadyFrames == 0 || options.steadyFrames > std::min(options.convergenceFrames, options.framesAfterSwitch))

@@ -48,7 +48,7 @@ const renderer::Camera& cameraNamed(const renderer::Scene& scene, const std::str
 
 }  // namespace
 
-LeakResult measureLeak(gpu::Device& device, const ScenarioRendering& rendering, const renderer::Scene& twoRooms,
+LeakResult measureLeak(gpu::OwnedDevice& device, const ScenarioRendering& rendering, const renderer::Scene& twoRooms,
                        const LeakOptions& options) {
   const renderer::Camera& litView = cameraNamed(twoRooms, "lit room");
   const renderer::Camera& darkView = cameraNamed(twoRooms, "dark room");

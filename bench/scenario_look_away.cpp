@@ -6,7 +6,7 @@
 
 namespace ssvgi::bench {
 
-LookAwayResult measureLookAway(gpu::Device& device, const ScenarioRendering& rendering, const ScenarioView& view,
+LookAwayResult measureLookAway(gpu::OwnedDevice& device, const ScenarioRendering& rendering, const ScenarioView& view,
                                const LookAwayOptions& options) {
   requireLocalLight(view.scene, options.light, "look-away");
   renderer::Scene switchedScene = view.scene;  // the renderer reads its lights every frame: the switch reaches it

@@ -24,7 +24,7 @@ renderer::RendererSettings rendererSettings(const ScenarioRendering& rendering) 
 
 }  // namespace
 
-ScenarioRenderer::ScenarioRenderer(gpu::Device& device, const renderer::Scene& scene,
+ScenarioRenderer::ScenarioRenderer(gpu::OwnedDevice& device, const renderer::Scene& scene,
                                    const ScenarioRendering& rendering)
     : scene_(scene), renderer_(device, scene, rendererSettings(rendering)) {}
 

@@ -17,7 +17,7 @@ namespace ssvgi::bench {
 // camera the scenario chooses per frame.
 class ScenarioRenderer {
  public:
-  ScenarioRenderer(gpu::Device& device, const renderer::Scene& scene, const ScenarioRendering& rendering);
+  ScenarioRenderer(gpu::OwnedDevice& device, const renderer::Scene& scene, const ScenarioRendering& rendering);
 
   // Renders `frames` frames from `camera`; `afterEachFrame` (if given) sees each of them.
   void render(const renderer::Camera& camera, uint32_t frames, const std::function<void()>& afterEachFrame = {});

@@ -4,7 +4,7 @@
 // renderer with ssvgi, frame after frame on a still view, and returns its figures; `ssvgi scenario <name>` prints them
 // as JSON (toJson) and tests/scenario_tests.cpp holds them to SPEC's thresholds. Every function takes the device, so
 // that the tests share theirs.
-#include "gpu/device.h"
+#include "gpu_host/owned_device.h"
 #include "renderer.h"
 #include "scene.h"
 #include "ssvgi/ssvgi.h"
@@ -50,7 +50,7 @@ struct LeakResult {
 
 // Renders `twoRooms` — the built-in scene, or a variant of it with the same rooms and cameras ("lit room", then
 // "dark room").
-LeakResult measureLeak(gpu::Device& device, const ScenarioRendering& rendering, const renderer::Scene& twoRooms,
+LeakResult measureLeak(gpu::OwnedDevice& device, const ScenarioRendering& rendering, const renderer::Scene& twoRooms,
                        const LeakOptions& options = {});
 
 // ---------------------------------------------------------------------------------------------------------------------
@@ -67,7 +67,7 @@ struct FlickerResult {
   uint64_t pixels = 0;             // surface pixels averaged over
 };
 
-FlickerResult measureFlicker(gpu::Device& device, const ScenarioRendering& rendering, const ScenarioView& view,
+FlickerResult measureFlicker(gpu::OwnedDevice& device, const ScenarioRendering& rendering, const ScenarioView& view,
                              const FlickerOptions& options = {});
 
 // ---------------------------------------------------------------------------------------------------------------------
@@ -99,7 +99,7 @@ struct LagResult {
   uint32_t targetFrames = 0;
 };
 
-LagResult measureLag(gpu::Device& device, const ScenarioRendering& rendering, const ScenarioView& view,
+LagResult measureLag(gpu::OwnedDevice& device, const ScenarioRendering& rendering, const ScenarioView& view,
                      const LagOptions& options = {});
 
 // ---------------------------------------------------------------------------------------------------------------------
@@ -121,7 +121,7 @@ struct CameraCutResult {
   std::optional<uint32_t> framesToRecover;  // the first frame from which every difference is below the tolerance
 };
 
-CameraCutResult measureCameraCut(gpu::Device& device, const ScenarioRendering& rendering, const ScenarioView& view,
+CameraCutResult measureCameraCut(gpu::OwnedDevice& device, const ScenarioRendering& rendering, const ScenarioView& view,
                                  const CameraCutOptions& options);
 
 // ---------------------------------------------------------------------------------------------------------------------
@@ -146,7 +146,7 @@ struct LookAwayResult {
   double differenceWithTheLightOn = 0.0;  // the same difference at the last frame before turning away: what is to go
 };
 
-LookAwayResult measureLookAway(gpu::Device& device, const ScenarioRendering& rendering, const ScenarioView& view,
+LookAwayResult measureLookAway(gpu::OwnedDevice& device, const ScenarioRendering& rendering, const ScenarioView& view,
                                const LookAwayOptions& options = {});
 
 nlohmann::json toJson(const LeakResult& result);

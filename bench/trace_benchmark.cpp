@@ -2,10 +2,11 @@
 
 #include "camera.h"
 #include "gi/context_internals.h"
-#include "gi/voxels/trace_rays.h"
 #include "gpu/command_list.h"
 #include "gpu/profiler.h"
+#include "gpu_host/transfers.h"
 #include "shared/ndc.h"
+#include "trace_rays.h"
 
 #include <glm/gtc/constants.hpp>
 
@@ -69,7 +70,7 @@ struct TimedTrace {
 };
 
 // Traces `rays` through the context's voxels with `method`, `repetitions` times.
-TimedTrace traceTimed(gpu::Device& device, const Context& context, gi::TraceMethod method,
+TimedTrace traceTimed(gpu::OwnedDevice& device, const Context& context, gi::TraceMethod method,
                       const std::vector<shader::VoxelTraceRay>& rays, uint32_t repetitions) {
   const gi::VoxelScene& scene = gi::voxelSceneOf(context);
   gpu::Buffer rayBuffer(device, "benchmark rays", rays.size() * sizeof(shader::VoxelTraceRay),
@@ -114,9 +115,10 @@ void checkPixelTraceRayCounts(const std::vector<uint32_t>& raysPerPixel) {
                                "checkerboard halves)");
 }
 
-TraceBenchmarkResult benchmarkVoxelTrace(gpu::Device& device, const Context& context, const renderer::Camera& camera,
-                                         const renderer::FloatImage& viewDistance, const renderer::FloatImage& normal,
-                                         uint32_t rayCount, uint32_t repetitions, float maxDistance) {
+TraceBenchmarkResult benchmarkVoxelTrace(gpu::OwnedDevice& device, const Context& context,
+                                         const renderer::Camera& camera, const renderer::FloatImage& viewDistance,
+                                         const renderer::FloatImage& normal, uint32_t rayCount, uint32_t repetitions,
+                                         float maxDistance) {
   const SurfaceRays surface(camera, viewDistance, normal, 0.3f);  // out of the surface's voxel at any tier's size
   std::mt19937 random(1234);  // fixed: every run traces the same rays
   std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
@@ -151,7 +153,7 @@ TraceBenchmarkResult benchmarkVoxelTrace(gpu::Device& device, const Context& con
   return result;
 }
 
-PixelTraceBaselineResult benchmarkPixelTrace(gpu::Device& device, const Context& context,
+PixelTraceBaselineResult benchmarkPixelTrace(gpu::OwnedDevice& device, const Context& context,
                                              const renderer::Camera& camera, const renderer::FloatImage& viewDistance,
                                              const renderer::FloatImage& normal,
                                              const renderer::FloatImage& ssvgiIrradiance,

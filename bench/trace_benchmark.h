@@ -2,7 +2,7 @@
 // The SPEC §7 baselines of the voxel trace, both over the voxel scene a GI context built and timed with GPU
 // timestamps: "the flat-DDA trace against the hierarchical trace (same rays, same hits)", and "a per-pixel voxel trace
 // at the same quality against the probe pipeline".
-#include "gpu/device.h"
+#include "gpu_host/owned_device.h"
 #include "image_io.h"
 #include "scene.h"
 #include "shared/sh.h"
@@ -29,9 +29,10 @@ struct TraceBenchmarkResult {
 
 // Rays leave visible surfaces of the view (a bounce, as the GI traces): from `rayCount` random pixels with a surface,
 // offset along the normal, in cosine-distributed directions, up to `maxDistance` metres.
-TraceBenchmarkResult benchmarkVoxelTrace(gpu::Device& device, const Context& context, const renderer::Camera& camera,
-                                         const renderer::FloatImage& viewDistance, const renderer::FloatImage& normal,
-                                         uint32_t rayCount, uint32_t repetitions, float maxDistance = 64.0f);
+TraceBenchmarkResult benchmarkVoxelTrace(gpu::OwnedDevice& device, const Context& context,
+                                         const renderer::Camera& camera, const renderer::FloatImage& viewDistance,
+                                         const renderer::FloatImage& normal, uint32_t rayCount, uint32_t repetitions,
+                                         float maxDistance = 64.0f);
 
 // The per-pixel trace with one number of rays per pixel.
 struct PixelTraceResult {
@@ -55,7 +56,7 @@ struct PixelTraceBaselineResult {
 // Throws, naming the count, unless every count of rays per pixel is an even square.
 void checkPixelTraceRayCounts(const std::vector<uint32_t>& raysPerPixel);
 
-PixelTraceBaselineResult benchmarkPixelTrace(gpu::Device& device, const Context& context,
+PixelTraceBaselineResult benchmarkPixelTrace(gpu::OwnedDevice& device, const Context& context,
                                              const renderer::Camera& camera, const renderer::FloatImage& viewDistance,
                                              const renderer::FloatImage& normal,
                                              const renderer::FloatImage& ssvgiIrradiance,

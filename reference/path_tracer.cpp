@@ -1,5 +1,6 @@
 #include "path_tracer.h"
 
+#include "gpu_host/transfers.h"
 #include "renderer.h"
 #include "ssvgi_reference_shaders.h"
 
@@ -19,7 +20,7 @@ glm::uvec3 pixels(const PathTracerSettings& settings) { return {settings.width, 
 
 }  // namespace
 
-PathTracer::PathTracer(gpu::Device& device, const renderer::Scene& scene, const renderer::AnimatedState& state,
+PathTracer::PathTracer(gpu::OwnedDevice& device, const renderer::Scene& scene, const renderer::AnimatedState& state,
                        const PathTracerSettings& settings)
     : device_(device),
       settings_(settings),

@@ -40,7 +40,7 @@ class PathTracer {
  public:
   // Builds the BVH over the scene as it is at `state` (the moving object's transform, the sun) and traces the
   // primary hits. Throws gpu::GpuError for a scene without triangles or materials.
-  PathTracer(gpu::Device& device, const renderer::Scene& scene, const renderer::AnimatedState& state,
+  PathTracer(gpu::OwnedDevice& device, const renderer::Scene& scene, const renderer::AnimatedState& state,
              const PathTracerSettings& settings);
 
   // Adds `samples` samples per pixel (at least 1), in dispatches of adaptive size, waiting for each; `progress`
@@ -66,7 +66,7 @@ class PathTracer {
   void submit(const std::function<void(gpu::CommandList&)>& record);
   gpu::Bindings primaryHitBindings() const;  // the scene and the primary hits' images, written by PrimaryHits
 
-  gpu::Device& device_;
+  gpu::OwnedDevice& device_;
   PathTracerSettings settings_;
   gpu::DescriptorArena descriptors_;
   gpu::Profiler profiler_;

@@ -1,5 +1,6 @@
 #include "point_radiance.h"
 
+#include "gpu_host/transfers.h"
 #include "ssvgi_reference_shaders.h"
 
 #include <chrono>
@@ -17,7 +18,7 @@ std::vector<glm::vec4> pointPositions(std::span<const glm::vec3> points) {
 
 }  // namespace
 
-PointRadianceTracer::PointRadianceTracer(gpu::Device& device, const renderer::Scene& scene,
+PointRadianceTracer::PointRadianceTracer(gpu::OwnedDevice& device, const renderer::Scene& scene,
                                          const renderer::AnimatedState& state, std::span<const glm::vec3> points,
                                          const PointRadianceSettings& settings)
     : device_(device),

@@ -24,7 +24,7 @@ class PointRadianceTracer {
  public:
   // The scene as it is at `state`, and the points (world, m) whose incoming radiance is wanted. A point should lie in
   // free space: on a surface, half its directions would start inside the surface's thickness or on its plane.
-  PointRadianceTracer(gpu::Device& device, const renderer::Scene& scene, const renderer::AnimatedState& state,
+  PointRadianceTracer(gpu::OwnedDevice& device, const renderer::Scene& scene, const renderer::AnimatedState& state,
                       std::span<const glm::vec3> points, const PointRadianceSettings& settings = {});
 
   // Adds at least `directions` uniformly distributed directions to every point (rounded up to a whole number of
@@ -37,7 +37,7 @@ class PointRadianceTracer {
   std::vector<shader::Sh2Rgb> radiance();
 
  private:
-  gpu::Device& device_;
+  gpu::OwnedDevice& device_;
   PointRadianceSettings settings_;
   gpu::DescriptorArena descriptors_;
   gpu::ComputePipeline pipeline_;

@@ -1,6 +1,7 @@
 #include "traced_scene.h"
 
 #include "bvh.h"
+#include "gpu_host/transfers.h"
 #include "gpu_scene.h"
 #include "renderer.h"
 
@@ -61,7 +62,7 @@ std::vector<T> inOrder(const std::vector<T>& values, const std::vector<uint32_t>
 
 // A device-local storage buffer holding `values` (at least one element: Vulkan has no empty buffers).
 template <typename T>
-gpu::Buffer storageBuffer(gpu::Device& device, const std::string& name, std::vector<T> values) {
+gpu::Buffer storageBuffer(gpu::OwnedDevice& device, const std::string& name, std::vector<T> values) {
   if (values.empty()) values.resize(1);
   gpu::Buffer buffer(device, name, values.size() * sizeof(T), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
   gpu::uploadBuffer(device, buffer, std::as_bytes(std::span(values)));
@@ -109,7 +110,7 @@ std::vector<shader::GpuLight> lightsOf(const renderer::Scene& scene) {
 
 }  // namespace
 
-TracedScene::TracedScene(gpu::Device& device, const renderer::Scene& scene, const renderer::AnimatedState& state,
+TracedScene::TracedScene(gpu::OwnedDevice& device, const renderer::Scene& scene, const renderer::AnimatedState& state,
                          uint32_t width, uint32_t height, float exposure)
     : frameConstants_(device, "reference frame constants", sizeof(shader::FrameConstants),
                       VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryUsage::HostUpload) {

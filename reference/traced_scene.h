@@ -4,6 +4,7 @@
 // (PrimaryHits, PathTrace, PointRadiance) traces it through shaders/reference/scene_tracing.glsl.
 #include "gpu/command_list.h"
 #include "gpu/resources.h"
+#include "gpu_host/owned_device.h"
 #include "scene.h"
 #include "shared/path_tracer_interface.h"
 
@@ -31,8 +32,8 @@ class TracedScene {
  public:
   // The scene at `state` (the moving object's transform, the sun, the camera), seen in a view of width × height
   // pixels. Throws gpu::GpuError for a scene without triangles or materials, or a mesh with a missing material.
-  TracedScene(gpu::Device& device, const renderer::Scene& scene, const renderer::AnimatedState& state, uint32_t width,
-              uint32_t height, float exposure);
+  TracedScene(gpu::OwnedDevice& device, const renderer::Scene& scene, const renderer::AnimatedState& state,
+              uint32_t width, uint32_t height, float exposure);
 
   // The scene's slots, kBindTrace* of shared/path_tracer_interface.h.
   gpu::Bindings bindings() const;

@@ -186,7 +186,7 @@ void ExtraViews::viewOf(const Source& source, const shader::FrameConstants& fram
   projection = reversedZOrthographicProjection(-half, half, -half, half, 0.0f, farthest - nearest);
 }
 
-std::vector<ssvgi::ExtraView> ExtraViews::record(gpu::CommandList& commands, const shader::FrameConstants& frame,
+std::vector<ssvgi::ExtraView> ExtraViews::record(gpu::HostCommandList& commands, const shader::FrameConstants& frame,
                                                  const GpuScene& scene, const gpu::Buffer& lights,
                                                  const ShadowPass& shadows, VkSampler pointSampler) {
   std::vector<ssvgi::ExtraView> views;

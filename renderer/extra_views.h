@@ -57,7 +57,7 @@ class ExtraViews {
   // Renders this frame's views with the frame's lights and shadows (`frame`: the camera's constants, whose view
   // fields each view replaces; its camera position and sun are the ones the views follow) and returns them ready for
   // ssvgi (their images shader-readable). Labelled and timed as one pass, "renderer: ExtraViews".
-  std::vector<ssvgi::ExtraView> record(gpu::CommandList& commands, const shader::FrameConstants& frame,
+  std::vector<ssvgi::ExtraView> record(gpu::HostCommandList& commands, const shader::FrameConstants& frame,
                                        const GpuScene& scene, const gpu::Buffer& lights, const ShadowPass& shadows,
                                        VkSampler pointSampler);
 

@@ -43,7 +43,7 @@ GBuffer::GBuffer(gpu::Device& device, uint32_t width, uint32_t height)
 
 GBufferPass::GBufferPass(gpu::Device& device) : pipeline_(device, gbufferPipelineDesc()) {}
 
-void GBufferPass::record(gpu::CommandList& commands, const GpuScene& scene, const gpu::Buffer& frameConstants,
+void GBufferPass::record(gpu::HostCommandList& commands, const GpuScene& scene, const gpu::Buffer& frameConstants,
                          const GBuffer& target) {
   auto scope = commands.scope("renderer: GBuffer");
   commands.use(frameConstants, gpu::Usage::GraphicsRead);

@@ -1,5 +1,5 @@
 #pragma once
-#include "gpu/command_list.h"
+#include "gpu_host/host_command_list.h"
 #include "gpu_scene.h"
 
 namespace ssvgi::renderer {
@@ -18,7 +18,8 @@ struct GBuffer {
 class GBufferPass {
  public:
   explicit GBufferPass(gpu::Device& device);
-  void record(gpu::CommandList& commands, const GpuScene& scene, const gpu::Buffer& frameConstants, const GBuffer& target);
+  void record(gpu::HostCommandList& commands, const GpuScene& scene, const gpu::Buffer& frameConstants,
+              const GBuffer& target);
 
  private:
   gpu::GraphicsPipeline pipeline_;

@@ -1,5 +1,7 @@
 #include "gpu_scene.h"
 
+#include "gpu_host/transfers.h"
+
 #include <cstring>
 
 namespace ssvgi::renderer {
@@ -21,7 +23,7 @@ VkSamplerCreateInfo repeatingLinearSampler() {
   return info;
 }
 
-gpu::Image makeTexture(gpu::Device& device, const std::string& name, uint32_t width, uint32_t height,
+gpu::Image makeTexture(gpu::OwnedDevice& device, const std::string& name, uint32_t width, uint32_t height,
                        std::span<const std::byte> rgba) {
   gpu::Image image(device, {name, VK_FORMAT_R8G8B8A8_SRGB, width, height, 1, 1, VK_IMAGE_USAGE_SAMPLED_BIT});
   gpu::uploadImage(device, image, rgba);
@@ -38,7 +40,7 @@ shader::GpuMaterial toGpuMaterial(const Material& material, size_t textureCount)
                              .emission = glm::vec4(material.emission, 0.0f)};
 }
 
-GpuScene::GpuScene(gpu::Device& device, const Scene& scene)
+GpuScene::GpuScene(gpu::OwnedDevice& device, const Scene& scene)
     : sampler_(device, repeatingLinearSampler(), "scene texture sampler") {
   for (const Texture& texture : scene.textures)
     textures_.push_back(makeTexture(device, "texture " + texture.name, texture.width, texture.height,

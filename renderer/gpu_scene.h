@@ -1,5 +1,6 @@
 #pragma once
 #include "gpu/resources.h"
+#include "gpu_host/owned_device.h"
 #include "scene.h"
 #include "shared/renderer_interface.h"
 
@@ -22,7 +23,7 @@ struct Draw {
 // The scene's geometry, materials and textures on the GPU, plus the per-frame instance transforms.
 class GpuScene {
  public:
-  GpuScene(gpu::Device& device, const Scene& scene);
+  GpuScene(gpu::OwnedDevice& device, const Scene& scene);
 
   // Sets this frame's instance transforms (the moving object's replaced), remembering last frame's for motion vectors.
   void updateInstances(const Scene& scene, const AnimatedState& state);

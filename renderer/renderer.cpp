@@ -1,6 +1,7 @@
 #include "renderer.h"
 
 #include "camera.h"
+#include "gpu_host/transfers.h"
 #include "sky.h"
 
 #include <glm/gtc/packing.hpp>
@@ -48,7 +49,7 @@ shader::FrameConstants makeFrameConstants(const Scene& scene, const AnimatedStat
   return frame;
 }
 
-Renderer::Renderer(gpu::Device& device, const Scene& scene, const RendererSettings& settings)
+Renderer::Renderer(gpu::OwnedDevice& device, const Scene& scene, const RendererSettings& settings)
     : device_(device),
       scene_(scene),
       settings_(settings),
@@ -168,7 +169,7 @@ void Renderer::render(const AnimatedState& state) {
   if (!lights.empty()) std::memcpy(lights_.mapped(), lights.data(), lights.size() * sizeof(shader::GpuLight));
 
   device_.submitAndWait([&](VkCommandBuffer commandBuffer) {
-    gpu::CommandList commands(device_, commandBuffer, descriptors_, &profiler_);
+    gpu::HostCommandList commands(device_, commandBuffer, descriptors_, &profiler_);
     profiler_.begin(commandBuffer);
     if (firstFrame) commands.clearImage(indirectIrradiance_, VkClearColorValue{});
     const GBuffer& gbuffer = currentGBuffer();
@@ -239,7 +240,7 @@ ssvgi::Settings scaledToScene(ssvgi::Settings settings, const Scene& scene) {
   return settings;
 }
 
-FloatImage readFloatImage(gpu::Device& device, const gpu::Image& image, uint32_t channels) {
+FloatImage readFloatImage(gpu::OwnedDevice& device, const gpu::Image& image, uint32_t channels) {
   const auto bytes = gpu::readImage(device, image);
   const gpu::ImageDesc& desc = image.desc();
   const size_t texels = size_t(desc.width) * desc.height;

@@ -24,7 +24,7 @@ shader::FrameConstants makeFrameConstants(const Scene& scene, const AnimatedStat
 // A local light as the shaders read it (intensityAndShadow.w, the shadow layer, is left for the shadow pass).
 shader::GpuLight toGpuLight(const LocalLight& light);
 // Reads back an rgba32f, r32f, D32 or rgba16f image's first `channels` channels.
-FloatImage readFloatImage(gpu::Device& device, const gpu::Image& image, uint32_t channels);
+FloatImage readFloatImage(gpu::OwnedDevice& device, const gpu::Image& image, uint32_t channels);
 
 // GI settings with the scene's detail scale (Scene::giDetailScale) applied to the voxel size and the probe spacing.
 ssvgi::Settings scaledToScene(ssvgi::Settings settings, const Scene& scene);
@@ -63,7 +63,7 @@ class Renderer {
   // `scene` is read every frame and must outlive the renderer; between frames its local lights' intensities may change
   // (the viewer's light switches), not their number, kind or place (shadow layers and light views are laid out here).
   // Throws gpu::GpuError naming a setting that cannot be honoured.
-  Renderer(gpu::Device& device, const Scene& scene, const RendererSettings& settings);
+  Renderer(gpu::OwnedDevice& device, const Scene& scene, const RendererSettings& settings);
 
   // The settings that may change between frames (the viewer's controls); the others need a new renderer.
   void setExposure(float exposure) { settings_.exposure = exposure; }
@@ -112,7 +112,7 @@ class Renderer {
   const GBuffer& currentGBuffer() const { return gbuffers_[frameIndex_ & 1u]; }
   void recordGi(gpu::CommandList& commands, const shader::FrameConstants& frame);
 
-  gpu::Device& device_;
+  gpu::OwnedDevice& device_;
   const Scene& scene_;
   RendererSettings settings_;
   Bounds bounds_;

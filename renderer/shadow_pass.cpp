@@ -136,7 +136,7 @@ void ShadowPass::prepare(const Scene& scene, const Bounds& sceneBounds, const Su
   std::memcpy(views_.mapped(), views.data(), views.size() * sizeof(shader::ShadowView));
 }
 
-void ShadowPass::record(gpu::CommandList& commands, const GpuScene& scene) {
+void ShadowPass::record(gpu::HostCommandList& commands, const GpuScene& scene) {
   auto scope = commands.scope("renderer: Shadow");
   commands.use(scene.instances(), gpu::Usage::GraphicsRead);
   commands.use(views_, gpu::Usage::GraphicsRead);

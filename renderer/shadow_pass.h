@@ -1,5 +1,5 @@
 #pragma once
-#include "gpu/command_list.h"
+#include "gpu_host/host_command_list.h"
 #include "gpu_scene.h"
 
 #include <vector>
@@ -20,7 +20,7 @@ class ShadowPass {
   // Works out this frame's shadow views and fills the lights' shadow layers and the frame's sun shadow matrix.
   void prepare(const Scene& scene, const Bounds& sceneBounds, const Sun& sun, shader::FrameConstants& frame,
                std::vector<shader::GpuLight>& lights);
-  void record(gpu::CommandList& commands, const GpuScene& scene);
+  void record(gpu::HostCommandList& commands, const GpuScene& scene);
 
   const gpu::Image& sunShadowMap() const { return sunMap_; }
   const gpu::Image& localShadowMaps() const { return localMaps_; }

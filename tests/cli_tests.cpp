@@ -493,6 +493,8 @@ INSTANTIATE_TEST_SUITE_P(
                                     "--exposure: -1 is not at least 0"},
                       BadInvocation{"nanReferenceTime", "reference --scene cornell --spp 1 --time nan", "--time"},
                       BadInvocation{"missingDevice", "render --scene cornell --device 42", "--device 42"},
+                      BadInvocation{"unknownDevice", "render --scene cornell --device fastest",
+                                    "--device fastest: must be auto, cpu, gpu or a device index"},
                       BadInvocation{"unknownGiSetting", "render --scene cornell --gi-set voxelSise=0.5",
                                     "--gi-set voxelSise=0.5"},
                       BadInvocation{"giSettingTwoAxes", "render --scene cornell --gi-set probeGrid=16,16",

@@ -6,7 +6,7 @@
 #include "camera.h"
 #include "gi/context_internals.h"
 #include "gi/gather/gather_passes.h"
-#include "gpu/resources.h"
+#include "gpu_host/transfers.h"
 #include "gpu_test_device.h"
 #include "path_tracer.h"
 #include "renderer.h"

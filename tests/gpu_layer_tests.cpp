@@ -1,5 +1,6 @@
 // The Vulkan layer: transfers, reflection-driven dispatch, barriers and timestamps.
 #include "gpu/command_list.h"
+#include "gpu_host/transfers.h"
 #include "gpu_test_device.h"
 #include "ssvgi_gpu_tests_shaders.h"
 
@@ -125,12 +126,13 @@ TEST_F(GpuLayer, memoryOfNamedResourcesIsTracked) {
 
 TEST(GpuDeviceSelection, anUnknownSelectorIsAClearError) {
   try {
-    gpu::Device device(gpu::DeviceDesc{"fastest", false});
+    gpu::OwnedDevice device(gpu::DeviceDesc{"fastest", false});
     ADD_FAILURE() << "expected an error";
   } catch (const gpu::GpuError& error) {
-    EXPECT_NE(std::string(error.what()).find("--device must be auto, cpu, gpu or a device index"), std::string::npos);
+    EXPECT_NE(std::string(error.what()).find("device selector 'fastest': must be auto, cpu, gpu or a device index"),
+              std::string::npos);
   }
-  EXPECT_THROW(gpu::Device(gpu::DeviceDesc{"99", false}), gpu::GpuError);
+  EXPECT_THROW(gpu::OwnedDevice(gpu::DeviceDesc{"99", false}), gpu::GpuError);
 }
 
 }  // namespace
@@ -141,7 +143,7 @@ namespace {
 
 // Proves the validation hook is live, so that a clean GpuTest means something: an invalid call must be counted.
 TEST(GpuValidation, anInvalidCallIsCountedAsAValidationError) {
-  gpu::Device& device = testing::gpuTestDevice();
+  gpu::OwnedDevice& device = testing::gpuTestDevice();
   const uint32_t before = device.validationErrorCount();
   VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   info.size = 0;  // VUID-VkBufferCreateInfo-size-00912

@@ -2,14 +2,14 @@
 // One Vulkan device (lavapipe in CI) with validation on, shared by every GPU test of a test executable: creating a
 // device and compiling pipelines dominate the run time on a CPU device. Deriving a test from GpuTest makes any
 // validation error reported during that test fail it.
-#include "gpu/device.h"
+#include "gpu_host/owned_device.h"
 #include "ssvgi/ssvgi.h"
 
 #include <gtest/gtest.h>
 
 namespace ssvgi::testing {
 
-gpu::Device& gpuTestDevice();
+gpu::OwnedDevice& gpuTestDevice();
 
 // A GI context description on the shared test device, for frames and extra views of at most `maxSize`² pixels.
 inline ContextDesc gpuTestContextDesc(const Settings& settings, uint32_t maxSize) {
@@ -30,7 +30,7 @@ class GpuTest : public ::testing::Test {
     EXPECT_EQ(device().validationErrorCount(), errorsBefore_)
         << "validation error during the test: " << device().lastValidationError();
   }
-  static gpu::Device& device() { return gpuTestDevice(); }
+  static gpu::OwnedDevice& device() { return gpuTestDevice(); }
 
  private:
   uint32_t errorsBefore_ = 0;

@@ -5,11 +5,11 @@
 namespace ssvgi::testing {
 
 namespace {
-std::unique_ptr<gpu::Device> sharedDevice;
+std::unique_ptr<gpu::OwnedDevice> sharedDevice;
 }
 
-gpu::Device& gpuTestDevice() {
-  if (!sharedDevice) sharedDevice = std::make_unique<gpu::Device>(gpu::DeviceDesc{"auto", true});
+gpu::OwnedDevice& gpuTestDevice() {
+  if (!sharedDevice) sharedDevice = std::make_unique<gpu::OwnedDevice>(gpu::DeviceDesc{"auto", true});
   return *sharedDevice;
 }
 

@@ -6,7 +6,7 @@
 #include "camera.h"
 #include "gi/context_internals.h"
 #include "gi/voxels/build_octree.h"
-#include "gpu/resources.h"
+#include "gpu_host/transfers.h"
 #include "gpu_test_device.h"
 #include "renderer.h"
 #include "shared/probe_interface.h"
@@ -949,7 +949,7 @@ TEST(ProbeCacheSettings, reservoirSettingsOutOfRangeAreRejectedWithTheFieldNamed
 }
 
 TEST(ProbeCacheMemory, theHighTierProbeVolumeFitsItsShareOfTheMemoryBudget) {
-  gpu::Device& device = testing::gpuTestDevice();
+  gpu::OwnedDevice& device = testing::gpuTestDevice();
   // Small frames and extra views: the Hi-Z pyramid grows with their resolution and counts with the screen-size
   // targets (the final gather's 10 MB of SPEC §5), not with the 30 MB of GI data.
   ContextDesc desc;

@@ -166,7 +166,7 @@ TEST_F(ReferenceScenario, cornellProbeIrradianceIsWithinFifteenPercentOfTheRefer
 // views beyond the camera at their recommended sizes (the sun's 256 px, the capture's 64 px) and the probes' rays
 // taking the sky only through space those views observed (SPEC §6.4).
 
-bench::IndirectErrorResult offScreenLightError(gpu::Device& device, const char* scene) {
+bench::IndirectErrorResult offScreenLightError(gpu::OwnedDevice& device, const char* scene) {
   const bench::ScenarioView view = builtinView(scene);
   bench::IndirectErrorOptions options;
   options.referenceSamples = 256;

@@ -2,7 +2,7 @@
 // a context whose voxel scene is empty every ray misses, so under a uniform sky of radiance L each traced pixel's
 // E = π/K·Σ L is exactly π·L, and the two halves of its rays agree (no noise).
 #include "camera.h"
-#include "gpu/resources.h"
+#include "gpu_host/transfers.h"
 #include "gpu_test_device.h"
 #include "trace_benchmark.h"
 

@@ -1,7 +1,7 @@
 #pragma once
 // The voxels a GI context holds, read back from its GPU state, for tests that check what was injected.
 #include "gi/context_internals.h"
-#include "gpu/resources.h"
+#include "gpu_host/transfers.h"
 #include "shared/voxel_interface.h"
 
 #include <cstring>
@@ -32,7 +32,7 @@ inline std::map<VoxelCoordinate, shader::Voxel> occupiedVoxels(const std::vector
 }
 
 // The same, read from a context after the host has waited for its last frame.
-inline std::map<VoxelCoordinate, shader::Voxel> readOccupiedVoxels(gpu::Device& device, const Context& context) {
+inline std::map<VoxelCoordinate, shader::Voxel> readOccupiedVoxels(gpu::OwnedDevice& device, const Context& context) {
   const gi::VoxelScene& scene = gi::voxelSceneOf(context);
   shader::BrickPoolState pool{};
   const auto poolWords = gpu::readBufferAs<uint32_t>(device, scene.poolState());

@@ -2,7 +2,7 @@
 // clearing behind a moving object, release and reuse of bricks, pool accounting, exhaustion and the memory budget.
 #include "camera.h"
 #include "gi/context_internals.h"
-#include "gpu/resources.h"
+#include "gpu_host/transfers.h"
 #include "gpu_test_device.h"
 #include "voxel_readback.h"
 #include "shared/gi_frame.h"
@@ -46,7 +46,7 @@ struct PixelSurface {
 // view-projection (perspective or orthographic), computed on the CPU by ray casting (so the test knows exactly which
 // surface each pixel shows).
 struct HostFrame {
-  HostFrame(gpu::Device& device, const glm::mat4& viewMatrix, const glm::mat4& projection,
+  HostFrame(gpu::OwnedDevice& device, const glm::mat4& viewMatrix, const glm::mat4& projection,
             const std::vector<TestBox>& boxes)
       : depth(device, {"test depth", VK_FORMAT_R32_SFLOAT, kSize, kSize, 1, 1, VK_IMAGE_USAGE_SAMPLED_BIT}),
         color(device, {"test colour", VK_FORMAT_R32G32B32A32_SFLOAT, kSize, kSize, 1, 1, VK_IMAGE_USAGE_SAMPLED_BIT}),
@@ -103,7 +103,7 @@ struct HostFrame {
     view.position = {eye.x, eye.y, eye.z};
     view.width = view.height = kSize;
   }
-  HostFrame(gpu::Device& device, const renderer::Camera& camera, const std::vector<TestBox>& boxes)
+  HostFrame(gpu::OwnedDevice& device, const renderer::Camera& camera, const std::vector<TestBox>& boxes)
       : HostFrame(device, renderer::viewMatrix(camera),
                   renderer::reversedZInfiniteProjection(camera.verticalFov, 1.0f, camera.nearPlane), boxes) {}
 
@@ -118,7 +118,7 @@ struct HostFrame {
   View view;
 
   // Uploads the images' values (after a test has changed them).
-  void upload(gpu::Device& device) {
+  void upload(gpu::OwnedDevice& device) {
     gpu::uploadImage(device, depth, std::as_bytes(std::span(depthValues)));
     gpu::uploadImage(device, color, std::as_bytes(std::span(colorValues)));
     gpu::uploadImage(device, normal, std::as_bytes(std::span(normalValues)));
@@ -878,7 +878,7 @@ TEST_F(VoxelScene, theHighTierVoxelSceneFitsTheMemoryBudget) {
 }
 
 TEST(VoxelSceneApi, badDescriptionsAreRejectedWithTheFieldNamed) {
-  gpu::Device& device = testing::gpuTestDevice();
+  gpu::OwnedDevice& device = testing::gpuTestDevice();
   ContextDesc desc;
   desc.instance = device.instance();
   desc.physicalDevice = device.physicalDevice();

@@ -3,8 +3,9 @@
 // first-hit voxel) and both against a CPU reference DDA, the reads the hierarchy saves, back faces; and the shared
 // R11G11B10F and octahedral packing the voxels use.
 #include "gi/voxels/build_octree.h"
-#include "gi/voxels/trace_rays.h"
+#include "gpu_host/transfers.h"
 #include "gpu_test_device.h"
+#include "trace_rays.h"
 
 #include <algorithm>
 #include <bit>

@@ -2,7 +2,7 @@
 #include "output_files.h"
 #include "scene_options.h"
 
-#include "gpu/device.h"
+#include "gpu_host/owned_device.h"
 #include "renderer.h"
 #include "sky.h"
 #include "trace_benchmark.h"
@@ -41,7 +41,7 @@ nlohmann::json traceMethodJson(const bench::TraceMethodResult& result) {
 int runBench(const BenchOptions& options) {
   bench::checkPixelTraceRayCounts(options.pixelRays);  // before minutes of rendering
   const ResolvedScene resolved = resolveScene(options.scene);
-  gpu::Device device(gpu::DeviceDesc{options.scene.device, options.scene.validation});
+  gpu::OwnedDevice device = openDevice(gpu::DeviceDesc{options.scene.device, options.scene.validation});
   renderer::RendererSettings settings;
   settings.width = resolved.width;
   settings.height = resolved.height;

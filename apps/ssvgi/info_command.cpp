@@ -1,6 +1,6 @@
 #include "commands.h"
 
-#include "gpu/device.h"
+#include "gpu_host/owned_device.h"
 
 #include <cstdio>
 

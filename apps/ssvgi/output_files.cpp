@@ -39,7 +39,7 @@ void writeRenderedImages(const std::filesystem::path& out, const RenderedImages&
   files.commit();
 }
 
-nlohmann::json sceneStats(const gpu::Device& device, const SceneOptions& options, const ResolvedScene& resolved) {
+nlohmann::json sceneStats(const gpu::OwnedDevice& device, const SceneOptions& options, const ResolvedScene& resolved) {
   nlohmann::json stats;
   stats["device"] = device.description();
   stats["scene"] = options.scene;

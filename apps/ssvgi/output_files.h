@@ -3,7 +3,7 @@
 // directories can be compared file by file: the images, stats.json and a progress bar while they work.
 #include "scene_options.h"
 
-#include "gpu/device.h"
+#include "gpu_host/owned_device.h"
 #include "image_io.h"
 
 #include <nlohmann/json.hpp>
@@ -45,7 +45,7 @@ inline constexpr const char* kRenderedFileList =
     "stats.json";
 
 // The stats every such command reports: device, scene, image size, scene size, memory per named GPU resource.
-nlohmann::json sceneStats(const gpu::Device& device, const SceneOptions& options, const ResolvedScene& resolved);
+nlohmann::json sceneStats(const gpu::OwnedDevice& device, const SceneOptions& options, const ResolvedScene& resolved);
 
 // A progress bar on stderr, redrawn in place; nothing when stderr is not a terminal.
 void drawProgress(const std::string& label, uint32_t done, uint32_t total);

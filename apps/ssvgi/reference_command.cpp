@@ -2,7 +2,7 @@
 #include "output_files.h"
 #include "scene_options.h"
 
-#include "gpu/device.h"
+#include "gpu_host/owned_device.h"
 #include "path_tracer.h"
 
 #include <nlohmann/json.hpp>
@@ -32,7 +32,7 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 int runReference(const ReferenceOptions& options) {
   const ResolvedScene resolved = resolveScene(options.scene);
   prepareOutputDirectory(options.out);
-  gpu::Device device(gpu::DeviceDesc{options.scene.device, options.scene.validation});
+  gpu::OwnedDevice device = openDevice(gpu::DeviceDesc{options.scene.device, options.scene.validation});
 
   // The scene as `render` shows it at that time, so that the two can be compared pixel by pixel.
   const auto setupStart = std::chrono::steady_clock::now();

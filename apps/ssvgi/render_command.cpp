@@ -3,7 +3,7 @@
 #include "rendering_options.h"
 #include "scene_options.h"
 
-#include "gpu/device.h"
+#include "gpu_host/owned_device.h"
 #include "renderer.h"
 
 #include <nlohmann/json.hpp>
@@ -43,7 +43,7 @@ nlohmann::json giStatsJson(const ssvgi::Stats& gi) {
           {"voxelsValid", gi.voxelsValid}};
 }
 
-nlohmann::json statsJson(const gpu::Device& device, const RenderOptions& options, const ResolvedScene& resolved,
+nlohmann::json statsJson(const gpu::OwnedDevice& device, const RenderOptions& options, const ResolvedScene& resolved,
                          const renderer::RendererSettings& settings, renderer::Renderer& renderer) {
   nlohmann::json stats = sceneStats(device, options.scene, resolved);
   stats["frames"] = options.frames;
@@ -69,7 +69,7 @@ int runRender(const RenderOptions& options) {
 
   prepareOutputDirectory(options.out);
 
-  gpu::Device device(gpu::DeviceDesc{options.scene.device, options.scene.validation});
+  gpu::OwnedDevice device = openDevice(gpu::DeviceDesc{options.scene.device, options.scene.validation});
   // ssvgi runs for its indirect light, or only for the debug views of its voxels (--gi off: no indirect light).
   const renderer::RendererSettings settings = rendererSettings(options.rendering, resolved, !options.debugViews.empty());
   renderer::Renderer renderer(device, resolved.scene, settings);

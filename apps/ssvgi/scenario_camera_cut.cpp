@@ -33,7 +33,7 @@ CommandRunner addCameraCutScenario(CLI::App& scenario) {
       ->capture_default_str()
       ->check(kPositiveNumber);
   return [options, cut] {
-    return runScenario("cut", *options, [&](gpu::Device& device, const ResolvedScene& resolved,
+    return runScenario("cut", *options, [&](gpu::OwnedDevice& device, const ResolvedScene& resolved,
                                             const bench::ScenarioRendering& rendering) {
       SceneOptions newView = options->scene;
       newView.camera = cut->to;

@@ -38,7 +38,7 @@ void addScenarioOptions(CLI::App& command, ScenarioOptions& options, const std::
 
 int runScenario(const std::string& name, const ScenarioOptions& options, const ScenarioMeasurement& measure) {
   const ResolvedScene resolved = resolveScene(options.scene);
-  gpu::Device device(gpu::DeviceDesc{options.scene.device, options.scene.validation});
+  gpu::OwnedDevice device = openDevice(gpu::DeviceDesc{options.scene.device, options.scene.validation});
   const bench::ScenarioRendering rendering{resolved.width, resolved.height, giSettings(options.gi, resolved.scene),
                                            options.gi.extraViews, options.gi.litFrame == "direct"};
 

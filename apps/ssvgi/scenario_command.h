@@ -6,7 +6,7 @@
 #include "commands.h"
 #include "scene_options.h"
 
-#include "gpu/device.h"
+#include "gpu_host/owned_device.h"
 #include "scenarios.h"
 
 #include <nlohmann/json.hpp>
@@ -40,7 +40,7 @@ void addScenarioOptions(CLI::App& command, ScenarioOptions& options, const std::
                         std::initializer_list<const char*> without = {});
 
 // What a scenario measures: on the device, in the resolved scene, rendered as `rendering` says; returns its figures.
-using ScenarioMeasurement = std::function<nlohmann::json(gpu::Device& device, const ResolvedScene& resolved,
+using ScenarioMeasurement = std::function<nlohmann::json(gpu::OwnedDevice& device, const ResolvedScene& resolved,
                                                          const bench::ScenarioRendering& rendering)>;
 
 // Resolves the scene, opens the device, measures, and prints the report — the scenario's name, the device, scene,

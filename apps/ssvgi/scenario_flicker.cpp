@@ -19,7 +19,7 @@ CommandRunner addFlickerScenario(CLI::App& scenario) {
       ->capture_default_str()
       ->check(CLI::Range(1u, 100000u));
   return [options, flicker] {
-    return runScenario("flicker", *options, [&](gpu::Device& device, const ResolvedScene& resolved,
+    return runScenario("flicker", *options, [&](gpu::OwnedDevice& device, const ResolvedScene& resolved,
                                                 const bench::ScenarioRendering& rendering) {
       nlohmann::json figures =
           bench::toJson(bench::measureFlicker(device, rendering, {resolved.scene, resolved.camera}, *flicker));

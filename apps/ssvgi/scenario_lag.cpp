@@ -23,7 +23,7 @@ CommandRunner addLagScenario(CLI::App& scenario) {
       ->capture_default_str()
       ->check(CLI::Range(1u, 100000u));
   return [options, lag] {
-    return runScenario("lag", *options, [&](gpu::Device& device, const ResolvedScene& resolved,
+    return runScenario("lag", *options, [&](gpu::OwnedDevice& device, const ResolvedScene& resolved,
                                             const bench::ScenarioRendering& rendering) {
       nlohmann::json figures = bench::toJson(bench::measureLag(device, rendering, {resolved.scene, resolved.camera}, *lag));
       figures["light"] = lag->light;

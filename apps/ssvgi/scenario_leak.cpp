@@ -16,7 +16,7 @@ CommandRunner addLeakScenario(CLI::App& scenario) {
       ->capture_default_str()
       ->check(CLI::Range(1u, 100000u));
   return [options, leak] {
-    return runScenario("leak", *options, [&](gpu::Device& device, const ResolvedScene& resolved,
+    return runScenario("leak", *options, [&](gpu::OwnedDevice& device, const ResolvedScene& resolved,
                                              const bench::ScenarioRendering& rendering) {
       nlohmann::json figures = bench::toJson(bench::measureLeak(device, rendering, resolved.scene, *leak));
       figures["framesPerRoom"] = leak->framesPerRoom;

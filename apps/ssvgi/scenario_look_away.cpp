@@ -28,7 +28,7 @@ CommandRunner addLookAwayScenario(CLI::App& scenario) {
       ->capture_default_str()
       ->check(CLI::Range(0.0, 10.0));
   return [options, lookAway] {
-    return runScenario("look-away", *options, [&](gpu::Device& device, const ResolvedScene& resolved,
+    return runScenario("look-away", *options, [&](gpu::OwnedDevice& device, const ResolvedScene& resolved,
                                                   const bench::ScenarioRendering& rendering) {
       nlohmann::json figures =
           bench::toJson(bench::measureLookAway(device, rendering, {resolved.scene, resolved.camera}, *lookAway));

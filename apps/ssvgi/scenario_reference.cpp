@@ -46,7 +46,7 @@ CommandRunner addErrorScenario(CLI::App& scenario) {
   command->add_option("--seed", error->seed, "Seed of the reference's first half (the second uses seed + 1)")
       ->capture_default_str();
   return [options, error] {
-    return runScenario("error", *options, [&](gpu::Device& device, const ResolvedScene& resolved,
+    return runScenario("error", *options, [&](gpu::OwnedDevice& device, const ResolvedScene& resolved,
                                               const bench::ScenarioRendering& rendering) {
       return bench::toJson(bench::measureIndirectError(device, rendering, {resolved.scene, resolved.camera}, *error));
     });
@@ -68,7 +68,7 @@ CommandRunner addProbesScenario(CLI::App& scenario) {
   command->add_option("--seed", probes->seed, "Seed of the reference's first half (the second uses seed + 1)")
       ->capture_default_str();
   return [options, probes] {
-    return runScenario("probes", *options, [&](gpu::Device& device, const ResolvedScene& resolved,
+    return runScenario("probes", *options, [&](gpu::OwnedDevice& device, const ResolvedScene& resolved,
                                                const bench::ScenarioRendering& rendering) {
       return bench::toJson(
           bench::measureProbeIrradiance(device, rendering, {resolved.scene, resolved.camera}, *probes));

@@ -82,6 +82,14 @@ void addSceneOptions(CLI::App& command, SceneOptions& options) {
   command.add_flag("--validation", options.validation, "Enable the Vulkan validation layers");
 }
 
+gpu::OwnedDevice openDevice(const gpu::DeviceDesc& desc) {
+  try {
+    return gpu::OwnedDevice(desc);
+  } catch (const gpu::DeviceSelectionError& error) {
+    throw std::runtime_error("--device " + desc.selector + ": " + error.reason() + " (see ssvgi info)");
+  }
+}
+
 renderer::Camera parseCamera(const std::string& text, const std::string& option, renderer::Camera camera) {
   const auto v = parseNumbers(text, 7, option);
   camera.position = {v[0], v[1], v[2]};

@@ -1,6 +1,7 @@
 #pragma once
 // The scene, view, light, sky and device options shared by the commands that render a scene (render, and the
 // reference path tracer to come), so that both see exactly the same scene for the same arguments.
+#include "gpu_host/owned_device.h"
 #include "renderer.h"
 #include "scene.h"
 #include "ssvgi/ssvgi.h"
@@ -33,6 +34,10 @@ struct SceneOptions {
 };
 
 void addSceneOptions(CLI::App& command, SceneOptions& options);
+
+// The device `desc` selects (--device), as OwnedDevice creates it; a selector that picks none is reported as
+// --device's problem.
+gpu::OwnedDevice openDevice(const gpu::DeviceDesc& desc);
 
 // CLI11 checks for numbers that refuse NaN and infinities (CLI::Range lets NaN through: every comparison with it is
 // false) and say their bound in a few characters (CLI::NonNegativeNumber prints the largest double, 309 digits).

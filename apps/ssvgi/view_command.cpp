@@ -10,8 +10,8 @@
 #include "view_swapchain.h"
 #include "view_window.h"
 
-#include "gpu/command_list.h"
-#include "gpu/device.h"
+#include "gpu_host/host_command_list.h"
+#include "gpu_host/transfers.h"
 #include "image_io.h"
 #include "renderer.h"
 
@@ -59,7 +59,7 @@ class Viewer {
   glm::vec3 sunColour_{1.0f};                // the sun's illuminance over its brightest channel
   bool lightsEdited_ = false;                // the panel has changed the lights: keep them over a scene reload
   ViewerWindow window_;
-  gpu::Device device_;
+  gpu::OwnedDevice device_;
   Swapchain swapchain_;
   gpu::DescriptorArena descriptors_;
   ImGuiOverlay overlay_;
@@ -88,7 +88,7 @@ gpu::DeviceDesc windowDeviceDesc(const SceneOptions& options) {
   return desc;
 }
 
-VkSurfaceKHR presentableSurface(const ViewerWindow& window, const gpu::Device& device) {
+VkSurfaceKHR presentableSurface(const ViewerWindow& window, const gpu::OwnedDevice& device) {
   if (!window.canPresent(device.instance(), device.physicalDevice(), device.queueFamily()))
     throw WindowError("view: " + device.description() + " cannot present to the window; choose another --device");
   return window.createSurface(device.instance());
@@ -118,7 +118,7 @@ Viewer::Viewer(const ViewOptions& options)
       resolved_(resolveScene(options.scene)),
       lightIntensities_(lightIntensities(resolved_.scene)),
       window_("ssvgi view: " + resolved_.scene.name, resolved_.width, resolved_.height),
-      device_(windowDeviceDesc(options.scene)),
+      device_(openDevice(windowDeviceDesc(options.scene))),
       swapchain_(device_, presentableSurface(window_, device_), {resolved_.width, resolved_.height}),
       descriptors_(device_),
       overlay_(device_, window_.handle()),
@@ -254,7 +254,7 @@ void Viewer::drawFrame(float seconds) {
     image = swapchain_.acquire();
   }
   device_.submitAndWait([&](VkCommandBuffer commandBuffer) {
-    gpu::CommandList commands(device_, commandBuffer, descriptors_);
+    gpu::HostCommandList commands(device_, commandBuffer, descriptors_);
     commands.blitImage(renderer_->tonemappedImage(), windowImage_);
     overlay_.record(commands);
     if (image)

@@ -12,7 +12,7 @@ void checkImGuiVulkanResult(VkResult result) { VK_CHECK(result); }
 
 // Draws over what the image holds (LOAD), in and out of COLOR_ATTACHMENT_OPTIMAL: the layout the barrier tracker
 // moves it to for Usage::ColorAttachment and expects it in afterwards.
-VkRenderPass createRenderPass(const gpu::Device& device) {
+VkRenderPass createRenderPass(const gpu::OwnedDevice& device) {
   VkAttachmentDescription attachment{};
   attachment.format = ImGuiOverlay::kTargetFormat;
   attachment.samples = VK_SAMPLE_COUNT_1_BIT;
@@ -33,12 +33,12 @@ VkRenderPass createRenderPass(const gpu::Device& device) {
   info.subpassCount = 1;
   info.pSubpasses = &subpass;
   VkRenderPass renderPass = VK_NULL_HANDLE;
-  VK_CHECK(device.vk().vkCreateRenderPass(device.device(), &info, nullptr, &renderPass));
+  VK_CHECK(vkCreateRenderPass(device.device(), &info, nullptr, &renderPass));
   return renderPass;
 }
 
 // The font atlas's descriptor set is the only one ImGui allocates.
-VkDescriptorPool createDescriptorPool(const gpu::Device& device) {
+VkDescriptorPool createDescriptorPool(const gpu::OwnedDevice& device) {
   const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1};
   VkDescriptorPoolCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
   info.flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT;
@@ -46,13 +46,13 @@ VkDescriptorPool createDescriptorPool(const gpu::Device& device) {
   info.poolSizeCount = 1;
   info.pPoolSizes = &size;
   VkDescriptorPool pool = VK_NULL_HANDLE;
-  VK_CHECK(device.vk().vkCreateDescriptorPool(device.device(), &info, nullptr, &pool));
+  VK_CHECK(vkCreateDescriptorPool(device.device(), &info, nullptr, &pool));
   return pool;
 }
 
 }  // namespace
 
-ImGuiOverlay::ImGuiOverlay(gpu::Device& device, GLFWwindow* window)
+ImGuiOverlay::ImGuiOverlay(gpu::OwnedDevice& device, GLFWwindow* window)
     : device_(device), renderPass_(createRenderPass(device)), descriptorPool_(createDescriptorPool(device)) {
   IMGUI_CHECKVERSION();
   ImGui::CreateContext();
@@ -81,9 +81,9 @@ ImGuiOverlay::~ImGuiOverlay() {
   ImGui_ImplVulkan_Shutdown();
   ImGui_ImplGlfw_Shutdown();
   ImGui::DestroyContext();
-  device_.vk().vkDestroyFramebuffer(device_.device(), framebuffer_, nullptr);
-  device_.vk().vkDestroyDescriptorPool(device_.device(), descriptorPool_, nullptr);
-  device_.vk().vkDestroyRenderPass(device_.device(), renderPass_, nullptr);
+  vkDestroyFramebuffer(device_.device(), framebuffer_, nullptr);
+  vkDestroyDescriptorPool(device_.device(), descriptorPool_, nullptr);
+  vkDestroyRenderPass(device_.device(), renderPass_, nullptr);
 }
 
 void ImGuiOverlay::newFrame() {
@@ -93,7 +93,7 @@ void ImGuiOverlay::newFrame() {
 }
 
 void ImGuiOverlay::setTarget(const gpu::Image& target) {
-  device_.vk().vkDestroyFramebuffer(device_.device(), framebuffer_, nullptr);
+  vkDestroyFramebuffer(device_.device(), framebuffer_, nullptr);
   const VkImageView view = target.view();
   VkFramebufferCreateInfo info{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
   info.renderPass = renderPass_;
@@ -102,7 +102,7 @@ void ImGuiOverlay::setTarget(const gpu::Image& target) {
   info.width = target.desc().width;
   info.height = target.desc().height;
   info.layers = 1;
-  VK_CHECK(device_.vk().vkCreateFramebuffer(device_.device(), &info, nullptr, &framebuffer_));
+  VK_CHECK(vkCreateFramebuffer(device_.device(), &info, nullptr, &framebuffer_));
   target_ = &target;
 }
 
@@ -115,9 +115,9 @@ void ImGuiOverlay::record(gpu::CommandList& commands) {
   begin.renderPass = renderPass_;
   begin.framebuffer = framebuffer_;
   begin.renderArea.extent = {target_->desc().width, target_->desc().height};
-  device_.vk().vkCmdBeginRenderPass(commands.handle(), &begin, VK_SUBPASS_CONTENTS_INLINE);
+  vkCmdBeginRenderPass(commands.handle(), &begin, VK_SUBPASS_CONTENTS_INLINE);
   ImGui_ImplVulkan_RenderDrawData(ImGui::GetDrawData(), commands.handle());
-  device_.vk().vkCmdEndRenderPass(commands.handle());
+  vkCmdEndRenderPass(commands.handle());
 }
 
 }  // namespace ssvgi::cli

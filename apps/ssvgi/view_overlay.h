@@ -3,7 +3,7 @@
 // the window shows and a screenshot saves) through a render pass of its own (ImGui 1.86's Vulkan backend draws only
 // inside a render pass).
 #include "gpu/command_list.h"
-#include "gpu/device.h"
+#include "gpu_host/owned_device.h"
 
 #include <vector>
 
@@ -15,7 +15,7 @@ class ImGuiOverlay {
  public:
   static constexpr VkFormat kTargetFormat = VK_FORMAT_R8G8B8A8_UNORM;
 
-  ImGuiOverlay(gpu::Device& device, GLFWwindow* window);
+  ImGuiOverlay(gpu::OwnedDevice& device, GLFWwindow* window);
   ~ImGuiOverlay();
   ImGuiOverlay(const ImGuiOverlay&) = delete;
   ImGuiOverlay& operator=(const ImGuiOverlay&) = delete;
@@ -29,7 +29,7 @@ class ImGuiOverlay {
   void record(gpu::CommandList& commands);
 
  private:
-  gpu::Device& device_;
+  gpu::OwnedDevice& device_;
   VkRenderPass renderPass_ = VK_NULL_HANDLE;
   VkDescriptorPool descriptorPool_ = VK_NULL_HANDLE;
   const gpu::Image* target_ = nullptr;

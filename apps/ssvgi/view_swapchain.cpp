@@ -20,17 +20,17 @@ VkSurfaceFormatKHR chooseFormat(VkPhysicalDevice physicalDevice, VkSurfaceKHR su
 
 }  // namespace
 
-Swapchain::Swapchain(gpu::Device& device, VkSurfaceKHR surface, VkExtent2D size) : device_(device), surface_(surface) {
-  if (!device.vk().vkCreateSwapchainKHR) throw gpu::GpuError("view: the device was created without VK_KHR_swapchain");
+Swapchain::Swapchain(gpu::OwnedDevice& device, VkSurfaceKHR surface, VkExtent2D size)
+    : device_(device), surface_(surface) {
   VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-  VK_CHECK(device.vk().vkCreateFence(device.device(), &fenceInfo, nullptr, &acquired_));
+  VK_CHECK(vkCreateFence(device.device(), &fenceInfo, nullptr, &acquired_));
   create(size, VK_NULL_HANDLE);
 }
 
 Swapchain::~Swapchain() {
   vkDeviceWaitIdle(device_.device());
-  device_.vk().vkDestroySwapchainKHR(device_.device(), swapchain_, nullptr);
-  device_.vk().vkDestroyFence(device_.device(), acquired_, nullptr);
+  vkDestroySwapchainKHR(device_.device(), swapchain_, nullptr);
+  vkDestroyFence(device_.device(), acquired_, nullptr);
   vkDestroySurfaceKHR(device_.instance(), surface_, nullptr);
 }
 
@@ -38,7 +38,7 @@ void Swapchain::recreate(VkExtent2D size) {
   vkDeviceWaitIdle(device_.device());
   const VkSwapchainKHR previous = swapchain_;
   create(size, previous);
-  device_.vk().vkDestroySwapchainKHR(device_.device(), previous, nullptr);
+  vkDestroySwapchainKHR(device_.device(), previous, nullptr);
 }
 
 void Swapchain::create(VkExtent2D size, VkSwapchainKHR previous) {
@@ -70,23 +70,23 @@ void Swapchain::create(VkExtent2D size, VkSwapchainKHR previous) {
   info.presentMode = VK_PRESENT_MODE_FIFO_KHR;  // the one mode every surface has
   info.clipped = VK_TRUE;
   info.oldSwapchain = previous;
-  VK_CHECK(device_.vk().vkCreateSwapchainKHR(device_.device(), &info, nullptr, &swapchain_));
+  VK_CHECK(vkCreateSwapchainKHR(device_.device(), &info, nullptr, &swapchain_));
   size_ = size;
 
   uint32_t count = 0;
-  VK_CHECK(device_.vk().vkGetSwapchainImagesKHR(device_.device(), swapchain_, &count, nullptr));
+  VK_CHECK(vkGetSwapchainImagesKHR(device_.device(), swapchain_, &count, nullptr));
   images_.resize(count);
-  VK_CHECK(device_.vk().vkGetSwapchainImagesKHR(device_.device(), swapchain_, &count, images_.data()));
+  VK_CHECK(vkGetSwapchainImagesKHR(device_.device(), swapchain_, &count, images_.data()));
 }
 
 std::optional<uint32_t> Swapchain::acquire() {
   uint32_t index = 0;
   const VkResult result =
-      device_.vk().vkAcquireNextImageKHR(device_.device(), swapchain_, UINT64_MAX, VK_NULL_HANDLE, acquired_, &index);
+      vkAcquireNextImageKHR(device_.device(), swapchain_, UINT64_MAX, VK_NULL_HANDLE, acquired_, &index);
   if (result == VK_ERROR_OUT_OF_DATE_KHR) return std::nullopt;
   if (result != VK_SUBOPTIMAL_KHR) VK_CHECK(result);
-  VK_CHECK(device_.vk().vkWaitForFences(device_.device(), 1, &acquired_, VK_TRUE, UINT64_MAX));
-  VK_CHECK(device_.vk().vkResetFences(device_.device(), 1, &acquired_));
+  VK_CHECK(vkWaitForFences(device_.device(), 1, &acquired_, VK_TRUE, UINT64_MAX));
+  VK_CHECK(vkResetFences(device_.device(), 1, &acquired_));
   return index;
 }
 
@@ -95,7 +95,7 @@ bool Swapchain::present(uint32_t index) {
   info.swapchainCount = 1;
   info.pSwapchains = &swapchain_;
   info.pImageIndices = &index;
-  const VkResult result = device_.vk().vkQueuePresentKHR(device_.queue(), &info);
+  const VkResult result = vkQueuePresentKHR(device_.queue(), &info);
   if (result == VK_ERROR_OUT_OF_DATE_KHR || result == VK_SUBOPTIMAL_KHR) return false;
   VK_CHECK(result);
   return true;

@@ -1,7 +1,7 @@
 #pragma once
 // The window's swapchain: images the size of the window's framebuffer, written by a blit (the viewer draws into an
 // image of its own and copies it here), recreated when the window's size changes or the surface says it is stale.
-#include "gpu/device.h"
+#include "gpu_host/owned_device.h"
 
 #include <optional>
 #include <vector>
@@ -12,7 +12,7 @@ class Swapchain {
  public:
   // Takes ownership of `surface` (created on the device's instance). Throws gpu::GpuError naming what the surface
   // lacks.
-  Swapchain(gpu::Device& device, VkSurfaceKHR surface, VkExtent2D size);
+  Swapchain(gpu::OwnedDevice& device, VkSurfaceKHR surface, VkExtent2D size);
   ~Swapchain();
   Swapchain(const Swapchain&) = delete;
   Swapchain& operator=(const Swapchain&) = delete;
@@ -30,7 +30,7 @@ class Swapchain {
  private:
   void create(VkExtent2D size, VkSwapchainKHR previous);
 
-  gpu::Device& device_;
+  gpu::OwnedDevice& device_;
   VkSurfaceKHR surface_;
   VkSwapchainKHR swapchain_ = VK_NULL_HANDLE;
   VkFence acquired_ = VK_NULL_HANDLE;

@@ -9,8 +9,9 @@
 
 namespace ssvgi::gpu {
 
-// Records GPU work into a command buffer someone else owns (the host's, for the GI library): labelled and timed
-// scopes, dispatches and draws whose barriers are derived from their bindings, and the few transfers we need.
+// Records compute work into a command buffer someone else owns (the host's, for the GI library): labelled and timed
+// scopes, dispatches whose barriers are derived from their bindings, and the few transfers the passes need. Host
+// tooling adds drawing and blits (gpu_host/host_command_list.h).
 class CommandList {
  public:
   CommandList(Device& device, VkCommandBuffer commandBuffer, DescriptorArena& descriptors, Profiler* profiler = nullptr);
@@ -49,19 +50,6 @@ class CommandList {
   void dispatchIndirect(const ComputePipeline& pipeline, const Bindings& bindings, const Buffer& arguments,
                         VkDeviceSize offset, const void* push = nullptr, size_t pushBytes = 0);
 
-  // Dynamic rendering into whole images (or one layer of each). Declares the attachment usages, flushes barriers,
-  // sets a viewport with negative height so that NDC +y is up (as in our projection matrices) and a full scissor.
-  struct Attachment {
-    const Image* image = nullptr;
-    uint32_t layer = 0;
-    VkClearValue clear{};
-  };
-  void beginRendering(const std::vector<Attachment>& colors, const Attachment& depth);
-  void endRendering();
-
-  // Binds a graphics pipeline and its set 0. Inside rendering no barrier can be recorded, so every resource the
-  // bindings use must already be in its usage: declare them with use() before beginRendering.
-  void bindGraphics(const GraphicsPipeline& pipeline, const Bindings& bindings);
   void pushConstants(const PipelineLayout& layout, const void* data, size_t bytes);
 
   void fillBuffer(const Buffer& buffer, uint32_t value);
@@ -69,17 +57,15 @@ class CommandList {
   void updateBuffer(const Buffer& buffer, VkDeviceSize offset, const void* data, VkDeviceSize bytes);
   void copyBuffer(const Buffer& source, const Buffer& destination, VkDeviceSize bytes);
   void clearImage(const Image& image, const VkClearColorValue& value);
-  // Copies a colour image's mip 0, layer 0 into another's, scaled to its size (nearest texel: exact at equal sizes)
-  // and converted to its format (vkCmdBlitImage).
-  void blitImage(const Image& source, const Image& destination);
-  // The same into a colour image someone else owns (a swapchain's), in `currentLayout` before and left in
-  // `finalLayout` for its owner, all of this command list's earlier work on it done.
-  void blitToExternalImage(const Image& source, VkImage destination, VkExtent2D destinationSize,
-                           VkImageLayout currentLayout, VkImageLayout finalLayout);
 
- private:
+ protected:
+  // Writes a descriptor set for `bindings` as `layout` reflects them and declares each resource's usage: a compute
+  // shader's, or else a vertex or fragment shader's.
   VkDescriptorSet writeDescriptors(const PipelineLayout& layout, const std::string& name, const Bindings& bindings,
                                    bool compute);
+  bool barriersPending() const { return !barriers_.empty(); }
+
+ private:
   void bindCompute(const ComputePipeline& pipeline, const Bindings& bindings, const void* push, size_t pushBytes);
 
   Device& device_;
@@ -87,7 +73,6 @@ class CommandList {
   DescriptorArena& descriptors_;
   Profiler* profiler_;
   BarrierBatch barriers_;
-  bool rendering_ = false;
 };
 
 }  // namespace ssvgi::gpu

@@ -13,7 +13,18 @@ namespace ssvgi::gpu {
 // Values for a shader's specialization constants (constant_id = index in this list), for variants without #if.
 using SpecializationConstants = std::vector<uint32_t>;
 
-// Set 0 layout + pipeline layout built from the reflection of a pipeline's stages, shared by compute and graphics.
+// What every kind of pipeline is built from: a shader module (destroyed by the caller once the pipeline exists) and the
+// specialization info for its constants (pointing into `constants`, which must outlive it).
+VkShaderModule createShaderModule(Device& device, const ShaderBinary& shader);
+struct Specialization {
+  explicit Specialization(const SpecializationConstants& constants);
+  Specialization(const Specialization&) = delete;  // info points into entries
+  Specialization& operator=(const Specialization&) = delete;
+  std::vector<VkSpecializationMapEntry> entries;
+  VkSpecializationInfo info{};
+};
+
+// Set 0 layout + pipeline layout built from the reflection of a pipeline's stages, shared by every kind of pipeline.
 class PipelineLayout {
  public:
   PipelineLayout(Device& device, const std::vector<ShaderReflection>& stages, const std::string& name);
@@ -56,43 +67,6 @@ class ComputePipeline {
   PipelineLayout layout_;
   VkPipeline pipeline_ = VK_NULL_HANDLE;
   glm::uvec3 localSize_{1};
-};
-
-struct VertexAttribute {
-  uint32_t location;
-  VkFormat format;
-  uint32_t offset;
-};
-
-struct GraphicsPipelineDesc {
-  const ShaderBinary* vertexShader = nullptr;
-  const ShaderBinary* fragmentShader = nullptr;  // null: depth only
-  uint32_t vertexStride = 0;
-  std::vector<VertexAttribute> vertexAttributes;
-  std::vector<VkFormat> colorFormats;
-  VkFormat depthFormat = VK_FORMAT_UNDEFINED;
-  VkCompareOp depthCompare = VK_COMPARE_OP_GREATER_OR_EQUAL;  // reversed-Z
-  VkCullModeFlags cullMode = VK_CULL_MODE_BACK_BIT;
-  bool depthBias = false;  // dynamic depth bias (shadow maps)
-  SpecializationConstants constants;
-};
-
-class GraphicsPipeline {
- public:
-  GraphicsPipeline(Device& device, const GraphicsPipelineDesc& desc);
-  ~GraphicsPipeline();
-  GraphicsPipeline(const GraphicsPipeline&) = delete;
-  GraphicsPipeline& operator=(const GraphicsPipeline&) = delete;
-
-  VkPipeline handle() const { return pipeline_; }
-  const PipelineLayout& layout() const { return layout_; }
-  const std::string& name() const { return name_; }
-
- private:
-  Device& device_;
-  std::string name_;
-  PipelineLayout layout_;
-  VkPipeline pipeline_ = VK_NULL_HANDLE;
 };
 
 // The resources bound to a pipeline's set 0 for one dispatch or draw, by binding slot. Slots and descriptor types are

@@ -1,9 +1,6 @@
 #pragma once
 #include "device.h"
 
-#include <cstddef>
-#include <cstring>
-#include <span>
 #include <string>
 #include <vector>
 
@@ -130,21 +127,5 @@ class Sampler {
 };
 
 bool isDepthFormat(VkFormat format);
-uint32_t bytesPerTexel(VkFormat format);  // for the uncompressed formats ssvgi uses
-
-// Blocking transfers through a staging buffer, for loading scenes and reading results back (not for per-frame use).
-void uploadBuffer(Device& device, const Buffer& buffer, std::span<const std::byte> data, VkDeviceSize offset = 0);
-std::vector<std::byte> readBuffer(Device& device, const Buffer& buffer);
-// Tightly packed texels of one layer, mip 0. After the upload the image is ready to be sampled in any shader stage.
-void uploadImage(Device& device, const Image& image, std::span<const std::byte> texels, uint32_t layer = 0);
-std::vector<std::byte> readImage(Device& device, const Image& image, uint32_t layer = 0);
-
-template <typename T>
-std::vector<T> readBufferAs(Device& device, const Buffer& buffer) {
-  const auto bytes = readBuffer(device, buffer);
-  std::vector<T> values(bytes.size() / sizeof(T));
-  std::memcpy(values.data(), bytes.data(), values.size() * sizeof(T));
-  return values;
-}
 
 }  // namespace ssvgi::gpu

@@ -6,8 +6,8 @@
 
 namespace ssvgi::gpu {
 
-// A Vulkan failure or a misuse of the GPU layer. Thrown inside the host-side code; the public API converts it to a
-// status, the CLI prints what() as its one error line.
+// A Vulkan failure or a misuse of the GPU layer. Thrown inside the library's C++ code; the public API converts it to a
+// status (Error, with result() as its VkResult); host tooling lets it reach its caller.
 class GpuError : public std::runtime_error {
  public:
   explicit GpuError(const std::string& message, VkResult result = VK_SUCCESS)

@@ -18,12 +18,8 @@ VulkanFunctions loadVulkanFunctions(PFN_vkGetInstanceProcAddr getInstanceProcAdd
   if (!functions.name) throw GpuError(std::string(#lookup) + " found no " #name);
 #define SSVGI_LOAD_INSTANCE(name) SSVGI_LOAD_REQUIRED(name, getInstanceProcAddr, instance)
 #define SSVGI_LOAD_DEVICE(name) SSVGI_LOAD_REQUIRED(name, getDeviceProcAddr, device)
-#define SSVGI_LOAD_OPTIONAL(name) functions.name = reinterpret_cast<PFN_##name>(getDeviceProcAddr(device, #name));
   SSVGI_VULKAN_INSTANCE_FUNCTIONS(SSVGI_LOAD_INSTANCE)
   SSVGI_VULKAN_DEVICE_FUNCTIONS(SSVGI_LOAD_DEVICE)
-  SSVGI_VULKAN_DEVICE_FUNCTIONS_1_3(SSVGI_LOAD_OPTIONAL)
-  SSVGI_VULKAN_DEVICE_FUNCTIONS_SWAPCHAIN(SSVGI_LOAD_OPTIONAL)
-#undef SSVGI_LOAD_OPTIONAL
 #undef SSVGI_LOAD_DEVICE
 #undef SSVGI_LOAD_INSTANCE
 #undef SSVGI_LOAD_REQUIRED

@@ -1,5 +1,6 @@
 // Rays through the voxel scene (SPEC §4.4; the talk's "Voxel Trace"): the hierarchical DDA over the occupancy
-// hierarchy, and the flat voxel DDA it must agree with (the baseline of SPEC §7 and the tests' oracle).
+// hierarchy, and the walk it shares with the flat voxel DDA it must agree with (the baseline of SPEC §7 and the tests'
+// oracle, in shaders/bench/flat_voxel_trace.glsl: no library shader traces with it).
 //
 // Both walk the same sequence of voxels, defined by the ray's crossings of voxel planes: each crossing happens at the
 // distance crossingDistance() computes, crossings are made in order of distance, and crossings at the same distance
@@ -316,41 +317,6 @@ VoxelHit voxelHitAt(VoxelWalk walk, CachedBrick cached, vec3 direction, uint rea
   // A ray that meets the surface from behind sees no light, so thin walls do not pass light (SPEC §4.4).
   vec3 radiance = dot(normal, direction) > 0.0 ? vec3(0.0) : unpackR11G11B10F(voxel.radiance);
   return VoxelHit(true, walk.distance, cached.index, voxelIndex, radiance, normal, reads, false, walk.distance);
-}
-
-// The flat voxel DDA: every voxel along the ray in turn, reading each brick's lookup and mask once.
-VoxelHit traceVoxelsFlat(vec3 origin, vec3 direction, float maxDistance, bool watchesObservedSpace) {
-  VoxelWalk walk;
-  if (!beginVoxelWalk(origin, direction, maxDistance, walk)) return voxelMiss(maxDistance, 0u);
-  ivec3 size = volumeSizeVoxels();
-  vec3 nextCrossing;
-  for (int axis = 0; axis < 3; ++axis)
-    nextCrossing[axis] = crossingDistance(walk, axis, exitPlane(walk.voxel[axis], kVoxelLevel, walk.step[axis]));
-  CachedBrick cached = noCachedBrick();
-  CachedGridWords observed = noCachedGridWords();
-  uint reads = 0u;
-  bool unobserved = false;
-  float unobservedDistance = maxDistance;
-  for (;;) {
-    bool newBrick = !isCached(cached, walk.voxel >> kBrickLevel);
-    loadBrick(cached, walk.voxel >> kBrickLevel, reads);
-    if (watchesObservedSpace && !unobserved && newBrick && brickUnobserved(walk, cached, observed, reads)) {
-      unobserved = true;
-      unobservedDistance = walk.distance;
-    }
-    if (voxelBitSet(cached.mask, voxelInBrick(walk.voxel))) {
-      VoxelHit hit = voxelHitAt(walk, cached, direction, reads);
-      if (hit.hit) return withObservation(hit, unobserved, unobservedDistance);
-      reads = hit.reads;
-    }
-    int axis = firstCrossingAxis(nextCrossing);
-    if (nextCrossing[axis] > maxDistance) break;
-    walk.distance = nextCrossing[axis];
-    walk.voxel[axis] += walk.step[axis];
-    if (walk.voxel[axis] < 0 || walk.voxel[axis] >= size[axis]) break;
-    nextCrossing[axis] = crossingDistance(walk, axis, exitPlane(walk.voxel[axis], kVoxelLevel, walk.step[axis]));
-  }
-  return withObservation(voxelMiss(maxDistance, reads), unobserved, unobservedDistance);
 }
 
 // The hierarchical DDA (SPEC §4.4, the talk's "Octree Trace"): while the cell at the current level is empty, step

@@ -1,10 +1,11 @@
 #pragma once
 // TraceRays: a buffer of rays traced through the voxel scene with the hierarchical or the flat voxel DDA
 // (shaders/gi/voxels/voxel_trace.glsl), for the tests and for the benchmark that compares the two on the same rays
-// (SPEC §7 baselines): hit voxels, distances, radiance and the buffer reads each ray made.
+// (SPEC §7 baselines): hit voxels, distances, radiance and the buffer reads each ray made. Not a pass of the library's:
+// it is built into the benchmarks, which the tests link too, and stays in ssvgi::gi beside the voxel scene it reads.
 #include "gpu/command_list.h"
 #include "shared/voxel_trace_interface.h"
-#include "voxel_scene.h"
+#include "gi/voxels/voxel_scene.h"
 
 namespace ssvgi::gi {
 

@@ -1,7 +1,8 @@
 #version 450
 // TraceRays: one thread per ray of a buffer, traced through the voxel scene with the hierarchical or the flat voxel
-// DDA (voxel_trace.glsl), for the tests and for the benchmark that compares the two on the same rays (SPEC §7).
-#include "gi/voxels/voxel_trace.glsl"
+// DDA (voxel_trace.glsl, flat_voxel_trace.glsl), for the tests and for the benchmark that compares the two on the same
+// rays (SPEC §7).
+#include "bench/flat_voxel_trace.glsl"
 #include "shared/voxel_trace_interface.h"
 
 layout(local_size_x = 64) in;

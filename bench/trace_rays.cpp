@@ -1,13 +1,13 @@
 #include "trace_rays.h"
 
-#include "ssvgi_shaders.h"
+#include "ssvgi_bench_shaders.h"
 
 #include <cassert>
 
 namespace ssvgi::gi {
 
 TraceRays::TraceRays(gpu::Device& device, TraceMethod method)
-    : method_(method), pipeline_(device, shaders::trace_rays_comp, {static_cast<uint32_t>(method)}) {}
+    : method_(method), pipeline_(device, bench::shaders::trace_rays_comp, {static_cast<uint32_t>(method)}) {}
 
 void TraceRays::record(gpu::CommandList& commands, const VoxelScene& scene, const gpu::Buffer& rays,
                        const gpu::Buffer& hits, uint32_t rayCount) {
