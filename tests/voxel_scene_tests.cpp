@@ -465,7 +465,7 @@ class InjectionOracle {
                          voxelSize_;
       const glm::vec4 clip = frame.viewProjection * glm::vec4(samplePoint, 1.0f);
       const glm::vec3 ndc = glm::vec3(clip) / clip.w;
-      const glm::vec2 pixel = shader::giNdcToPixel(glm::vec2(ndc), glm::vec2(kSize));
+      const glm::vec2 pixel = shader::ndcToPixel(glm::vec2(ndc), glm::vec2(kSize));
       const glm::vec2 fraction = glm::fract(pixel);
       voxel.ambiguous |= glm::any(glm::lessThan(glm::min(fraction, 1.0f - fraction), glm::vec2(1e-4f)));
       if (!(clip.w > 0.0f && ndc.z <= 1.0f && ndc.z >= 0.0f) || glm::any(glm::lessThan(pixel, glm::vec2(0.0f))) ||
@@ -563,7 +563,7 @@ class InjectionOracle {
     };
     // Where the point lies on the line between two texel centres (an orthographic view on the voxel grid puts many
     // there), the GPU's rounding may pick either four, and only a disagreement between them is ambiguous.
-    const glm::vec2 pixel = shader::giNdcToPixel(glm::vec2(ndc), glm::vec2(kSize));
+    const glm::vec2 pixel = shader::ndcToPixel(glm::vec2(ndc), glm::vec2(kSize));
     const bool shows = showsThePlaneAround(pixel);
     for (int corner = 0; corner < 4; ++corner) {
       const glm::vec2 nudge(corner & 1 ? 1e-4f : -1e-4f, corner & 2 ? 1e-4f : -1e-4f);

@@ -39,10 +39,6 @@ struct GiFrame {
 };
 SSVGI_CHECK_SIZE(GiFrame, 4 * 64 + 3 * 16 + 6 * 16 + 16 * 16);
 
-// ndcToPixel (shared/ndc.h) under its former name, for scene_voxelization.comp and voxel_scene_tests.cpp until they
-// call ndcToPixel; then to be deleted.
-SSVGI_INLINE vec2 giNdcToPixel(vec2 ndc, vec2 size) { return ndcToPixel(ndc, size); }
-
 // Whether an axis-aligned box reaches into a frustum given by inward planes (frustumPlanes): for each plane, the box's
 // corner farthest along its normal must lie inside. Conservative: a box outside near a frustum corner may pass.
 SSVGI_INLINE bool boxInFrustum(vec3 lo, vec3 hi, const vec4 planes[6]) {

@@ -76,7 +76,7 @@ bool surfaceContinuesThrough(vec3 voxelMin, vec3 held, vec3 normal, out ivec2 te
   vec4 clip = frame.litViewProjection * vec4(planePoint, 1.0);
   vec3 ndc = clip.xyz / clip.w;
   vec2 litSize = vec2(frame.litSize);
-  vec2 pixel = giNdcToPixel(ndc.xy, litSize);
+  vec2 pixel = ndcToPixel(ndc.xy, litSize);
   if (!(clip.w > 0.0 && ndc.z <= 1.0 && ndc.z >= 0.0) || any(lessThan(pixel, vec2(0.5))) ||
       any(greaterThan(pixel, litSize - 0.5)))
     return false;
@@ -122,7 +122,7 @@ void main() {
   vec4 clip = frame.litViewProjection * vec4(samplePoint, 1.0);
   vec3 ndc = clip.xyz / clip.w;
   vec2 litSize = vec2(frame.litSize);
-  vec2 pixel = giNdcToPixel(ndc.xy, litSize);
+  vec2 pixel = ndcToPixel(ndc.xy, litSize);
   // Only a point between the view's near and far planes (reversed-Z: NDC depth 1 to 0) is seen: what the near plane
   // or an orthographic view's far plane clipped away is not known to be empty.
   bool inDepthRange = clip.w > 0.0 && ndc.z <= 1.0 && ndc.z >= 0.0;
