@@ -45,35 +45,6 @@ SSVGI_INLINE vec3 sh2Irradiance(Sh2Rgb radiance, vec3 normal) {
   return vec3(sh2Irradiance(radiance.r, normal), sh2Irradiance(radiance.g, normal), sh2Irradiance(radiance.b, normal));
 }
 
-// Irradiance E(n) from one channel's radiance coefficients, read as the light of a cone: the form of Hazel's
-// non-linear reconstruction (Geomerics, 2017), E = mean · (a + (1 − a)(p + 1) qᵖ) with q = (1 + n·d) / 2, fitted so
-// that it is exact where it can be. With r = |band 1's gradient| / (2 · mean) the light's directionality,
-//   r ≤ 1/2  a = 1 − 2r, p = 1: the linear formula itself, exact for uniform light plus light from one hemisphere;
-//   r > 1/2  a = 0, p = 4r − 1: a uniform cone of half-angle α has r = (1 + cos α) / 2, and this gives the surface
-//            facing it exactly πL·sin²α (the linear formula: 3/4 of it for a small source, and 1/4 of it to a
-//            surface at 90° to the source, which gets none).
-// It keeps the mean over all normals and is never negative. Hazel's own fit (p = 1 + 2r) errs for broad light: a
-// surface facing away from a lit hemisphere got 1/6 of πL, one facing it 7/6.
-SSVGI_INLINE float sh2ConeFitIrradiance(vec4 radianceCoefficients, vec3 normal) {
-  float mean = kSh2Band0CosineConvolution * kSh2Band0Basis * radianceCoefficients.x;  // E averaged over all normals
-  if (!(mean > 0.0f)) return 0.0f;
-  // The linear formula's E(n) = mean + dot(gradient, n).
-  vec3 gradient = (kSh2Band1CosineConvolution * kSh2Band1Basis) *
-                  vec3(radianceCoefficients.w, radianceCoefficients.y, radianceCoefficients.z);
-  float gradientLength = length(gradient);
-  if (!(gradientLength > 1e-6f * mean)) return mean;
-  float directionality = min(0.5f * gradientLength / mean, 1.0f);
-  float q = clamp(0.5f * (1.0f + dot(gradient, normal) / gradientLength), 0.0f, 1.0f);
-  float a = max(1.0f - 2.0f * directionality, 0.0f);
-  float p = max(4.0f * directionality - 1.0f, 1.0f);
-  return mean * (a + (1.0f - a) * (p + 1.0f) * pow(q, p));
-}
-
-SSVGI_INLINE vec3 sh2ConeFitIrradiance(Sh2Rgb radiance, vec3 normal) {
-  return vec3(sh2ConeFitIrradiance(radiance.r, normal), sh2ConeFitIrradiance(radiance.g, normal),
-              sh2ConeFitIrradiance(radiance.b, normal));
-}
-
 // Arithmetic on RGB SH2, channel by channel: what sums, means, blends and projections of radiance SH are made of.
 SSVGI_INLINE Sh2Rgb sh2Zero() { return Sh2Rgb(vec4(0.0f), vec4(0.0f), vec4(0.0f)); }
 SSVGI_INLINE Sh2Rgb sh2Add(Sh2Rgb a, Sh2Rgb b) { return Sh2Rgb(a.r + b.r, a.g + b.g, a.b + b.b); }

@@ -85,9 +85,8 @@ GatheredLight gatherLevel(uint level, vec3 position, vec3 normal, bool testVisib
       }
     }
     Sh2Rgb radiance = probeRadianceSh(stored);
-    // Read as the light of a cone (sh.h): the linear formula gave a wall facing a bright opening 0.83 of its light and
-    // the floor beside it 1.7× (QUALITY.md, "SH2 read as a cone"), and rings below zero opposite bright light.
-    irradiance += weight * sh2ConeFitIrradiance(radiance, normal);
+    // SH2 rings below zero opposite bright light; negative irradiance is not light.
+    irradiance += weight * max(sh2Irradiance(radiance, normal), vec3(0.0));
     // The same probes with the same weights: the confidence says how much of this E rests on observed space.
     known += weight * probeKnownFraction(stored);
     totalWeight += weight;
