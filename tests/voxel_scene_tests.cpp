@@ -442,16 +442,10 @@ class InjectionOracle {
   InjectionOracle(float voxelSize, uint32_t invalidFramesToClear, glm::vec3 volumeCentre)
       : voxelSize_(voxelSize), invalidFramesToClear_(invalidFramesToClear), volumeCentre_(volumeCentre) {}
 
-  // Every voxel a pixel of `frame` shows a surface in, or next to one (a surface's plane seen elsewhere may run
-  // through it), can become occupied; one far from every seen point never is.
+  // Every voxel a pixel of `frame` shows a surface in can become occupied; one that holds no seen point never is.
   void addCandidates(const HostFrame& frame) {
-    for (const PixelSurface& surface : frame.surfaces) {
-      if (!surface.hit) continue;
-      const glm::ivec3 holding(glm::floor(held(surface) / voxelSize_));
-      for (int x = -1; x <= 1; ++x)
-        for (int y = -1; y <= 1; ++y)
-          for (int z = -1; z <= 1; ++z) voxels_.try_emplace(key(holding + glm::ivec3(x, y, z)));
-    }
+    for (const PixelSurface& surface : frame.surfaces)
+      if (surface.hit) voxels_.try_emplace(key(glm::ivec3(glm::floor(held(surface) / voxelSize_))));
   }
 
   // One injection of `frame` as an extra view with frame index `frameIndex`.
@@ -489,8 +483,8 @@ class InjectionOracle {
       // Of two opposite faces, a voxel keeps the one towards the volume's middle.
       const bool turnsAround = voxel.occupied && glm::dot(voxel.normal, surface.normal) < 0.0f &&
                                glm::dot(surface.normal, volumeCentre_ - (voxelMin + 0.5f * voxelSize_)) <= 0.0f;
-      const bool heldInside = glm::all(glm::greaterThanEqual(fromMin, glm::vec3(0.0f))) &&
-                              glm::all(glm::lessThan(fromMin, glm::vec3(voxelSize_)));
+      const bool holds = surface.hit && !turnsAround && glm::all(glm::greaterThanEqual(fromMin, glm::vec3(0.0f))) &&
+                         glm::all(glm::lessThan(fromMin, glm::vec3(voxelSize_)));
       voxel.ambiguous |= nearAnyOf(fromMin, 0.0f) || nearAnyOf(fromMin, voxelSize_);
       const glm::vec4 nearPoint = inverse * glm::vec4(glm::vec2(ndc), 1.0f, 1.0f);
       const glm::vec4 fartherPoint = inverse * glm::vec4(glm::vec2(ndc), 0.5f, 1.0f);
@@ -502,13 +496,10 @@ class InjectionOracle {
                              std::abs(glm::dot(voxelMin + 0.5f * voxelSize_ - heldPoint, surface.normal));
       voxel.ambiguous |= std::abs(inFrontBy) < 1e-4f || std::abs(planeCut) < 1e-4f;
       const bool cut = surface.hit && planeCut > 0.0f;  // no surface at the point's own texel: no plane
-      const bool holds = surface.hit && !turnsAround &&
-                         (heldInside || (cut && surfaceContinuesThrough(frame, voxelMin, heldPoint, surface.normal,
-                                                                        voxel.ambiguous)));
       const bool refreshes = voxel.occupied && cut &&
                              glm::distance(heldPoint, glm::clamp(heldPoint, voxelMin, voxelMin + voxelSize_)) <=
                                  voxelSize_ &&
-                             glm::dot(voxel.normal, surface.normal) > shader::kVoxelSameSurfaceCosine;
+                             glm::dot(voxel.normal, surface.normal) > 0.9f;
       if (holds || refreshes) {
         voxel.occupied = true;
         voxel.seenThrough = 0;
@@ -531,46 +522,6 @@ class InjectionOracle {
     glm::vec3 normal{0.0f};
   };
   static std::tuple<int, int, int> key(glm::ivec3 v) { return {v.x, v.y, v.z}; }
-  // The plane through `heldPoint` facing `normal` runs through the voxel: its point nearest the voxel's centre lies in
-  // the voxel, and the four texels around that point's pixel all show the same plane within a voxel of the point.
-  bool surfaceContinuesThrough(const HostFrame& frame, glm::vec3 voxelMin, glm::vec3 heldPoint, glm::vec3 normal,
-                               bool& ambiguous) const {
-    const glm::vec3 centre = voxelMin + 0.5f * voxelSize_;
-    const glm::vec3 planePoint = centre - normal * glm::dot(centre - heldPoint, normal);
-    const glm::vec3 fromMin = planePoint - voxelMin;
-    ambiguous |= nearAnyOf(fromMin, 0.0f) || nearAnyOf(fromMin, voxelSize_);
-    if (glm::any(glm::lessThan(fromMin, glm::vec3(0.0f))) || glm::any(glm::greaterThanEqual(fromMin, glm::vec3(voxelSize_))))
-      return false;
-    const glm::vec4 clip = frame.viewProjection * glm::vec4(planePoint, 1.0f);
-    const glm::vec3 ndc = glm::vec3(clip) / clip.w;
-    if (!(clip.w > 0.0f && ndc.z <= 1.0f && ndc.z >= 0.0f)) return false;
-    auto showsThePlaneAround = [&](glm::vec2 pixel) {
-      if (glm::any(glm::lessThan(pixel, glm::vec2(0.5f))) || glm::any(glm::greaterThan(pixel, glm::vec2(kSize - 0.5f))))
-        return false;
-      const glm::ivec2 firstTexel(glm::floor(pixel - 0.5f));
-      for (int corner = 0; corner < 4; ++corner) {
-        const glm::ivec2 texel = firstTexel + glm::ivec2(corner & 1, corner >> 1);
-        const PixelSurface& seen = frame.surfaces[size_t(texel.y) * kSize + size_t(texel.x)];
-        if (!seen.hit) return false;
-        const float reach = voxelSize_ - glm::distance(held(seen), planePoint);
-        const float planeCut = 0.5f * voxelSize_ * glm::dot(glm::abs(seen.normal), glm::vec3(1.0f)) -
-                               std::abs(glm::dot(planePoint - held(seen), seen.normal));
-        ambiguous |= std::abs(reach) < 1e-4f || std::abs(planeCut) < 1e-4f;
-        if (glm::dot(seen.normal, normal) <= shader::kVoxelSameSurfaceCosine || reach < 0.0f || planeCut <= 0.0f)
-          return false;
-      }
-      return true;
-    };
-    // Where the point lies on the line between two texel centres (an orthographic view on the voxel grid puts many
-    // there), the GPU's rounding may pick either four, and only a disagreement between them is ambiguous.
-    const glm::vec2 pixel = shader::ndcToPixel(glm::vec2(ndc), glm::vec2(kSize));
-    const bool shows = showsThePlaneAround(pixel);
-    for (int corner = 0; corner < 4; ++corner) {
-      const glm::vec2 nudge(corner & 1 ? 1e-4f : -1e-4f, corner & 2 ? 1e-4f : -1e-4f);
-      ambiguous |= showsThePlaneAround(pixel + nudge) != shows;
-    }
-    return shows;
-  }
   glm::vec3 held(const PixelSurface& surface) const { return surface.position - surface.normal * (0.01f * voxelSize_); }
   static bool nearAnyOf(glm::vec3 values, float boundary) {
     return glm::any(glm::lessThan(glm::abs(values - boundary), glm::vec3(1e-4f)));
@@ -658,13 +609,10 @@ TEST_F(VoxelScene, anOrthographicViewInjectsExactlyTheVoxelsItsRulesGive) {
       const auto [x, y, z] = coordinate;
       EXPECT_TRUE(occupied.count(coordinate)) << "voxel " << x << "," << y << "," << z << " missing";
     }
-    // Left out: the ambiguous voxels that either side holds (an ambiguous one that neither holds tested nothing).
-    size_t leftOut = 0;
-    for (const auto& coordinate : ambiguous) leftOut += expected.count(coordinate) || occupied.count(coordinate);
     EXPECT_GT(compared, 300u);
-    EXPECT_LT(leftOut, expected.size() / 10) << "too few voxels decided clearly to test";
+    EXPECT_LT(ambiguous.size(), expected.size() / 10) << "too few voxels decided clearly to test";
     std::printf("%s: %u voxels compared, all as the oracle says; %zu left out as ambiguous\n", phase, compared,
-                leftOut);
+                ambiguous.size());
   };
   injectFrames(withBox, 32);
   expectOracle("the floor and the box");

@@ -144,9 +144,6 @@ SSVGI_CONSTANT(uint, kVoxelExtraViewsBeforeWrite, 3u);
 // writes are averaged, an exponential window of about 1/this many renders, rather than each replacing the last, which
 // flickered; the lit frame's light, finer and already filtered, replaces.
 SSVGI_CONSTANT(float, kVoxelExtraViewRadianceBlend, 0.25f);
-// Two pixels show one surface where their normals agree within about 25°: a voxel's surface and a pixel that refreshes
-// its colour, or a plane seen at two points of it.
-SSVGI_CONSTANT(float, kVoxelSameSurfaceCosine, 0.9f);
 SSVGI_CONSTANT(float, kVoxelPlaneRange, 0.875f);
 SSVGI_INLINE uint packVoxelPlane(float offsetVoxels) {
   float unit = clamp(offsetVoxels / kVoxelPlaneRange, -1.0f, 1.0f) * 0.5f + 0.5f;

@@ -59,43 +59,6 @@ void injectLight(inout Voxel voxel, bool occupied, bool blendsWithHeld, ivec2 te
   voxel.albedo = packVoxelAlbedo(albedo);
 }
 
-// Whether the surface whose plane (through `held`, facing `normal`) cuts this voxel really runs through it: the plane's
-// point nearest the voxel's centre lies in the voxel, and the four texels around that point's pixel all show the same
-// plane within a voxel of it — the plane is seen whole around the point, not only beyond it. A wall seen at a grazing
-// angle then holds all of its voxels from the first injection: its random points mostly see the wall further on,
-// outside their voxel, so the rule of the random point alone left it full of holes for dozens of frames, and the
-// probes saw the sky through them. All four texels, each within a voxel: where the view's texels lie far apart on
-// the plane (a grazing view), one texel's footprint spans gaps between coplanar surfaces (the faces of a row of
-// pillars), and a single texel would fill the gaps with surface. `texel` is the texel holding that point.
-bool surfaceContinuesThrough(vec3 voxelMin, vec3 held, vec3 normal, out ivec2 texel) {
-  float voxelSize = volume.voxelSize.x;
-  vec3 centre = voxelMin + 0.5 * voxelSize;
-  vec3 planePoint = centre - normal * dot(centre - held, normal);
-  texel = ivec2(0);
-  if (any(lessThan(planePoint, voxelMin)) || any(greaterThanEqual(planePoint, voxelMin + voxelSize))) return false;
-  vec4 clip = frame.litViewProjection * vec4(planePoint, 1.0);
-  vec3 ndc = clip.xyz / clip.w;
-  vec2 litSize = vec2(frame.litSize);
-  vec2 pixel = ndcToPixel(ndc.xy, litSize);
-  if (!(clip.w > 0.0 && ndc.z <= 1.0 && ndc.z >= 0.0) || any(lessThan(pixel, vec2(0.5))) ||
-      any(greaterThan(pixel, litSize - 0.5)))
-    return false;
-  texel = ivec2(pixel);
-  ivec2 firstTexel = ivec2(floor(pixel - 0.5));
-  for (int corner = 0; corner < 4; ++corner) {
-    ivec2 neighbour = firstTexel + ivec2(corner & 1, corner >> 1);
-    float depth = texelFetch(litDepth, neighbour, 0).r;
-    if (depth <= 0.0) return false;
-    vec3 seenNormal = normalize(texelFetch(litNormal, neighbour, 0).xyz);
-    vec3 seen = heldSurfacePoint(reconstructPosition(frame.litInverseViewProjection, vec2(neighbour), litSize, depth),
-                                 seenNormal);
-    if (dot(seenNormal, normal) <= kVoxelSameSurfaceCosine || distance(seen, planePoint) > voxelSize ||
-        abs(dot(planePoint - seen, seenNormal)) >= 0.5 * voxelSize * dot(abs(seenNormal), vec3(1.0)))
-      return false;
-  }
-  return true;
-}
-
 shared uint occupancyLow;
 shared uint occupancyHigh;
 
@@ -162,18 +125,14 @@ void main() {
     vec3 volumeCentre = (vec3(volume.originBrick.xyz) + 0.5 * vec3(volume.dimensionsBricks.xyz)) * volume.voxelSize.y;
     bool turnsSurfaceAround = occupied && dot(storedNormal, normal) < 0.0 &&
                               dot(normal, volumeCentre - (voxelMin + 0.5 * voxelSize)) <= 0.0;
-    bool heldInVoxel = all(greaterThanEqual(held, voxelMin)) && all(lessThan(held, voxelMin + voxelSize));
-    ivec2 planeTexel;
-    bool planeInVoxel = depth > 0.0 && !heldInVoxel && cutBySurfacePlane &&
-                        surfaceContinuesThrough(voxelMin, held, normal, planeTexel);
-    if (planeInVoxel) texel = planeTexel;
-    bool holdsSurface = depth > 0.0 && !turnsSurfaceAround && (heldInVoxel || planeInVoxel);
+    bool holdsSurface = depth > 0.0 && !turnsSurfaceAround && all(greaterThanEqual(held, voxelMin)) &&
+                        all(lessThan(held, voxelMin + voxelSize));
     // An occupied voxel also takes the colour of a pixel of its own surface (the seen surface's plane cuts it, the
     // normals agree) up to a voxel away: few random points of a voxel on a wall seen at a grazing angle land on its
     // own pixels, and its radiance would lag a change of light by many frames.
     bool refreshesColour = depth > 0.0 && occupied && cutBySurfacePlane &&
                            distance(held, clamp(held, voxelMin, voxelMin + voxelSize)) <= voxelSize &&
-                           dot(storedNormal, normal) > kVoxelSameSurfaceCosine;
+                           dot(storedNormal, normal) > 0.9;
     if (holdsSurface || refreshesColour) {
       // The lit frame's light stays where it keeps coming (kVoxelExtraViewsBeforeWrite): an extra view counts its
       // visit and writes only once there have been enough since the lit frame last wrote.
