@@ -126,10 +126,8 @@ bench::ScenarioRendering testRendering(const bench::ScenarioView& view) {
 
 class ReferenceScenario : public testing::GpuTest {};
 
-// Measured 2026-12-01 on lavapipe (cornell's detail scale: 0.125 m voxels, 0.5 m probes): relative MAE 19.3 % (mean
-// ratio 0.99, the reference's noise floor 2.1 % at 512 spp; 18.7 % at 640×360 with 1024 spp). Narrowly: at 96×96 the
-// same code gives 20.8 %. Before the light's views and the voxels' surface planes (5b6aad9) 23.5 % at 96×96; 32.6 %
-// on 2026-11-22. What remains is mostly the floor (0.75 of the reference's indirect light) and the ceiling (0.81).
+// Cornell's detail scale: 0.125 m voxels, 0.5 m probes. What the figure has been and where its error lies: QUALITY.md
+// ("GI quality", "Where the Cornell error comes from", "What the scenario tests' bounds rest on").
 TEST_F(ReferenceScenario, cornellIndirectIrradianceIsWithinTwentyPercentOfTheReference) {
   // 512 samples per pixel: a per-pixel noise of ~20 % (docs/QUALITY.md: 14 % at 1024), ~5 % after the 4×4 blocks,
   // small against the 20 % bound; the measurement reports it (referenceNoiseFloor) and the test requires it below 8 %.
@@ -143,10 +141,8 @@ TEST_F(ReferenceScenario, cornellIndirectIrradianceIsWithinTwentyPercentOfTheRef
   EXPECT_LT(result.comparison.relativeMeanAbsoluteError, 0.2);
 }
 
-// Measured 2026-12-01 on lavapipe (cornell's detail scale: 0.125 m voxels, 0.5 m probes): 7.6 % over the 25 probes at
-// least a voxel from every surface (mean ratio 1.00, the reference's noise floor 0.8 % at 65536 directions; 8.6 % at
-// 640×360, 10.2 % at 96×96); 21.0 % at 96×96 before the light's views (the tall box's top, which the camera never
-// sees) and the voxels' surface planes (the 2 cm panel was a 12.5 cm slab to the probe 17 cm under it).
+// The probes at least a voxel from every surface; the figures, then and now, in QUALITY.md ("What the scenario tests'
+// bounds rest on").
 TEST_F(ReferenceScenario, cornellProbeIrradianceIsWithinFifteenPercentOfTheReference) {
   // 65536 directions per probe: the reference's noise floor is ~1 % (the small, bright ceiling panel makes it noisy).
   const bench::ScenarioView view = cornell();
@@ -190,16 +186,15 @@ void expectWithinTwentyFivePercent(const bench::IndirectErrorResult& result) {
   EXPECT_LT(result.comparison.meanRatio, 1.25);
 }
 
-// Measured 2026-12-02 on lavapipe: relative MAE 11.5 %, mean ratio 1.02, converged at frame 192 (reference noise floor
-// 2.4 %); 15.6 % and 0.91 with every ray that meets no voxel taking the sky; without the sun's view there is no
-// indirect light in the view at all (MAE 100 %, ratio 0).
+// Without the sun's view there is no indirect light in the view at all; the figures with it in QUALITY.md ("Views
+// beyond the camera", "Unknown is not sky", "Where the views' scenes lose light").
 TEST_F(ReferenceScenario, theGalleryLitByASunlitWallBehindTheCameraIsWithinTwentyFivePercentOfTheReference) {
   expectWithinTwentyFivePercent(offScreenLightError(device(), "gallery"));
 }
 
-// Not met yet: measured 2026-12-02 on lavapipe, relative MAE 28 %, mean ratio 1.24 (5.7×, MAE 479 %, with every ray
-// that meets no voxel taking the sky). What remains is the light the hall's walls multiply: the roof's underside
-// has holes where the capture sees it at a grazing angle (ssvgi render --debug observed shows the sky through them).
+// Not met yet (QUALITY.md, "Where the views' scenes lose light"): light leaks in through holes in the roof's underside
+// where the capture sees it at a grazing angle, and with walls made whole the hall gets two thirds of the reference's
+// light.
 TEST_F(ReferenceScenario, DISABLED_theHallLitThroughItsRoofIsWithinTwentyFivePercentOfTheReference) {
   expectWithinTwentyFivePercent(offScreenLightError(device(), "hall"));
 }

@@ -331,8 +331,7 @@ TEST_F(VoxelScene, aFloorSeenAtAGrazingAngleKeepsEveryVoxelOfIt) {
 TEST_F(VoxelScene, aFloorSeenAtAGrazingAngleTakesANewColourWithinAFewFrames) {
   // The grazing view above: few random points of a voxel land on the voxel's own pixels, but pixels of its surface
   // within a voxel of it count too, so when the light on the floor changes, every voxel ahead has the new colour
-  // within 10 frames. (Measured 2026-12-01: without those pixels, 19 of the 44 still held the old colour after 6
-  // frames; with them 3 after 6 frames, 1 after 8.)
+  // within 10 frames (QUALITY.md, "What the scenario tests' bounds rest on", has what it was without them).
   create(smallSettings());
   const renderer::Camera camera = grazingFloorCamera();
   run(HostFrame(device(), camera, {kFloor}), 48);

@@ -212,6 +212,7 @@ const std::vector<SettingField>& settingFields() {
       {"probeGrid", &Settings::probeGrid},
       {"probeSpacing", &Settings::probeSpacing},
       {"probeBudget", &Settings::probeBudget},
+      {"probeBlocksBeyondView", &Settings::probeBlocksBeyondView},
       {"raysPerProbe", &Settings::raysPerProbe},
       {"probeHistoryCap", &Settings::probeHistoryCap},
       {"probeReservoirs", &Settings::probeReservoirs},

@@ -64,6 +64,10 @@ struct Settings {
   std::array<uint32_t, 3> probeGrid{48, 24, 48};  // probes per level (X, Y, Z); each a multiple of 4, at most 4096
   float probeSpacing = 1.0f;                      // metres between the probes of level 0
   uint32_t probeBudget = 4096;                    // probes traced per frame at most (the talk updates 2000–4000)
+  // Blocks of 4×4×4 probes outside the frustum offered to the placement per update, in turn, after those in view,
+  // which keep the budget first: voxels off screen are relit from their probes (SPEC §6.1), and a probe nobody
+  // traces gives them no light after the first bounce. 0: only probes in view are traced, as in the talk.
+  uint32_t probeBlocksBeyondView = 32;
   uint32_t raysPerProbe = 32;                     // rays per probe update: a power of two, 1..32; a probe has seen
                                                   // all 1024 directions of its fixed set after 1024 / raysPerProbe
   uint32_t probeHistoryCap = 32;                  // cap of the history count m, 1..255: α = 1/(m+1) averages the

@@ -27,7 +27,7 @@ SSVGI_CONSTANT(float, kProbeDistanceRangeSpacings, 2.0f);
 SSVGI_CONSTANT(uint, kBindProbeUpdate, kBindFirstPassSlot);         // ProbeUpdate (uniform)
 SSVGI_CONSTANT(uint, kBindProbes, kBindFirstPassSlot + 1u);         // Probe[kProbeLevels · probes per level]
 SSVGI_CONSTANT(uint, kBindProbeList, kBindFirstPassSlot + 2u);      // IndirectList of probe indices to trace
-SSVGI_CONSTANT(uint, kBindProbeBlocks, kBindFirstPassSlot + 3u);    // the blocks in view, packed by packProbeBlock
+SSVGI_CONSTANT(uint, kBindProbeBlocks, kBindFirstPassSlot + 3u);    // the blocks offered, packed by packProbeBlock
 
 // Probe::state, the probe's state word: bits 0–7 the history count m (SPEC §4.5, capped by
 // Settings::probeHistoryCap ≤ 255); bits 8–17 the first of the 1024 ray directions its next update traces; bits 18–29
@@ -180,6 +180,14 @@ SSVGI_INLINE ivec3 probeNeighbourOffset(uint neighbour) {
   uint cell = neighbour < 13u ? neighbour : neighbour + 1u;
   return ivec3(int(cell % 3u), int((cell / 3u) % 3u), int(cell / 9u)) - ivec3(1);
 }
+
+// ProbePlacement's dispatch: the blocks it places from, and whether they are those in view (their probes must reach
+// into the frustum) or those beyond it.
+struct ProbePlacementPush {
+  uint firstBlock;  // into the list of blocks offered
+  uint inView;      // 1: the blocks in view; 0: those beyond it
+};
+SSVGI_CHECK_SIZE(ProbePlacementPush, 8);
 
 // A block of the CPU cull, in blocks from the level's minimum corner, 10 bits per axis.
 SSVGI_INLINE uint packProbeBlock(uvec3 block) { return block.x | (block.y << 10u) | (block.z << 20u); }

@@ -404,7 +404,7 @@ class ContextImplementation final : public Context {
     bool scrolled = false;
     const shader::VoxelVolume volume =
         scene_.place(glm::vec3(frame.cameraPosition), desc.frameIndex, scrolled);
-    const uint32_t probeBlocksInView = probes_.prepare(desc.frameIndex, glm::vec3(frame.cameraPosition),
+    const gi::OfferedProbeBlocks probeBlocks = probes_.prepare(desc.frameIndex, glm::vec3(frame.cameraPosition),
                                                        frame.frustumPlanes, desc.skyRadianceSh, volume);
     slot.probeLevel = uint32_t(probes_.current().level);
     gi::GatherTargets::ProbeLevels probeLevels{};
@@ -469,7 +469,7 @@ class ContextImplementation final : public Context {
     buildOctree_.record(commands, scene_);                                              // 6. BuildOctree
     voxelRelight_.record(commands, scene_, {gather_.constants(), probes_.probes()},      //    VoxelRelight
                          desc.frameIndex, desc_.settings.voxelRelightPeriod);
-    probePlacement_.record(commands, scene_, probes_, slot.frameConstants, probeBlocksInView);  // 7. ProbePlacement
+    probePlacement_.record(commands, scene_, probes_, slot.frameConstants, probeBlocks);  // 7. ProbePlacement
     probeTrace_.record(commands, scene_, probes_);                      // 8. UpdateReservoirs + ProbeTrace
     probeRelocate_.record(commands, scene_, probes_);                                   // 9. ProbeRelocate
     probeDilate_.record(commands, probes_);                                             //    ProbeDilate

@@ -17,12 +17,14 @@ Settings settingsForTier(QualityTier tier) {
       settings.brickPoolCapacity = 8192;
       settings.probeGrid = {32, 16, 32};
       settings.probeBudget = 2048;
+      settings.probeBlocksBeyondView = 16;
       break;
     case QualityTier::Low:
       settings.volumeBricks = {64, 32, 64};
       settings.brickPoolCapacity = 4096;
       settings.probeGrid = {32, 16, 32};
       settings.probeBudget = 1024;
+      settings.probeBlocksBeyondView = 8;
       settings.raysPerProbe = 16;
       settings.probeHistoryCap = 64;
       settings.probeReservoirHistoryCap = 16;  // 1 new candidate per stratum and update: the same 16 updates

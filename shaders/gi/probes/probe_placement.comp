@@ -1,7 +1,8 @@
 #version 450
 // ProbePlacement (SPEC §4.5; the talk's "Adaptive Placement"): of the probes in the blocks the CPU found in view, keep
 // those whose range reaches into the frustum and holds a voxel, up to the per-frame budget, as the list ProbeTrace
-// works through (one workgroup per probe).
+// works through (one workgroup per probe). A second dispatch then offers the blocks beyond the view whose turn it is
+// (Settings::probeBlocksBeyondView), for what the budget leaves: the probes that light off-screen voxels (SPEC §6.1).
 //
 // A probe's range is one spacing on each axis: the 8 grid cells it is a corner of. A surface point is shaded from
 // the 8 probes at the corners of its cell, so these are exactly the probes a gather can read; the others would be
@@ -15,7 +16,7 @@
 layout(local_size_x = 64) in;  // one block of kProbeBlockSize³ probes
 
 layout(binding = kBindProbeUpdate) uniform ProbeUpdateBlock { ProbeUpdate update; };
-layout(binding = kBindProbeBlocks) readonly buffer ProbeBlocks { uint blocksInView[]; };
+layout(binding = kBindProbeBlocks) readonly buffer ProbeBlocks { uint offeredBlocks[]; };
 layout(binding = kBindProbeList) buffer ProbeList {
   IndirectList list;
   uint listedProbes[];
@@ -41,8 +42,10 @@ bool voxelsWithin(vec3 lo, vec3 hi) {
   return false;
 }
 
+layout(push_constant) uniform Push { ProbePlacementPush push; };
+
 void main() {
-  uvec3 block = unpackProbeBlock(blocksInView[gl_WorkGroupID.x]);
+  uvec3 block = unpackProbeBlock(offeredBlocks[push.firstBlock + gl_WorkGroupID.x]);
   uint inBlock = gl_LocalInvocationID.x;
   uvec3 probeInBlock = uvec3(inBlock % kProbeBlockSize, (inBlock / kProbeBlockSize) % kProbeBlockSize,
                              inBlock / (kProbeBlockSize * kProbeBlockSize));
@@ -50,7 +53,7 @@ void main() {
   float spacing = update.spacing;
   vec3 lo = vec3(probe - 1) * spacing;
   vec3 hi = vec3(probe + 1) * spacing;
-  if (!boxInFrustum(lo, hi, frame.frustumPlanes) || !voxelsWithin(lo, hi)) return;
+  if ((push.inView != 0u && !boxInFrustum(lo, hi, frame.frustumPlanes)) || !voxelsWithin(lo, hi)) return;
 
   uint slot = atomicAdd(list.count, 1u);
   if (slot >= update.probeBudget) {  // over budget: undo, so that count ends as the number listed

@@ -31,7 +31,7 @@ layout(binding = kBindInjectionBricks) readonly buffer VisibleBricks {
 // frame, the host's own — albedo/π · E of ssvgi's last output at that pixel, with which the host lit it (the gather's
 // light, tested for visibility and filtered); for an extra view, VoxelRelight's to add, with the probes' visibility
 // trace, which this pass cannot make: it writes the voxels it would trace, and without it the lit room's probes lit
-// the dark side of `two-rooms`' wall (leak 3.0 % against 0.12 %). Until it is relit, a voxel keeps the part of its
+// the dark side of `two-rooms`' wall (QUALITY.md, "Voxels follow the light"). Until it is relit, a voxel keeps the part of its
 // radiance the probes added (Settings::voxelRelightPeriod), and a new one has none.
 void injectLight(inout Voxel voxel, bool occupied, bool blendsWithHeld, ivec2 texel) {
   vec3 colour = texelFetch(litColor, texel, 0).rgb;
@@ -120,7 +120,7 @@ void main() {
     // A wall one voxel thick, seen from inside by the camera and from outside by the sun, puts two opposite faces in
     // the same voxels. A voxel holds one: the face towards the middle of the voxel volume, where the camera is — the
     // side its surroundings see — rather than flipping between the two with the views (the dark room's walls turned
-    // black from inside, and flickered by 25 %).
+    // black from inside, and flickered: QUALITY.md, "Views beyond the camera").
     vec3 storedNormal = unpackOctahedralNormal(voxel.surfaceAndLastHit & 0xffffu);
     vec3 volumeCentre = (vec3(volume.originBrick.xyz) + 0.5 * vec3(volume.dimensionsBricks.xyz)) * volume.voxelSize.y;
     bool turnsSurfaceAround = occupied && dot(storedNormal, normal) < 0.0 &&

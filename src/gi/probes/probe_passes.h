@@ -7,12 +7,13 @@
 
 namespace ssvgi::gi {
 
-// ProbePlacement: the probes of this frame's level that are in view and near voxels, listed up to the budget.
+// ProbePlacement: the probes of this frame's level that are in view and near voxels, listed up to the budget; then
+// those of the blocks beyond the view whose turn it is, for what the budget leaves.
 class ProbePlacement {
  public:
   explicit ProbePlacement(gpu::Device& device);
   void record(gpu::CommandList& commands, const VoxelScene& scene, const ProbeVolume& probes, const gpu::Buffer& frame,
-              uint32_t blocksInView);
+              OfferedProbeBlocks blocks);
 
  private:
   gpu::ComputePipeline pipeline_;

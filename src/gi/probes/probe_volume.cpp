@@ -38,7 +38,7 @@ ProbeVolume::ProbeVolume(gpu::Device& device, const Settings& settings, uint32_t
   for (uint32_t i = 0; i < framesInFlight; ++i) {
     updates_.emplace_back(device, "ssvgi probe update", sizeof(shader::ProbeUpdate), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                           gpu::MemoryUsage::HostUpload);
-    blocks_.emplace_back(device, "ssvgi probe blocks in view", VkDeviceSize(blocks.x) * blocks.y * blocks.z * 4,
+    blocks_.emplace_back(device, "ssvgi probe blocks offered", VkDeviceSize(blocks.x) * blocks.y * blocks.z * 4,
                          VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::HostUpload);
   }
 }
@@ -53,7 +53,7 @@ glm::ivec3 ProbeVolume::levelOrigin(uint32_t level, glm::vec3 cameraPosition) co
   return glm::ivec3(glm::floor(cameraPosition / levelSpacing(level))) - glm::ivec3(gridOf(settings_)) / 2;
 }
 
-uint32_t ProbeVolume::prepare(uint32_t frameIndex, glm::vec3 cameraPosition, const glm::vec4 frustumPlanes[6],
+OfferedProbeBlocks ProbeVolume::prepare(uint32_t frameIndex, glm::vec3 cameraPosition, const glm::vec4 frustumPlanes[6],
                               const std::array<float, 12>& skyRadianceSh, const shader::VoxelVolume& voxels) {
   const uint32_t level = frameIndex % shader::kProbeLevels;
   const float spacing = levelSpacing(level);
@@ -90,17 +90,26 @@ uint32_t ProbeVolume::prepare(uint32_t frameIndex, glm::vec3 cameraPosition, con
   // ranges (one spacing around each).
   currentFrame_ = frameIndex % updates_.size();
   std::memcpy(updates_[currentFrame_].mapped(), &current_, sizeof(current_));
-  auto* blocksInView = static_cast<uint32_t*>(blocks_[currentFrame_].mapped());
+  auto* offered = static_cast<uint32_t*>(blocks_[currentFrame_].mapped());
   const glm::uvec3 blocks = gridOf(settings_) / shader::kProbeBlockSize;
-  uint32_t count = 0;
+  std::vector<uint32_t> beyondView;
+  OfferedProbeBlocks count;
   for (uint32_t z = 0; z < blocks.z; ++z)
     for (uint32_t y = 0; y < blocks.y; ++y)
       for (uint32_t x = 0; x < blocks.x; ++x) {
         const glm::ivec3 firstProbe = origin + glm::ivec3(glm::uvec3(x, y, z) * shader::kProbeBlockSize);
         const glm::vec3 lo = glm::vec3(firstProbe - 1) * spacing;
         const glm::vec3 hi = glm::vec3(firstProbe + int(shader::kProbeBlockSize)) * spacing;
-        if (shader::boxInFrustum(lo, hi, frustumPlanes)) blocksInView[count++] = shader::packProbeBlock(glm::uvec3(x, y, z));
+        const uint32_t block = shader::packProbeBlock(glm::uvec3(x, y, z));
+        if (shader::boxInFrustum(lo, hi, frustumPlanes)) offered[count.inView++] = block;
+        else beyondView.push_back(block);
       }
+  // Those beyond the view take turns: the next probeBlocksBeyondView of them, after the last level update's.
+  count.beyondView = std::min(settings_.probeBlocksBeyondView, uint32_t(beyondView.size()));
+  uint32_t& turn = beyondViewTurn_[level];
+  for (uint32_t i = 0; i < count.beyondView; ++i)
+    offered[count.inView + i] = beyondView[(turn + i) % beyondView.size()];
+  if (!beyondView.empty()) turn = (turn + count.beyondView) % uint32_t(beyondView.size());
   return count;
 }
 

@@ -12,14 +12,22 @@
 
 namespace ssvgi::gi {
 
+// The blocks of kProbeBlockSize³ probes ProbeVolume::prepare offers the placement: those in view, then as many
+// beyond it, in that order in ProbeVolume::offeredBlocks().
+struct OfferedProbeBlocks {
+  uint32_t inView = 0;
+  uint32_t beyondView = 0;
+};
+
 class ProbeVolume {
  public:
   ProbeVolume(gpu::Device& device, const Settings& settings, uint32_t framesInFlight);
 
   // Prepares this frame's update and uploads its ProbeUpdate and block list: level frameIndex % kProbeLevels, centred
   // on the camera, its blocks of kProbeBlockSize³ probes whose ranges reach into the frustum (planes pointing inwards,
-  // as GiFrame's), the sky, and rays traced as far as the voxel volume reaches. Returns the number of blocks listed.
-  uint32_t prepare(uint32_t frameIndex, glm::vec3 cameraPosition, const glm::vec4 frustumPlanes[6],
+  // as GiFrame's), then the next Settings::probeBlocksBeyondView of the others in turn, the sky, and rays traced as far
+  // as the voxel volume reaches.
+  OfferedProbeBlocks prepare(uint32_t frameIndex, glm::vec3 cameraPosition, const glm::vec4 frustumPlanes[6],
                    const std::array<float, 12>& skyRadianceSh, const shader::VoxelVolume& voxels);
 
   const gpu::Buffer& probes() const { return probes_; }  // Probe[kProbeLevels · probes per level], level-major
@@ -35,7 +43,7 @@ class ProbeVolume {
         .buffer(shader::kBindProbes, probes())
         .buffer(shader::kBindProbeList, list());
   }
-  const gpu::Buffer& blocksInView() const { return blocks_[currentFrame_]; }
+  const gpu::Buffer& offeredBlocks() const { return blocks_[currentFrame_]; }
   const shader::ProbeUpdate& current() const { return current_; }
   uint32_t probesPerLevel() const;
   // Where a level stands for a camera: every level is centred on it (SPEC §4.5).
@@ -51,6 +59,8 @@ class ProbeVolume {
   std::vector<gpu::Buffer> updates_;
   std::vector<gpu::Buffer> blocks_;
   size_t currentFrame_ = 0;
+  // Per level, where the turn of the blocks beyond the view stands (an index into those beyond it, in grid order).
+  std::array<uint32_t, shader::kProbeLevels> beyondViewTurn_{};
   shader::ProbeUpdate current_{};
 };
 
