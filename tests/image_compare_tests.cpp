@@ -41,6 +41,7 @@ float& at(FloatImage& image, uint32_t x, uint32_t y, uint32_t channel) {
 
 void expectSameFigures(const ImageComparison& actual, const ImageComparison& expected) {
   EXPECT_EQ(actual.relativeMeanAbsoluteError, expected.relativeMeanAbsoluteError);
+  EXPECT_EQ(actual.meanRatio, expected.meanRatio);
   EXPECT_EQ(actual.rmse, expected.rmse);
   EXPECT_EQ(actual.ssim, expected.ssim);
   EXPECT_EQ(actual.validPixels, expected.validPixels);
@@ -81,6 +82,22 @@ TEST(ImageCompare, scalingByOnePointOneGivesARelativeErrorOfExactlyATenth) {
   FloatImage test = reference;
   for (float& value : test.pixels) value = value / 10.0f * 11.0f;
   EXPECT_DOUBLE_EQ(compareImages(test, reference, nullptr, 1).relativeMeanAbsoluteError, 0.1);
+}
+
+// The mean ratio says which way an image is off, which the relative error does not: 20 % too much on one half and
+// 20 % too little on the other is a relative error of 0.2 and a mean ratio of 1; 20 % too little everywhere, 0.2 and 0.8.
+TEST(ImageCompare, theMeanRatioSaysWhetherTheTestHasMoreOrLessLightInAll) {
+  const FloatImage reference = constantImage(8, 8, 5.0f);
+  FloatImage split = reference;
+  for (uint32_t y = 0; y < 8; ++y)
+    for (uint32_t x = 0; x < 8; ++x)
+      for (uint32_t channel = 0; channel < reference.channels; ++channel) at(split, x, y, channel) = x < 4 ? 6.0f : 4.0f;
+  const ImageComparison balanced = compareImages(split, reference, nullptr, 1);
+  EXPECT_DOUBLE_EQ(balanced.relativeMeanAbsoluteError, 0.2);
+  EXPECT_DOUBLE_EQ(balanced.meanRatio, 1.0);
+  const ImageComparison darker = compareImages(constantImage(8, 8, 4.0f), reference, nullptr, 1);
+  EXPECT_DOUBLE_EQ(darker.relativeMeanAbsoluteError, 0.2);
+  EXPECT_DOUBLE_EQ(darker.meanRatio, 0.8);
 }
 
 TEST(ImageCompare, aConstantOffsetOnAConstantImageGivesThatOffsetAsRmse) {
