@@ -11,6 +11,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <string>
 
 namespace ssvgi::renderer {
@@ -70,7 +71,8 @@ ExtraViews::Target::Target(Kind viewKind, gpu::Device& device, uint32_t viewSize
       frameConstants(device, "extra view constants", sizeof(shader::FrameConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                      gpu::MemoryUsage::HostUpload),
       gbuffer(device, viewSize, viewSize),
-      radiance(storageImage(device, "extra view radiance", VK_FORMAT_R16G16B16A16_SFLOAT, viewSize)) {}
+      radiance(storageImage(device, "extra view radiance", VK_FORMAT_R16G16B16A16_SFLOAT,
+                            viewKind == Kind::Overhead ? 1 : viewSize)) {}
 
 ExtraViews::ExtraViews(gpu::Device& device, const Scene& scene, const ExtraViewSettings& settings,
                        const ssvgi::Settings& gi, const Bounds& sceneBounds)
@@ -90,6 +92,7 @@ ExtraViews::ExtraViews(gpu::Device& device, const Scene& scene, const ExtraViewS
   if (settings.viewsPerFrame == 0 || settings.viewsPerFrame > ssvgi::kMaxExtraViews)
     throw gpu::GpuError("extra views: viewsPerFrame must be in 1.." + std::to_string(ssvgi::kMaxExtraViews));
   if (settings.sunViewSize > 0) sources_.push_back({Kind::Sun, 0});
+  if (settings.overheadViewSize > 0) sources_.push_back({Kind::Overhead, 0});
   if (settings.surroundViewSize > 0)
     for (uint32_t face = 0; face < kCubeFaces.size(); ++face) sources_.push_back({Kind::Surround, face});
   if (settings.lightViewSize > 0)
@@ -99,7 +102,7 @@ ExtraViews::ExtraViews(gpu::Device& device, const Scene& scene, const ExtraViewS
         lightCameras_.push_back(camera);
       }
   // As many targets of each kind as one frame can render.
-  for (Kind kind : {Kind::Sun, Kind::Surround, Kind::Light}) {
+  for (Kind kind : {Kind::Sun, Kind::Overhead, Kind::Surround, Kind::Light}) {
     const auto count = uint32_t(std::count_if(sources_.begin(), sources_.end(),
                                               [kind](const Source& source) { return source.kind == kind; }));
     for (uint32_t i = 0; i < std::min(count, settings.viewsPerFrame); ++i)
@@ -116,6 +119,7 @@ ExtraViews::ExtraViews(gpu::Device& device, const Scene& scene, const ExtraViewS
 uint32_t ExtraViews::sizeOf(Kind kind) const {
   switch (kind) {
     case Kind::Sun: return settings_.sunViewSize;
+    case Kind::Overhead: return settings_.overheadViewSize;
     case Kind::Surround: return settings_.surroundViewSize;
     case Kind::Light: return settings_.lightViewSize;
   }
@@ -130,7 +134,7 @@ uint32_t ExtraViews::maxViewSize() const {
 
 void ExtraViews::viewOf(const Source& source, const shader::FrameConstants& frame, glm::mat4& view,
                         glm::mat4& projection) const {
-  if (source.kind != Kind::Sun) {
+  if (source.kind != Kind::Sun && source.kind != Kind::Overhead) {
     Camera camera;
     if (source.kind == Kind::Light) {
       camera = lightCameras_[source.index];
@@ -146,43 +150,54 @@ void ExtraViews::viewOf(const Source& source, const shader::FrameConstants& fram
     projection = reversedZInfiniteProjection(camera.verticalFov, 1.0f, camera.nearPlane);
     return;
   }
-  // Along the sun, over the voxel volume around the camera. In the sun's frame (rotation only) the volume's footprint
-  // is its box's extent across the sun; the texels are a voxel wide, or narrower where the footprint is smaller than
-  // the view, and they depend only on the sun's direction: snapping the view's centre to whole texels keeps the texel
-  // grid fixed in the world as the camera moves.
-  // Without a sun (none, or below the horizon) the view looks straight down: it still observes the open space above
-  // roofs and yards that the probes' rays cross to the sky (SPEC §6.4), and the surfaces under the sky.
+  // Along the sun, over the voxel volume around the camera, its texels a voxel wide (or narrower where the volume's
+  // footprint is smaller than the view). Without a sun (none, or below the horizon) the view looks straight down: it
+  // still observes the open space above roofs and yards that the probes' rays cross to the sky (SPEC §6.4), and the
+  // surfaces under the sky. The overhead view looks straight down over the whole volume, whatever its texels.
+  const glm::vec3 cameraPosition(frame.cameraPosition);
+  if (source.kind == Kind::Overhead) {
+    orthographicOverVolume(glm::vec3(0.0f, 1.0f, 0.0f), cameraPosition, settings_.overheadViewSize,
+                           std::numeric_limits<float>::infinity(), view, projection);
+    return;
+  }
   const bool sunUp = frame.sunDirectionAndEnabled.w > 0.0f && frame.sunDirectionAndEnabled.y > 0.0f;
   const glm::vec3 toSun = sunUp ? glm::normalize(glm::vec3(frame.sunDirectionAndEnabled)) : glm::vec3(0.0f, 1.0f, 0.0f);
-  const glm::mat4 sunRotation = glm::lookAtRH(glm::vec3(0.0f), -toSun, upFor(toSun));
+  orthographicOverVolume(toSun, cameraPosition, settings_.sunViewSize, voxelSize_, view, projection);
+}
+
+void ExtraViews::orthographicOverVolume(glm::vec3 toward, glm::vec3 cameraPosition, uint32_t size, float maxTexel,
+                                        glm::mat4& view, glm::mat4& projection) const {
+  // In the view's frame (rotation only) the volume's footprint is its box's extent across the view; the texels depend
+  // only on the direction: snapping the view's centre to whole texels keeps the texel grid fixed in the world as the
+  // camera moves, so that the view does not shimmer.
+  const glm::mat4 rotation = glm::lookAtRH(glm::vec3(0.0f), -toward, upFor(toward));
   // The volume re-centres in steps of kScrollStepBricks bricks: it reaches that much further from the camera.
   const glm::vec3 halfExtent =
       volumeHalfExtent_ + float(shader::kScrollStepBricks * shader::kBrickSizeVoxels) * voxelSize_;
-  const glm::mat3 rows = glm::transpose(glm::mat3(sunRotation));  // rows[0], rows[1]: the sun frame's x and y axes
+  const glm::mat3 rows = glm::transpose(glm::mat3(rotation));  // rows[0], rows[1]: the view frame's x and y axes
   const glm::vec2 footprint(glm::dot(glm::abs(rows[0]), halfExtent), glm::dot(glm::abs(rows[1]), halfExtent));
-  const float size = float(settings_.sunViewSize);
-  const float texel = std::min(voxelSize_, 2.0f * std::max(footprint.x, footprint.y) / size);
-  const glm::vec3 cameraInSunFrame = glm::vec3(sunRotation * glm::vec4(glm::vec3(frame.cameraPosition), 1.0f));
-  const glm::vec2 centre = glm::round(glm::vec2(cameraInSunFrame) / texel) * texel;
+  const float texel = std::min(maxTexel, 2.0f * std::max(footprint.x, footprint.y) / float(size));
+  const glm::vec3 cameraInViewFrame = glm::vec3(rotation * glm::vec4(cameraPosition, 1.0f));
+  const glm::vec2 centre = glm::round(glm::vec2(cameraInViewFrame) / texel) * texel;
   // Depth: the whole scene, so that whatever shades a surface from the sun lies inside the view, and — in front of
   // it — the whole voxel volume, so that the view observes all the open space its rays cross there (SPEC §6.4).
   float nearest = 1e30f, farthest = -1e30f;
-  const glm::vec3 volumeMin = glm::vec3(frame.cameraPosition) - halfExtent;
-  const glm::vec3 volumeMax = glm::vec3(frame.cameraPosition) + halfExtent;
+  const glm::vec3 volumeMin = cameraPosition - halfExtent;
+  const glm::vec3 volumeMax = cameraPosition + halfExtent;
   for (int corner = 0; corner < 8; ++corner) {
     const glm::vec3 point((corner & 1) ? sceneBounds_.max.x : sceneBounds_.min.x,
                           (corner & 2) ? sceneBounds_.max.y : sceneBounds_.min.y,
                           (corner & 4) ? sceneBounds_.max.z : sceneBounds_.min.z);
     const glm::vec3 volumeCorner((corner & 1) ? volumeMax.x : volumeMin.x, (corner & 2) ? volumeMax.y : volumeMin.y,
                                  (corner & 4) ? volumeMax.z : volumeMin.z);
-    const float distance = -(sunRotation * glm::vec4(point, 1.0f)).z;
-    nearest = std::min({nearest, distance - kSunViewDepthMargin, -(sunRotation * glm::vec4(volumeCorner, 1.0f)).z});
+    const float distance = -(rotation * glm::vec4(point, 1.0f)).z;
+    nearest = std::min({nearest, distance - kSunViewDepthMargin, -(rotation * glm::vec4(volumeCorner, 1.0f)).z});
     farthest = std::max(farthest, distance + kSunViewDepthMargin);
   }
   // The eye at the centre of the near plane.
-  const glm::vec3 eye = glm::vec3(glm::inverse(sunRotation) * glm::vec4(centre, -nearest, 1.0f));
-  view = glm::lookAtRH(eye, eye - toSun, upFor(toSun));
-  const float half = 0.5f * size * texel;
+  const glm::vec3 eye = glm::vec3(glm::inverse(rotation) * glm::vec4(centre, -nearest, 1.0f));
+  view = glm::lookAtRH(eye, eye - toward, upFor(toward));
+  const float half = 0.5f * float(size) * texel;
   projection = reversedZOrthographicProjection(-half, half, -half, half, 0.0f, farthest - nearest);
 }
 
@@ -216,6 +231,14 @@ std::vector<ssvgi::ExtraView> ExtraViews::record(gpu::HostCommandList& commands,
     viewFrame.addsIndirectLight = 0u;  // direct and emitted light only: ssvgi adds the rest
     std::memcpy(target.frameConstants.mapped(), &viewFrame, sizeof(viewFrame));
     gbufferPass_.record(commands, scene, target.frameConstants, target.gbuffer);
+    if (source.kind == Kind::Overhead) {  // observes space only: its depth
+      commands.use(target.gbuffer.depth, gpu::Usage::ComputeSampled);
+      ssvgi::ExtraView overhead;
+      overhead.camera = toView(viewFrame, target.size);
+      overhead.depth.view = target.gbuffer.depth.view();
+      views.push_back(overhead);
+      continue;
+    }
     directLighting_.record(commands, target.frameConstants, lights, shadows, target.gbuffer, pointSampler,
                            directIrradiance_, viewDistance_);
     composite_.record(commands, target.frameConstants, target.gbuffer, pointSampler, directIrradiance_,
@@ -223,8 +246,13 @@ std::vector<ssvgi::ExtraView> ExtraViews::record(gpu::HostCommandList& commands,
     for (const gpu::Image* image :
          {&target.radiance, &target.gbuffer.depth, &target.gbuffer.normal, &target.gbuffer.albedo})
       commands.use(*image, gpu::Usage::ComputeSampled);
-    views.push_back({toView(viewFrame, target.size), {target.radiance.view()}, {target.gbuffer.depth.view()},
-                     {target.gbuffer.normal.view()}, {target.gbuffer.albedo.view()}});
+    ssvgi::ExtraView lit;
+    lit.camera = toView(viewFrame, target.size);
+    lit.depth.view = target.gbuffer.depth.view();
+    lit.color.view = target.radiance.view();
+    lit.normal.view = target.gbuffer.normal.view();
+    lit.albedo.view = target.gbuffer.albedo.view();
+    views.push_back(lit);
   }
   nextSource_ = (nextSource_ + count) % uint32_t(sources_.size());
   return views;

@@ -8,7 +8,11 @@
 //     sky, is observed (SPEC §6.4) all the same;
 //   - the capture around the camera: six 90° views from the camera's position (a cube), which fill the ceilings,
 //     floors and walls beside and behind it;
-//   - the local lights' views: six 90° views around a point light, one along a spot light's cone.
+//   - the local lights' views: six 90° views around a point light, one along a spot light's cone;
+//   - the overhead view: a coarse orthographic view straight down over the whole voxel volume, given to ssvgi as depth
+//     only (ssvgi::ExtraView without colour). It writes no voxels; it observes the open space above roofs and yards
+//     beyond what the sun's view covers, which the probes' rays cross on their way to the sky (SPEC §6.4): without
+//     it, the sky through a skylight is unknown to every ray that leaves the sun's view before the volume.
 // Each is rendered with the host's own passes — G-buffer, direct light and a composite without GI — so its colour is
 // direct and emitted light only, and ssvgi adds its probes' light through the albedo (ssvgi::ExtraView::albedo).
 // At most `viewsPerFrame` views are rendered a frame, in turn. Every view's projection is moved by a different
@@ -36,6 +40,10 @@ struct ExtraViewSettings {
   uint32_t sunViewSize = 0;
   uint32_t surroundViewSize = 0;   // pixels per side of each face of the capture around the camera; 0: none
   uint32_t lightViewSize = 64;     // pixels per side of each view of a local light; 0: none
+  // Pixels per side of the overhead view (0: none). Its texels are the voxel volume's footprint over this: about half
+  // a brick at 256 and the high tier, so that its jittered rays cross every column of brick cells within a few
+  // renders.
+  uint32_t overheadViewSize = 0;
   // Views rendered and given to ssvgi per frame, 1..ssvgi::kMaxExtraViews; when there are more (the sun, six faces
   // around the camera, six per point light, one per spot), they take turns.
   uint32_t viewsPerFrame = 4;
@@ -43,6 +51,7 @@ struct ExtraViewSettings {
 
 inline constexpr uint32_t kRecommendedSunViewSize = 256;
 inline constexpr uint32_t kRecommendedSurroundViewSize = 64;
+inline constexpr uint32_t kRecommendedOverheadViewSize = 256;
 
 class ExtraViews {
  public:
@@ -62,7 +71,7 @@ class ExtraViews {
                                        VkSampler pointSampler);
 
  private:
-  enum class Kind { Sun, Surround, Light };
+  enum class Kind { Sun, Overhead, Surround, Light };
   struct Source {
     Kind kind;
     uint32_t index;        // Surround: the cube face; Light: into lightCameras_
@@ -75,12 +84,16 @@ class ExtraViews {
     uint32_t size;
     gpu::Buffer frameConstants;
     GBuffer gbuffer;
-    gpu::Image radiance;  // emission + albedo/π · E_direct
+    gpu::Image radiance;  // emission + albedo/π · E_direct; none for the overhead view, given as depth only
   };
 
   uint32_t sizeOf(Kind kind) const;
   // The view and (unjittered) projection a source is seen through this frame.
   void viewOf(const Source& source, const shader::FrameConstants& frame, glm::mat4& view, glm::mat4& projection) const;
+  // An orthographic view of `size` pixels looking along −toward over the voxel volume around `cameraPosition`, its
+  // texels at most `maxTexel` wide, centred on whole texels, and holding the whole scene and volume in depth.
+  void orthographicOverVolume(glm::vec3 toward, glm::vec3 cameraPosition, uint32_t size, float maxTexel,
+                              glm::mat4& view, glm::mat4& projection) const;
 
   ExtraViewSettings settings_;
   float voxelSize_;

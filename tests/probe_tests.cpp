@@ -12,6 +12,7 @@
 #include "shared/probe_interface.h"
 #include "ssvgi/ssvgi.h"
 
+#include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
@@ -220,6 +221,7 @@ class ProbeCache : public testing::GpuTest {
       frame.depth.view = depth_.view();
       frame.normal.view = depth_.view();  // nothing is drawn, so the gather never reads a normal
       frame.skyRadianceSh = uniformSkySh(kSkyRadiance);
+      frame.extraViews = extraViews_;
       Error error;
       device().submitAndWait([&](VkCommandBuffer commandBuffer) { error = context_->dispatch(frame, commandBuffer); });
       ASSERT_FALSE(error) << error.message;
@@ -289,6 +291,7 @@ class ProbeCache : public testing::GpuTest {
   Settings settings_;
   gpu::Image depth_;
   View view_;
+  std::vector<ExtraView> extraViews_;  // given with every frame
   uint32_t frameIndex_ = 0;
 };
 
@@ -491,6 +494,55 @@ TEST_F(ProbeCache, aProbeAmidSpaceNoViewHasObservedGetsNoSkyLightAndKnowsHalfIts
     // The wall covers half the sphere but for the strips past its edges (1.4 %); 8-bit known fraction, 32 updates.
     EXPECT_NEAR(shader::probeKnownFraction(probe), 0.5f, 0.05f);
   }
+}
+
+// The scene of the test above, and a view that only observes (ExtraView without colour, SPEC §6.4): orthographic,
+// looking along −X over the whole volume, nothing drawn in it. Every brick cell it looks through is observed, so
+// the probe's rays that pass the wall see the sky again — E(+X) = π·L, as in the scene watched without observed
+// space — and nearly all its rays are known. Given a surface to show instead, it still writes no voxel.
+TEST_F(ProbeCache, aViewThatOnlyObservesMakesTheSkyKnownWithoutWritingVoxels) {
+  Settings settings = probeTestSettings();
+  settings.skyOnlyThroughObservedSpace = true;
+  create(settings, kCameraPosition, 0.1f / 0.5f);
+  writeScene(blackWallBesideTheProbe());
+  runFrames(1);
+  const uint32_t bricksBefore = context_->stats().bricksLive;  // the wall's, and the one the camera sees
+
+  // The volume spans x −16..16, y −8..8, z −8..24 m: the view's eye on its +X face, its box the volume's cross-section.
+  const glm::vec3 eye(16.0f, 0.0f, 8.0f);
+  const glm::mat4 viewProjection = renderer::reversedZOrthographicProjection(-16.0f, 16.0f, -8.0f, 8.0f, 0.0f, 32.0f) *
+                                   glm::lookAtRH(eye, eye - glm::vec3(1.0f, 0.0f, 0.0f), glm::vec3(0.0f, 1.0f, 0.0f));
+  const auto observerDepth = [&](float depth) {
+    gpu::Image image(device(), {"observer depth", VK_FORMAT_R32_SFLOAT, kFrameSize, kFrameSize, 1, 1,
+                                VK_IMAGE_USAGE_SAMPLED_BIT});
+    const std::vector<float> pixels(kFrameSize * kFrameSize, depth);
+    gpu::uploadImage(device(), image, std::as_bytes(std::span(pixels)));
+    return image;
+  };
+  const gpu::Image nothingDrawn = observerDepth(0.0f);
+  ExtraView observer;
+  std::copy(glm::value_ptr(viewProjection), glm::value_ptr(viewProjection) + 16, observer.camera.viewProjection.begin());
+  observer.camera.width = observer.camera.height = kFrameSize;
+  observer.depth.view = nothingDrawn.view();
+  extraViews_ = {observer};
+  runUpdates(32);
+  const std::vector<shader::Probe> probes = readProbes();
+  for (uint32_t level = 0; level < shader::kProbeLevels; ++level) {
+    SCOPED_TRACE("level " + std::to_string(level));
+    const shader::Probe probe = probeAt(probes, level, glm::vec3(kProbe));
+    ASSERT_TRUE(isActive(probe));
+    EXPECT_NEAR(shader::sh2Irradiance(radianceSh(probe).g, {1, 0, 0}), kPi * kSkyRadiance, 0.05f * kPi * kSkyRadiance);
+    EXPECT_GT(shader::probeKnownFraction(probe), 0.95f);  // 8-bit known fraction
+  }
+  EXPECT_EQ(context_->stats().bricksLive, bricksBefore);
+
+  // A plane across the volume at x = 0 (halfway along the view's depth range): a view that injected would allocate
+  // its bricks.
+  const gpu::Image planeAcross = observerDepth(0.5f);
+  extraViews_[0].depth.view = planeAcross.view();
+  runFrames(4);
+  EXPECT_EQ(context_->stats().bricksLive, bricksBefore);
+  extraViews_.clear();
 }
 
 TEST_P(ProbeCacheReservoirs, theHistoryCountGrowsByOnePerUpdateToItsCapAndAlphaIsOneOverCountPlusOne) {

@@ -634,7 +634,15 @@ TEST_F(VoxelScene, badExtraViewsAreRefusedWithTheFieldNamed) {
   noDepth.depth.view = VK_NULL_HANDLE;
   const Error missing = dispatchWith({extraView(frame), noDepth});
   EXPECT_EQ(missing.status, Status::InvalidDescription);
-  EXPECT_NE(missing.message.find("FrameDesc::extraViews[1]"), std::string::npos) << missing.message;
+  EXPECT_NE(missing.message.find("FrameDesc::extraViews[1]: a depth view is required"), std::string::npos)
+      << missing.message;
+  ExtraView colourWithoutNormal = extraView(frame);
+  colourWithoutNormal.normal.view = VK_NULL_HANDLE;
+  EXPECT_NE(dispatchWith({colourWithoutNormal}).message.find("FrameDesc::extraViews[0]: a view with a color needs"),
+            std::string::npos);
+  ExtraView observesOnly = extraView(frame);
+  observesOnly.color.view = observesOnly.normal.view = observesOnly.albedo.view = VK_NULL_HANDLE;
+  EXPECT_FALSE(dispatchWith({observesOnly})) << "a view given with depth only observes space";
   ExtraView tooLarge = extraView(frame);
   tooLarge.camera.width = kSize + 1;
   const Error large = dispatchWith({tooLarge});

@@ -92,6 +92,7 @@ int runBench(const BenchOptions& options) {
                           {"hostShareOfRendererFrame", rendererMilliseconds > 0.0 ? hostViews / rendererMilliseconds : 0.0},
                           {"settings", {{"sunViewSize", settings.extraViews.sunViewSize},
                                         {"surroundViewSize", settings.extraViews.surroundViewSize},
+                                        {"overheadViewSize", settings.extraViews.overheadViewSize},
                                         {"lightViewSize", settings.extraViews.lightViewSize},
                                         {"viewsPerFrame", settings.extraViews.viewsPerFrame}}}};
   const ssvgi::Stats gi = *renderer.giStats();

@@ -245,6 +245,10 @@ void addGiOptions(CLI::App& command, GiOptions& options) {
               "recommended)");
   addViewSize("--surround-views", options.extraViews.surroundViewSize,
               "a capture around the camera (six 90° views from its position; 64 recommended)");
+  addViewSize("--overhead-view", options.extraViews.overheadViewSize,
+              "a view straight down over the whole voxel volume, as depth only: it observes the open space the "
+              "probes' rays cross to the sky beyond the sun's view, for skyOnlyThroughObservedSpace (256 "
+              "recommended)");
   addViewSize("--light-views", options.extraViews.lightViewSize,
               "the views of the scene's local lights (six per point light, one per spot)");
   command.add_option("--views-per-frame", options.extraViews.viewsPerFrame,

@@ -159,9 +159,14 @@ struct SampledImage {
 struct ExtraView {
   View camera;            // any reversed-Z view-projection (SPEC §2): perspective, with a finite or infinite far
                           // plane, or orthographic; at most ContextDesc::maxExtraViewSize pixels on each side
-  SampledImage color;     // the radiance leaving its surfaces, linear HDR
   SampledImage depth;     // D32 reversed-Z
-  SampledImage normal;    // unit world normal in rgb
+  // The radiance leaving its surfaces, linear HDR, and their unit world normal in rgb. Without a colour the view
+  // only observes space (Settings::skyOnlyThroughObservedSpace; otherwise it is not used): the space in front of the
+  // surfaces it shows counts as seen through, and it writes no voxels. A coarse view from above over the whole voxel
+  // volume, for instance, lets the probes' rays that leave through an opening in a roof find the sky beyond what the
+  // views that write voxels cover.
+  SampledImage color;
+  SampledImage normal;
   // Optional. Given, `color` holds direct and emitted light only (what a light's reflective shadow map knows) and
   // ssvgi adds albedo/π · E from its probes, so that these voxels also carry the bounces after the first. Without it,
   // `color` must hold all of the view's light, as the lit frame does.

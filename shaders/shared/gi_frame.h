@@ -19,6 +19,8 @@ SSVGI_CONSTANT(uint, kViewIsDirectOnly, 2u);  // its colour holds direct and emi
                                               // given: the voxels keep both and VoxelRelight adds the probes' light
 SSVGI_CONSTANT(uint, kViewIsLitWithOutput, 4u);  // (the camera's, direct only) the host lit it with ssvgi's last
                                                  // output: injection adds albedo/π · that E, as the host did
+SSVGI_CONSTANT(uint, kViewObservesOnly, 8u);  // (an extra view) given without colour: it marks observed space and
+                                              // writes no voxels
 
 // A view's projection may be perspective or orthographic (any view-projection that maps depth to reversed-Z): what the
 // passes need of its geometry they find from the matrices (gi_frame.glsl: viewRayDirection), not from a position.

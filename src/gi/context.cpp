@@ -334,8 +334,8 @@ class ContextImplementation final : public Context {
       if (Error error = validateView(view.camera, name + ".camera", desc_.maxExtraViewSize, desc_.maxExtraViewSize,
                                      "ContextDesc::maxExtraViewSize"))
         return error;
-      if (!view.color.view || !view.depth.view || !view.normal.view)
-        return invalid(name + ": color, depth and normal views are required");
+      if (!view.depth.view) return invalid(name + ": a depth view is required");
+      if (view.color.view && !view.normal.view) return invalid(name + ": a view with a color needs its normal view");
     }
     return {};
   }
@@ -450,9 +450,19 @@ class ContextImplementation final : public Context {
     for (size_t i = 0; i < desc.extraViews.size(); ++i) {
       const ExtraView& view = desc.extraViews[i];
       uint32_t viewHizLevels = 0;
-      const uint32_t kind = shader::kViewIsExtra | (view.albedo.view ? shader::kViewIsDirectOnly : 0u);
+      const bool observesOnly = !view.color.view;
+      const uint32_t kind = shader::kViewIsExtra | (view.albedo.view ? shader::kViewIsDirectOnly : 0u) |
+                            (observesOnly ? shader::kViewObservesOnly : 0u);
       const shader::GiFrame viewFrame = viewConstants(view.camera, view.camera, desc.frameIndex, kind, viewHizLevels);
       std::memcpy(slot.extraViewConstants[i].mapped(), &viewFrame, sizeof(viewFrame));
+      if (observesOnly) {
+        if (desc_.settings.skyOnlyThroughObservedSpace)
+          observedSpace_.record(commands, scene_,
+                                {slot.extraViewConstants[i], pointSampler_.handle(), view.depth.view, VK_NULL_HANDLE,
+                                 hiz_, visibleBricks_},
+                                viewFrame.size);
+        continue;
+      }
       const VkImageView albedo = view.albedo.view ? view.albedo.view : view.color.view;  // bound, not read
       buildVoxelsFrom(commands,
                       {slot.extraViewConstants[i], viewFrame, viewHizLevels, view.depth.view, view.normal.view,

@@ -2,7 +2,9 @@
 // ObservedSpace: marks the brick cells a view has observed (SPEC §6.4, "unknown is not sky"; voxel_interface.h). One
 // thread per pixel in stride × stride (the offset inside the block moves every frame, so over stride² frames every
 // pixel is visited) walks the brick cells along the pixel's ray from the near plane to the surface it shows, that
-// surface's cell included, or — where nothing was drawn — out of the volume: the view saw through them.
+// surface's cell included, or — where nothing was drawn — out of the volume: the view saw through them. A view that
+// only observes (kViewObservesOnly) writes no voxels: the cell of the surface it shows is left as it was, so that a
+// probe ray crossing it without meeting a voxel is unknown, not sky.
 #define SSVGI_OBSERVED_SPACE_WRITABLE
 #include "gi/gi_frame.glsl"
 #include "gi/voxels/voxel_access.glsl"
@@ -71,9 +73,12 @@ void main() {
   nextCrossing = mix(nextCrossing, vec3(2.0), equal(stepDirection, ivec3(0)));
   vec3 crossingStep = abs(inverse);
   int maxSteps = volumeDimensions().x + volumeDimensions().y + volumeDimensions().z;
+  bool surfaceCellKept = (frame.viewKind & kViewObservesOnly) != 0u && depth > 0.0 && last == 1.0;
   for (int stepCount = 0; stepCount < maxSteps; ++stepCount) {
+    bool atLastCell = all(equal(cell, lastCell));
+    if (atLastCell && surfaceCellKept) break;
     markObserved(cell);
-    if (all(equal(cell, lastCell))) break;
+    if (atLastCell) break;
     int axis = nextCrossing.x <= nextCrossing.y && nextCrossing.x <= nextCrossing.z ? 0
                                                                                    : (nextCrossing.y <= nextCrossing.z ? 1 : 2);
     if (nextCrossing[axis] > last) break;
