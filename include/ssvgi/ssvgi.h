@@ -95,11 +95,12 @@ struct Settings {
   float probeChangeThreshold = 2.0f;
   // Unknown is not sky (SPEC §6.4): ssvgi keeps which brick cells of its volume the camera and the extra views have
   // seen through or into. A probe ray that meets no voxel after crossing one no view has observed has found neither
-  // a surface nor the sky: it takes what the probe already holds for its direction, and the probe's confidence
-  // falls. Off: every ray that meets no voxel sees the sky, also through a roof that was never on screen. Turn it on
-  // with views beyond the camera that observe the space around it (FrameDesc::extraViews: a view from the sun or
-  // from above, a capture around the camera): with the camera alone, open space behind it is unknown, and a probe
-  // takes the mean of what its other rays found there (docs/QUALITY.md, "Unknown is not sky").
+  // a surface nor the sky: it stands for the mean of what the update's other rays found on surfaces (of all they
+  // found, where none met a surface; of what the probe already holds, where none found anything), and the probe's
+  // confidence falls. Off: every ray that meets no voxel sees the sky, also through a roof that was never on screen.
+  // Turn it on with views beyond the camera that observe the space around it (FrameDesc::extraViews: a view from the
+  // sun or from above, a capture around the camera): with the camera alone, open space behind it is unknown
+  // (docs/QUALITY.md, "Unknown is not sky").
   bool skyOnlyThroughObservedSpace = false;
   // Voxels follow the light (SPEC §6.1): the voxels whose view gave them direct light and albedo
   // (FrameDesc::litAlbedo, ExtraView::albedo) have their radiance recomputed as direct + albedo/π · E of the probes,

@@ -72,10 +72,11 @@ shared float clampScale[kProbeTraceGroupSize];
 shared float trimmedLuminance[kProbeTraceGroupSize];
 // The history count this update blends with (followChange), for every thread: the reservoirs forget as much.
 shared uint blendedHistoryCount;
-// Unknown is not sky (SPEC §6.4): which rays found neither a surface nor the sky, how many found something known and
-// the mean radiance of those; and what the probe holds — its history, or, for a probe that starts afresh, the coarser
+// Unknown is not sky (SPEC §6.4): which rays found neither a surface nor the sky, which met a surface, how many found
+// something known and the radiance the unknown ones stand for (averageKnownRays); and what the probe holds — its history, or, for a probe that starts afresh, the coarser
 // level's radiance it starts from (black without one), which it keeps where none of its rays found anything known.
 shared bool rayUnknown[kProbeTraceGroupSize];
+shared bool rayMetSurface[kProbeTraceGroupSize];
 shared uint knownRays;
 shared vec3 knownMeanRadiance;
 shared Sh2Rgb heldRadiance;
@@ -321,29 +322,36 @@ void holdRadiance(ListedProbe probe) {
 VoxelHit traceRay(ListedProbe probe, ProbeRay chosen, uint ray) {
   rayRadiance[ray] = vec3(0.0);
   rayUnknown[ray] = false;
+  rayMetSurface[ray] = false;
   VoxelHit hit;
   if (!chosen.traced) return hit;
   bool watchesObservedSpace = volume.settings.z != 0u;
   hit = traceVoxelsHierarchical(probe.origin, chosen.direction, update.rayLength, watchesObservedSpace);
   rayUnknown[ray] = !hit.hit && hit.unobserved;  // neither a surface nor the sky (SPEC §6.4)
+  rayMetSurface[ray] = hit.hit;
   rayRadiance[ray] = hit.hit ? hit.radiance : skyRadiance(chosen.direction);
   return hit;
 }
 
 // Unknown is not sky (SPEC §6.4): the estimate is formed over the rays that found something known. A ray into
-// unobserved space stands for the mean of this update's known rays — for every direction of the probe alike, so
-// that what the probe learns does not depend on what it held before, which would keep a camera cut's old light in
-// it for good. A probe none of whose rays found anything known keeps what it holds. One thread.
+// unobserved space stands for the mean of this update's rays that met a surface — space no view could see into is
+// mostly space a surface hides, and the few rays that find the sky through an opening would otherwise light the
+// whole unknown sphere — or, where none met one, of its known rays; for every direction of the probe alike, so that
+// what the probe learns does not depend on what it held before, which would keep a camera cut's old light in it for
+// good. A probe none of whose rays found anything known keeps what it holds. One thread.
 void averageKnownRays() {
-  vec3 sum = vec3(0.0);
-  uint count = 0u;
+  vec3 sum = vec3(0.0), surfaceSum = vec3(0.0);
+  uint count = 0u, surfaces = 0u;
   for (uint other = 0u; other < update.raysPerProbe; ++other) {
     if (rayUnknown[other]) continue;
     sum += rayRadiance[other];
     ++count;
+    if (!rayMetSurface[other]) continue;
+    surfaceSum += rayRadiance[other];
+    ++surfaces;
   }
   knownRays = count;
-  knownMeanRadiance = count > 0u ? sum / float(count) : vec3(0.0);
+  knownMeanRadiance = surfaces > 0u ? surfaceSum / float(surfaces) : (count > 0u ? sum / float(count) : vec3(0.0));
 }
 
 // The thread's terms of the probe's three SH2, L_lm = (4π/N) Σ L(ω_i) Y_lm(ω_i) (SPEC §2).
