@@ -198,6 +198,10 @@ class ProbeCache : public testing::GpuTest {
     runFrames(1);  // places the voxel volume and clears it
   }
 
+  // The scene of the unknown-is-not-sky tests (defined beside them): the black wall beside kProbe, watched by a camera
+  // that sees only a surface in front of it.
+  void createBesideTheBlackWallAmidUnobservedSpace();
+
   // The camera of the following frames: at `position`, looking along −Z.
   void moveCamera(glm::vec3 position) {
     renderer::Camera camera;
@@ -475,14 +479,18 @@ TEST_F(ProbeCache, aProbeBesideALargeWallSeesHalfTheSky) {
 
 // Unknown is not sky (SPEC §6.4): the wall of the test above, but the camera sees only a surface half a metre in
 // front of it, so that no view has observed the space around the probe. Its rays that meet the wall are known (and
-// black); those that meet nothing crossed unobserved space and stand for the mean of the known ones: no sky light
-// (the same scene watched the other way round gives E(+X) = π·L, above), and half of its rays known.
-TEST_F(ProbeCache, aProbeAmidSpaceNoViewHasObservedGetsNoSkyLightAndKnowsHalfItsRays) {
+// black); those that meet nothing crossed unobserved space and stand for the mean of those that met a surface: no sky
+// light (the same scene watched the other way round gives E(+X) = π·L, above), and half of its rays known.
+void ProbeCache::createBesideTheBlackWallAmidUnobservedSpace() {
   Settings settings = probeTestSettings();
   settings.skyOnlyThroughObservedSpace = true;
   // Reversed-Z with an infinite far plane: depth = near / distance, a surface 0.5 m away at the 0.1 m near plane.
   create(settings, kCameraPosition, 0.1f / 0.5f);
   writeScene(blackWallBesideTheProbe());
+}
+
+TEST_F(ProbeCache, aProbeAmidSpaceNoViewHasObservedGetsNoSkyLightAndKnowsHalfItsRays) {
+  createBesideTheBlackWallAmidUnobservedSpace();
   runUpdates(32);
   const std::vector<shader::Probe> probes = readProbes();
   for (uint32_t level = 0; level < shader::kProbeLevels; ++level) {
@@ -501,10 +509,7 @@ TEST_F(ProbeCache, aProbeAmidSpaceNoViewHasObservedGetsNoSkyLightAndKnowsHalfIts
 // the probe's rays that pass the wall see the sky again — E(+X) = π·L, as in the scene watched without observed
 // space — and nearly all its rays are known. Given a surface to show instead, it still writes no voxel.
 TEST_F(ProbeCache, aViewThatOnlyObservesMakesTheSkyKnownWithoutWritingVoxels) {
-  Settings settings = probeTestSettings();
-  settings.skyOnlyThroughObservedSpace = true;
-  create(settings, kCameraPosition, 0.1f / 0.5f);
-  writeScene(blackWallBesideTheProbe());
+  createBesideTheBlackWallAmidUnobservedSpace();
   runFrames(1);
   const uint32_t bricksBefore = context_->stats().bricksLive;  // the wall's, and the one the camera sees
 

@@ -73,7 +73,8 @@ shared float trimmedLuminance[kProbeTraceGroupSize];
 // The history count this update blends with (followChange), for every thread: the reservoirs forget as much.
 shared uint blendedHistoryCount;
 // Unknown is not sky (SPEC §6.4): which rays found neither a surface nor the sky, which met a surface, how many found
-// something known and the radiance the unknown ones stand for (averageKnownRays); and what the probe holds — its history, or, for a probe that starts afresh, the coarser
+// something known and the radiance the unknown ones stand for (averageKnownRays); and what the probe holds — its
+// history, or, for a probe that starts afresh, the coarser
 // level's radiance it starts from (black without one), which it keeps where none of its rays found anything known.
 shared bool rayUnknown[kProbeTraceGroupSize];
 shared bool rayMetSurface[kProbeTraceGroupSize];
