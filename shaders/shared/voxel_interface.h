@@ -144,6 +144,11 @@ SSVGI_CONSTANT(uint, kVoxelExtraViewsBeforeWrite, 3u);
 // writes are averaged, an exponential window of about 1/this many renders, rather than each replacing the last, which
 // flickered; the lit frame's light, finer and already filtered, replaces.
 SSVGI_CONSTANT(float, kVoxelExtraViewRadianceBlend, 0.25f);
+// SceneVoxelization's second look at a voxel, at a random texel of its footprint in the view (footprintTexel): its
+// hash's input, apart from that of the voxel's random point.
+SSVGI_INLINE uvec3 voxelFootprintSeed(uvec3 worldVoxel, uint frameIndex) {
+  return worldVoxel ^ uvec3(0x68bc21ebu, frameIndex * 0x9e3779b9u, 0x297a2d39u);
+}
 SSVGI_CONSTANT(float, kVoxelPlaneRange, 0.875f);
 SSVGI_INLINE uint packVoxelPlane(float offsetVoxels) {
   float unit = clamp(offsetVoxels / kVoxelPlaneRange, -1.0f, 1.0f) * 0.5f + 0.5f;

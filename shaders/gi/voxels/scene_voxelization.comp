@@ -2,7 +2,9 @@
 // SceneVoxelization: injects a view into the listed bricks, one thread per voxel, by gather (SPEC §4.3). The view is
 // the latest lit frame, or one of the host's extra views (SPEC §6.3), injected before it. Each voxel picks a random
 // point inside itself (new every frame and view), projects it into the view and compares:
-//   Valid   the surface seen at that pixel lies inside this voxel: store its colour and normal, reset the counter;
+//   Valid   the surface seen at that pixel — or, failing that, at a random texel of the voxel's footprint in the view
+//           (where a view grazes a surface, the point's own pixel shows it a voxel or more further on) — lies inside
+//           this voxel: store its colour and normal, reset the counter;
 //   Invalid the point is clearly in front of the surface seen there (the view looks through this voxel) and the
 //           voxel lies wholly off that surface's tangent plane: count a frame; past the threshold the voxel is
 //           cleared;
@@ -59,6 +61,57 @@ void injectLight(inout Voxel voxel, bool occupied, bool blendsWithHeld, ivec2 te
   voxel.albedo = packVoxelAlbedo(albedo);
 }
 
+// What the view shows at one of its texels: the surface reconstructed from its depth (depth 0: nothing, and the
+// other fields zero), its normal, and the point a voxel holding that surface holds (heldSurfacePoint).
+struct ViewSample {
+  ivec2 texel;
+  float depth;
+  vec3 surface;
+  vec3 normal;
+  vec3 held;
+};
+
+ViewSample viewSampleAt(ivec2 texel, vec2 litSize) {
+  ViewSample seen = ViewSample(texel, texelFetch(litDepth, texel, 0).r, vec3(0.0), vec3(0.0), vec3(0.0));
+  if (seen.depth <= 0.0) return seen;
+  seen.surface = reconstructPosition(frame.litInverseViewProjection, vec2(texel), litSize, seen.depth);
+  seen.normal = normalize(texelFetch(litNormal, texel, 0).xyz);
+  seen.held = heldSurfacePoint(seen.surface, seen.normal);
+  return seen;
+}
+
+// Valid (SPEC §4.3): the surface seen lies inside the voxel. A wall one voxel thick, seen from inside by the camera and
+// from outside by the sun, puts two opposite faces in the same voxels. A voxel holds one: the face towards the middle
+// of the voxel volume, where the camera is — the side its surroundings see — rather than flipping between the two with
+// the views (the dark room's walls turned black from inside, and flickered: QUALITY.md, "Views beyond the camera").
+bool holdsSeenSurface(ViewSample seen, vec3 voxelMin, bool occupied, vec3 storedNormal) {
+  float voxelSize = volume.voxelSize.x;
+  vec3 volumeCentre = (vec3(volume.originBrick.xyz) + 0.5 * vec3(volume.dimensionsBricks.xyz)) * volume.voxelSize.y;
+  bool turnsSurfaceAround = occupied && dot(storedNormal, seen.normal) < 0.0 &&
+                            dot(seen.normal, volumeCentre - (voxelMin + 0.5 * voxelSize)) <= 0.0;
+  return seen.depth > 0.0 && !turnsSurfaceAround && all(greaterThanEqual(seen.held, voxelMin)) &&
+         all(lessThan(seen.held, voxelMin + voxelSize));
+}
+
+// A random texel (new every frame and view) of the voxel's footprint in the view: the bounding rectangle of its
+// corners' projections, clipped to the image. (-1, -1) where the footprint lies off the image or a corner lies behind
+// a perspective view's eye.
+ivec2 footprintTexel(vec3 voxelMin, float voxelSize, vec2 litSize, uvec3 worldVoxel) {
+  vec2 lowest = vec2(3.0e38), highest = vec2(-3.0e38);
+  for (int corner = 0; corner < 8; ++corner) {
+    vec4 clip = frame.litViewProjection * vec4(voxelMin + voxelSize * vec3(corner & 1, (corner >> 1) & 1, corner >> 2), 1.0);
+    if (clip.w <= 0.0) return ivec2(-1);
+    vec2 pixel = ndcToPixel(clip.xy / clip.w, litSize);
+    lowest = min(lowest, pixel);
+    highest = max(highest, pixel);
+  }
+  lowest = max(lowest, vec2(0.0));
+  highest = min(highest, litSize - 1.0);
+  if (any(greaterThan(lowest, highest))) return ivec2(-1);
+  vec2 pick = hashToUnitCube(voxelFootprintSeed(worldVoxel, frame.frameIndex)).xy;
+  return ivec2(mix(lowest, highest, pick));
+}
+
 shared uint occupancyLow;
 shared uint occupancyHigh;
 
@@ -90,11 +143,7 @@ void main() {
   // or an orthographic view's far plane clipped away is not known to be empty.
   bool inDepthRange = clip.w > 0.0 && ndc.z <= 1.0 && ndc.z >= 0.0;
   if (inDepthRange && all(greaterThanEqual(pixel, vec2(0.0))) && all(lessThan(pixel, litSize))) {
-    ivec2 texel = ivec2(pixel);
-    float depth = texelFetch(litDepth, texel, 0).r;
-    vec3 surface = depth > 0.0 ? reconstructPosition(frame.litInverseViewProjection, vec2(texel), litSize, depth)
-                               : vec3(0.0);
-    vec3 normal = depth > 0.0 ? normalize(texelFetch(litNormal, texel, 0).xyz) : vec3(0.0);
+    ViewSample seen = viewSampleAt(ivec2(pixel), litSize);
     // "Clearly in front" along the view's ray (perspective or orthographic): by more than half a voxel, so that depth
     // quantisation and a surface point just outside this voxel do not count against it — and in front of the nearest
     // surface the view shows around the point (the 2×2 texels nearest it), so that at a depth edge (the rim of an
@@ -110,29 +159,37 @@ void main() {
     vec3 nearestSurface = reconstructPosition(frame.litInverseViewProjection, pixel - 0.5, litSize, nearestDepth);
     vec3 viewDirection = viewRayDirection(frame.litInverseViewProjection, ndc.xy);
     bool inFront = dot(nearestSurface - samplePoint, viewDirection) > clearMargin;
-    vec3 held = heldSurfacePoint(surface, normal);
     // Seeing through one point of a voxel proves only that point empty. A voxel that the surface seen there passes
     // through (its tangent plane cuts the voxel's box) may hold that surface elsewhere: at a grazing view most of
     // the points of a voxel on a wall lie in front of the wall and see it further on, and would clear the voxel
     // (holes in walls, and light through them). Only a voxel wholly in front of that plane is seen through.
-    float halfExtent = 0.5 * voxelSize * dot(abs(normal), vec3(1.0));
-    bool cutBySurfacePlane = abs(dot(voxelMin + 0.5 * voxelSize - held, normal)) < halfExtent;
-    // A wall one voxel thick, seen from inside by the camera and from outside by the sun, puts two opposite faces in
-    // the same voxels. A voxel holds one: the face towards the middle of the voxel volume, where the camera is — the
-    // side its surroundings see — rather than flipping between the two with the views (the dark room's walls turned
-    // black from inside, and flickered: QUALITY.md, "Views beyond the camera").
+    float halfExtent = 0.5 * voxelSize * dot(abs(seen.normal), vec3(1.0));
+    bool cutBySurfacePlane = abs(dot(voxelMin + 0.5 * voxelSize - seen.held, seen.normal)) < halfExtent;
     vec3 storedNormal = unpackOctahedralNormal(voxel.surfaceAndLastHit & 0xffffu);
-    vec3 volumeCentre = (vec3(volume.originBrick.xyz) + 0.5 * vec3(volume.dimensionsBricks.xyz)) * volume.voxelSize.y;
-    bool turnsSurfaceAround = occupied && dot(storedNormal, normal) < 0.0 &&
-                              dot(normal, volumeCentre - (voxelMin + 0.5 * voxelSize)) <= 0.0;
-    bool holdsSurface = depth > 0.0 && !turnsSurfaceAround && all(greaterThanEqual(held, voxelMin)) &&
-                        all(lessThan(held, voxelMin + voxelSize));
+    bool holdsSurface = holdsSeenSurface(seen, voxelMin, occupied, storedNormal);
+    // The point's own texel shows this voxel's surface only where the view meets it nearly head-on: seen at a grazing
+    // angle, the surface behind a random point of the voxel lies a voxel or more further on. An empty voxel gets a
+    // second look, at a random texel of its footprint in the view, so that a wall the view grazes (one beside the
+    // camera, in a capture face) fills in fewer injections — its holes let the probes' rays see what lies behind it.
+    // Only an empty one: an occupied voxel's light is refreshed from its own surface's pixels (below), and a look
+    // anywhere in its footprint took the light of neighbouring surfaces into it (a ceiling voxel beside a light
+    // panel; docs/QUALITY.md, "Holes in walls seen at a grazing angle").
+    if (!holdsSurface && !occupied) {
+      ivec2 footprint = footprintTexel(voxelMin, voxelSize, litSize, uvec3(worldVoxel));
+      if (footprint.x >= 0) {
+        ViewSample second = viewSampleAt(footprint, litSize);
+        if (holdsSeenSurface(second, voxelMin, occupied, storedNormal)) {
+          seen = second;
+          holdsSurface = true;
+        }
+      }
+    }
     // An occupied voxel also takes the colour of a pixel of its own surface (the seen surface's plane cuts it, the
     // normals agree) up to a voxel away: few random points of a voxel on a wall seen at a grazing angle land on its
     // own pixels, and its radiance would lag a change of light by many frames.
-    bool refreshesColour = depth > 0.0 && occupied && cutBySurfacePlane &&
-                           distance(held, clamp(held, voxelMin, voxelMin + voxelSize)) <= voxelSize &&
-                           dot(storedNormal, normal) > 0.9;
+    bool refreshesColour = seen.depth > 0.0 && occupied && cutBySurfacePlane &&
+                           distance(seen.held, clamp(seen.held, voxelMin, voxelMin + voxelSize)) <= voxelSize &&
+                           dot(storedNormal, seen.normal) > 0.9;
     if (holdsSurface || refreshesColour) {
       // The lit frame's light stays where it keeps coming (kVoxelExtraViewsBeforeWrite): an extra view counts its
       // visit and writes only once there have been enough since the lit frame last wrote.
@@ -141,11 +198,16 @@ void main() {
       bool writes = fromCamera || !occupied || extraViews >= kVoxelExtraViewsBeforeWrite;
       uint surfaceBits = voxel.surfaceAndLastHit & ((1u << kVoxelLastHitShift) - 1u);
       if (writes) {
-        injectLight(voxel, occupied, !fromCamera && occupied, texel);
+        // An extra view's light is averaged with what the voxel held only while the voxel keeps its surface's side. A
+        // wall one voxel thick has both faces in its voxels; one that a view saw from outside while it was empty
+        // holds the outer face until a view from inside turns it round (turnsSurfaceAround), and averaged, the inner
+        // face would take three quarters of the outer one's sunlight into the room.
+        bool keepsSide = occupied && dot(storedNormal, seen.normal) > 0.0;
+        injectLight(voxel, occupied, !fromCamera && keepsSide, seen.texel);
         // A valid sample sets the voxel's surface (normal and plane); a refresh keeps it.
-        float planeOffset = dot(surface - (voxelMin + 0.5 * voxelSize), normal) / voxelSize;
+        float planeOffset = dot(seen.surface - (voxelMin + 0.5 * voxelSize), seen.normal) / voxelSize;
         if (holdsSurface)
-          surfaceBits = packOctahedralNormal(normal) | (packVoxelPlane(planeOffset) << kVoxelPlaneShift);
+          surfaceBits = packOctahedralNormal(seen.normal) | (packVoxelPlane(planeOffset) << kVoxelPlaneShift);
       }
       extraViews = fromCamera ? 0u : (writes ? kVoxelExtraViewsBeforeWrite : extraViews + 1u);
       // Seeing its surface resets the seen-through counter.
