@@ -122,7 +122,7 @@ bool inSpaceSeenByCamera(glm::vec3 position, const shader::FrameConstants& frame
   if (clip.w <= 0.0f) return false;
   const glm::vec3 ndc = glm::vec3(clip) / clip.w;
   if (std::abs(ndc.x) >= 1.0f || std::abs(ndc.y) >= 1.0f) return false;
-  const glm::vec2 uv = shader::ndcToUv(glm::vec2(ndc));
+  const glm::vec2 uv = shader::ssvgiNdcToUv(glm::vec2(ndc));
   const uint32_t x = std::min(uint32_t(uv.x * float(viewDistance.width)), viewDistance.width - 1);
   const uint32_t y = std::min(uint32_t(uv.y * float(viewDistance.height)), viewDistance.height - 1);
   const float surfaceDistance = viewDistance.pixels[size_t(y) * viewDistance.width + x];

@@ -1,6 +1,6 @@
 #include "scenario_rendering.h"
 
-#include "shared/ndc.h"
+#include "ssvgi/pixel_coordinates.h"
 
 #include "camera.h"
 
@@ -53,7 +53,7 @@ SurfacePoints surfacePoints(const renderer::Camera& camera, const renderer::Floa
       const size_t pixel = size_t(y) * width + x;
       const float distance = viewDistance.pixels[pixel];
       if (!(distance > 0.0f)) continue;
-      const glm::vec2 ndc = shader::pixelToNdc(glm::vec2(x, y), glm::vec2(width, height));  // the pixel's centre
+      const glm::vec2 ndc = shader::ssvgiPixelToNdc(glm::vec2(x, y), glm::vec2(width, height));  // the pixel's centre
       const glm::vec4 onPlane = inverseViewProjection * glm::vec4(ndc, 0.5f, 1.0f);
       const glm::vec3 direction = glm::normalize(glm::vec3(onPlane) / onPlane.w - camera.position);
       points.positions[pixel] = camera.position + direction * distance;

@@ -5,7 +5,7 @@
 #include "gpu/command_list.h"
 #include "gpu/profiler.h"
 #include "gpu_host/transfers.h"
-#include "shared/ndc.h"
+#include "ssvgi/pixel_coordinates.h"
 #include "trace_rays.h"
 
 #include <glm/gtc/constants.hpp>
@@ -40,7 +40,7 @@ class SurfaceRays {
   // The ray from `pixel` whose direction is the cosine-distributed image of `unitSquare` (Malley's method).
   shader::VoxelTraceRay ray(uint32_t pixel, glm::vec2 unitSquare, float maxDistance) const {
     const uint32_t width = viewDistance_.width, height = viewDistance_.height;
-    const glm::vec2 ndc = shader::pixelToNdc(glm::vec2(pixel % width, pixel / width), glm::vec2(width, height));
+    const glm::vec2 ndc = shader::ssvgiPixelToNdc(glm::vec2(pixel % width, pixel / width), glm::vec2(width, height));
     const glm::vec4 onPlane = inverseViewProjection_ * glm::vec4(ndc, 0.5f, 1.0f);
     const glm::vec3 view = glm::normalize(glm::vec3(onPlane) / onPlane.w - camera_.position);
     const glm::vec3 n = glm::normalize(glm::vec3(normal_.pixels[pixel * 3], normal_.pixels[pixel * 3 + 1],
@@ -52,7 +52,7 @@ class SurfaceRays {
     const glm::vec3 direction = glm::normalize(tangent * (r * std::cos(phi)) + bitangent * (r * std::sin(phi)) +
                                                n * std::sqrt(std::max(0.0f, 1.0f - r * r)));
     const glm::vec3 origin = camera_.position + view * viewDistance_.pixels[pixel] + n * offset_;
-    return {glm::vec4(origin, maxDistance), glm::vec4(direction, 0.0f)};
+    return {origin, maxDistance, direction, 0u};
   }
 
  private:
@@ -139,8 +139,8 @@ TraceBenchmarkResult benchmarkVoxelTrace(gpu::OwnedDevice& device, const Context
     measured.raysPerSecond = double(rayCount) / (measured.milliseconds * 1e-3);
     double reads = 0.0, hitCount = 0.0;
     for (const auto& hit : traced.hits) {
-      reads += hit.voxel.z;
-      hitCount += hit.voxel.x != shader::kInvalidBrick;
+      reads += hit.reads;
+      hitCount += hit.brick != shader::kInvalidBrick;
     }
     measured.readsPerRay = reads / rayCount;
     measured.hitFraction = hitCount / rayCount;
@@ -148,7 +148,7 @@ TraceBenchmarkResult benchmarkVoxelTrace(gpu::OwnedDevice& device, const Context
   }
   uint32_t identical = 0;
   for (uint32_t i = 0; i < rayCount; ++i)
-    identical += hits[0][i].voxel.x == hits[1][i].voxel.x && hits[0][i].voxel.y == hits[1][i].voxel.y;
+    identical += hits[0][i].brick == hits[1][i].brick && hits[0][i].voxelBit == hits[1][i].voxelBit;
   result.identicalHits = double(identical) / rayCount;
   return result;
 }
@@ -161,7 +161,7 @@ PixelTraceBaselineResult benchmarkPixelTrace(gpu::OwnedDevice& device, const Con
                                              const std::vector<uint32_t>& raysPerPixel, uint32_t repetitions,
                                              float maxDistance) {
   // Out of the surface's own voxel, wherever in it the surface lies, as little as that: near geometry counts here.
-  const float voxelSize = gi::voxelSceneOf(context).current().voxelSize.x;
+  const float voxelSize = gi::voxelSceneOf(context).current().voxelSize;
   checkPixelTraceRayCounts(raysPerPixel);
   const SurfaceRays surface(camera, viewDistance, normal, std::sqrt(3.0f) * voxelSize);
   std::vector<uint32_t> traced;
@@ -197,8 +197,8 @@ PixelTraceBaselineResult benchmarkPixelTrace(gpu::OwnedDevice& device, const Con
         const glm::vec3 direction(rays[p * count + cell].direction);
         const glm::vec4 basis = shader::sh2Basis(direction);
         const glm::vec3 radiance =
-            hit.voxel.x != shader::kInvalidBrick
-                ? glm::vec3(hit.radianceAndDistance)
+            hit.brick != shader::kInvalidBrick
+                ? hit.radiance
                 : glm::max(glm::vec3(glm::dot(skyRadiance.r, basis), glm::dot(skyRadiance.g, basis),
                                      glm::dot(skyRadiance.b, basis)),
                            glm::vec3(0.0f));

@@ -33,7 +33,8 @@ shader::GpuLight toGpuLight(const LocalLight& light) {
   gpuLight.positionAndType = glm::vec4(light.position, float(type));
   gpuLight.directionAndRange = glm::vec4(glm::normalize(light.direction), light.range);
   gpuLight.intensityAndShadow = glm::vec4(light.intensity, 0.0f);
-  gpuLight.spotCosines = glm::vec4(std::cos(light.innerConeAngle), std::cos(light.outerConeAngle), 0.0f, 0.0f);
+  gpuLight.cosInnerCone = std::cos(light.innerConeAngle);
+  gpuLight.cosOuterCone = std::cos(light.outerConeAngle);
   return gpuLight;
 }
 
@@ -42,7 +43,7 @@ shader::FrameConstants makeFrameConstants(const Scene& scene, const AnimatedStat
   shader::FrameConstants frame{};
   setFrameView(frame, state.camera, width, height);
   frame.sunDirectionAndEnabled = glm::vec4(glm::normalize(state.sun.direction), state.sun.enabled ? 1.0f : 0.0f);
-  frame.sunIlluminance = glm::vec4(state.sun.illuminance, 0.0f);
+  frame.sunIlluminance = state.sun.illuminance;
   frame.localLightCount = uint32_t(scene.lights.size());
   frame.exposure = exposure;
   frame.sky = makeSkyParameters(scene.sky, state.sun);

@@ -90,9 +90,9 @@ void ShadowPass::prepare(const Scene& scene, const Bounds& sceneBounds, const Su
     const glm::mat4 projection = glm::orthoRH_ZO(lo.x, hi.x, lo.y, hi.y, -hi.z - 1.0f, -lo.z + 1.0f);
     views[0].viewProjection = projection * view;
     const float texelSize = std::max(hi.x - lo.x, hi.y - lo.y) / float(settings_.sunResolution);
-    views[0].texelWorldSize = glm::vec4(texelSize);
+    views[0].texelWorldSize = texelSize;
     frame.sunShadowMatrix = views[0].viewProjection;
-    frame.sunIlluminance.w = texelSize;
+    frame.sunShadowTexelSize = texelSize;
   }
 
   // Local lights in scene order until the layer budget is spent.
@@ -115,13 +115,13 @@ void ShadowPass::prepare(const Scene& scene, const Bounds& sceneBounds, const Su
         const glm::mat4 projection = glm::perspectiveRH_ZO(2.0f * std::atan(halfWidth), 1.0f, kLocalNear, far);
         for (const glm::vec3& face : kFaces) {
           const glm::mat4 view = glm::lookAtRH(light.position, light.position + face, upFor(face));
-          views.push_back({projection * view, glm::vec4(2.0f * halfWidth / float(settings_.localResolution))});
+          views.push_back({projection * view, 2.0f * halfWidth / float(settings_.localResolution)});
         }
       } else {
         const float fov = std::min(2.0f * light.outerConeAngle + 0.05f, glm::radians(170.0f));
         const glm::mat4 projection = glm::perspectiveRH_ZO(fov, 1.0f, kLocalNear, far);
         const glm::mat4 view = glm::lookAtRH(light.position, light.position + light.direction, upFor(light.direction));
-        views.push_back({projection * view, glm::vec4(2.0f * std::tan(fov * 0.5f) / float(settings_.localResolution))});
+        views.push_back({projection * view, 2.0f * std::tan(fov * 0.5f) / float(settings_.localResolution)});
       }
       layer += needed;
     } else if (light.castsShadow) {

@@ -501,7 +501,7 @@ INSTANTIATE_TEST_SUITE_P(
                                     "--gi-set probeGrid 16,16: expected X,Y,Z"},
                       BadInvocation{"giSettingRefusedByTheLibrary",
                                     "render --scene cornell --size 8x8 --frames 1 --gi-set probeGrid=16,10,16",
-                                    "Settings::probeGrid must be multiples of 4"},
+                                    "Settings::probeGrid must be a multiple of 4"},
                       BadInvocation{"referenceMissingGltf", "reference --scene /nonexistent/missing.gltf --spp 1",
                                     "missing.gltf"},
                       BadInvocation{"referenceUnknownScene", "reference --scene no-such-scene --spp 1",

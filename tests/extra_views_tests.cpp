@@ -115,7 +115,7 @@ TEST_F(ExtraViews, theSunsViewFillsASunlitWallTheCameraNeverSeesInItsSunlitColou
       EXPECT_NEAR(radiance.r, expected.r, expected.r / 64.0f) << "voxel " << x << "," << y;
       EXPECT_NEAR(radiance.g, expected.g, expected.g / 64.0f) << "voxel " << x << "," << y;
       EXPECT_NEAR(radiance.b, expected.b, expected.b / 32.0f) << "voxel " << x << "," << y;
-      EXPECT_LT(shader::unpackOctahedralNormal(voxel.surfaceAndLastHit & 0xffffu).z, -0.99f);
+      EXPECT_LT(shader::voxelNormal(voxel).z, -0.99f);
     });
     EXPECT_EQ(found, 28u * 10u) << "of the wall's voxels";
   }
@@ -214,7 +214,7 @@ TEST_F(ExtraViews, theSunsTexelGridStaysFixedInTheWorldAsTheCameraMoves) {
     ASSERT_EQ(renderer.extraViews().size(), 1u);
     const ExtraView& view = renderer.extraViews()[0];
     const glm::vec4 clip = matrixOf(view) * glm::vec4(point, 1.0f);
-    const glm::vec2 pixel = shader::ndcToPixel(glm::vec2(clip) / clip.w, glm::vec2(64.0f));
+    const glm::vec2 pixel = shader::ssvgiNdcToPixel(glm::vec2(clip) / clip.w, glm::vec2(64.0f));
     // The jitter moves the image by (x right, y down) pixels.
     const glm::vec2 jitter = shader::halton23(render) - glm::vec2(0.5f);
     positionsInTexel.push_back(glm::fract(pixel - jitter));

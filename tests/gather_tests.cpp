@@ -75,7 +75,7 @@ TestView viewFrom(glm::vec3 position) {
   const glm::mat4 inverse = glm::inverse(view.viewProjection);
   for (uint32_t y = 0; y < kSize; ++y)
     for (uint32_t x = 0; x < kSize; ++x) {
-      const glm::vec4 far = inverse * glm::vec4(shader::pixelToNdc(glm::vec2(x, y), glm::vec2(kSize)), 0.5f, 1.0f);
+      const glm::vec4 far = inverse * glm::vec4(shader::ssvgiPixelToNdc(glm::vec2(x, y), glm::vec2(kSize)), 0.5f, 1.0f);
       const glm::vec3 direction = glm::normalize(glm::vec3(far) / far.w - position);
       const float nearT = (kNearWallZ - position.z) / direction.z;
       const bool near = nearT > 0.0f && position.x + nearT * direction.x < 0.0f;  // behind a camera past it: unseen
@@ -113,7 +113,7 @@ class GatherFilters : public testing::GpuTest {
     shader::GiFrame frame{};
     frame.viewProjection = view.viewProjection;
     frame.inverseViewProjection = glm::inverse(view.viewProjection);
-    frame.cameraPosition = glm::vec4(position, 1.0f);
+    frame.cameraPosition = position;
     frame.size = frame.litSize = glm::uvec2(kSize, kSize);
     std::memcpy(frame_.mapped(), &frame, sizeof(frame));
     gpu::uploadImage(device(), depth_, std::as_bytes(std::span(view.depth)));
@@ -421,7 +421,7 @@ TEST_F(GatherOverConstantProbes, theConfidenceFollowsTheProbesThatKnowAcrossAWal
   uint32_t knownSide = 0, unknownSide = 0;
   for (size_t texel = 0; texel < texels.size(); ++texel) {
     const uint32_t x = 2 * uint32_t(texel % (kSize / 2)), y = 2 * uint32_t(texel / (kSize / 2));  // pixel 2h
-    const glm::vec4 world = inverse * glm::vec4(shader::pixelToNdc(glm::vec2(x, y), glm::vec2(kSize)),
+    const glm::vec4 world = inverse * glm::vec4(shader::ssvgiPixelToNdc(glm::vec2(x, y), glm::vec2(kSize)),
                                                 view.depth[size_t(y) * kSize + x], 1.0f);
     const float worldX = world.x / world.w;
     const float confidence = texels[texel] / 255.0f;

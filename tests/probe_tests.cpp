@@ -249,7 +249,7 @@ class ProbeCache : public testing::GpuTest {
       const uint32_t cell = shader::brickCellIndex(brick.coordinate, dimensions);
       ASSERT_EQ(lookup[cell], shader::kInvalidBrick) << "two bricks in one cell";
       lookup[cell] = uint32_t(bricks.size());
-      bricks.push_back({glm::ivec4(brick.coordinate, 1), glm::uvec4(uint32_t(brick.mask), uint32_t(brick.mask >> 32), 0, 0)});
+      bricks.push_back({brick.coordinate, 1u, glm::uvec2(uint32_t(brick.mask), uint32_t(brick.mask >> 32)), 0u, 0u});
       for (uint32_t voxel = 0; voxel < shader::kVoxelsPerBrick; ++voxel) {
         const bool bright = (brick.brightMask >> voxel) & 1u;
         const uint32_t extraViews = brick.albedo ? shader::kVoxelExtraViewsBeforeWrite : 0u;

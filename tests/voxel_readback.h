@@ -20,11 +20,11 @@ inline std::map<VoxelCoordinate, shader::Voxel> occupiedVoxels(const std::vector
   std::map<VoxelCoordinate, shader::Voxel> occupied;
   for (uint32_t b = 0; b < bumpCount; ++b) {
     const shader::Brick& brick = bricks[b];
-    if (brick.coordinate.w == 0) continue;
+    if (brick.live == 0u) continue;
     for (uint32_t v = 0; v < shader::kVoxelsPerBrick; ++v) {
       const uint32_t word = v < 32 ? brick.occupancy.x : brick.occupancy.y;
       if (!(word & (1u << (v & 31u)))) continue;
-      const glm::ivec3 voxel = glm::ivec3(brick.coordinate) * 4 + glm::ivec3(v & 3, (v >> 2) & 3, v >> 4);
+      const glm::ivec3 voxel = brick.coordinate * 4 + glm::ivec3(v & 3, (v >> 2) & 3, v >> 4);
       occupied[{voxel.x, voxel.y, voxel.z}] = voxels[b * shader::kVoxelsPerBrick + v];
     }
   }

@@ -22,6 +22,8 @@
 #include <map>
 #include <optional>
 #include <set>
+#include <type_traits>
+#include <variant>
 
 namespace ssvgi {
 namespace {
@@ -232,13 +234,13 @@ class VoxelScene : public testing::GpuTest {
       if (brick == shader::kInvalidBrick) continue;
       ASSERT_LT(brick, state.pool.bumpCount) << "cell " << cell;
       ASSERT_TRUE(referenced.insert(brick).second) << "brick " << brick << " is in two cells";
-      ASSERT_EQ(state.bricks[brick].coordinate.w, 1) << "cell " << cell << " points to a free brick";
-      ASSERT_EQ(shader::brickCellIndex(glm::ivec3(state.bricks[brick].coordinate), dimensions), cell);
+      ASSERT_EQ(state.bricks[brick].live, 1u) << "cell " << cell << " points to a free brick";
+      ASSERT_EQ(shader::brickCellIndex(state.bricks[brick].coordinate, dimensions), cell);
     }
     std::set<uint32_t> free(state.freeList.begin(), state.freeList.begin() + state.pool.freeCount);
     ASSERT_EQ(free.size(), state.pool.freeCount) << "an index is on the free list twice";
     for (uint32_t brick = 0; brick < state.pool.bumpCount; ++brick) {
-      const bool live = state.bricks[brick].coordinate.w == 1;
+      const bool live = state.bricks[brick].live == 1u;
       ASSERT_EQ(live, referenced.count(brick) == 1) << "brick " << brick;
       ASSERT_EQ(live, free.count(brick) == 0) << "brick " << brick;
     }
@@ -263,12 +265,12 @@ TEST_F(VoxelScene, injectingAFloorOccupiesItsVoxelLayerWithItsColourAndNothingIn
     EXPECT_NEAR(radiance.x, kFloor.radiance.x, kFloor.radiance.x / 64.0f);
     EXPECT_NEAR(radiance.y, kFloor.radiance.y, kFloor.radiance.y / 64.0f);
     EXPECT_NEAR(radiance.z, kFloor.radiance.z, kFloor.radiance.z / 32.0f);
-    EXPECT_GT(shader::unpackOctahedralNormal(voxel.surfaceAndLastHit & 0xffffu).y, 0.99f);
-    EXPECT_LT((voxel.surfaceAndLastHit >> shader::kVoxelLastHitShift) & shader::kVoxelMaxLastHit,
+    EXPECT_GT(shader::voxelNormal(voxel).y, 0.99f);
+    EXPECT_LT(shader::voxelSeenThroughCount(voxel),
               smallSettings().invalidFramesToClear);  // valid
     // The floor's top (y = 0.1) lies 0.1 voxels below the centre of its layer (y in [0, 0.25)): the voxel's plane.
     // 0.01: the plane's 8-bit step (0.007 voxels) and the depth's float error.
-    const uint32_t planeCode = (voxel.surfaceAndLastHit >> shader::kVoxelPlaneShift) & 0xffu;
+    const uint32_t planeCode = shader::voxelPlaneCode(voxel);
     ASSERT_NE(planeCode, 0u);
     EXPECT_NEAR(shader::unpackVoxelPlane(planeCode), -0.1f, 0.01f);
   }
@@ -463,7 +465,7 @@ class InjectionOracle {
                          voxelSize_;
       const glm::vec4 clip = frame.viewProjection * glm::vec4(samplePoint, 1.0f);
       const glm::vec3 ndc = glm::vec3(clip) / clip.w;
-      const glm::vec2 pixel = shader::ndcToPixel(glm::vec2(ndc), glm::vec2(kSize));
+      const glm::vec2 pixel = shader::ssvgiNdcToPixel(glm::vec2(ndc), glm::vec2(kSize));
       const glm::vec2 fraction = glm::fract(pixel);
       voxel.ambiguous |= glm::any(glm::lessThan(glm::min(fraction, 1.0f - fraction), glm::vec2(1e-4f)));
       if (!(clip.w > 0.0f && ndc.z <= 1.0f && ndc.z >= 0.0f) || glm::any(glm::lessThan(pixel, glm::vec2(0.0f))) ||
@@ -552,7 +554,7 @@ class InjectionOracle {
       const glm::vec3 point = voxelMin + kVoxel * glm::vec3(corner & 1, (corner >> 1) & 1, corner >> 2);
       const glm::vec4 clip = frame.viewProjection * glm::vec4(point, 1.0f);
       if (clip.w <= 0.0f) return std::nullopt;
-      const glm::vec2 pixel = shader::ndcToPixel(glm::vec2(clip) / clip.w, glm::vec2(kSize));
+      const glm::vec2 pixel = shader::ssvgiNdcToPixel(glm::vec2(clip) / clip.w, glm::vec2(kSize));
       lowest = glm::min(lowest, pixel);
       highest = glm::max(highest, pixel);
     }
@@ -593,10 +595,31 @@ class InjectionOracle {
   std::map<std::tuple<int, int, int>, Voxel> voxels_;
 };
 
+using VoxelSet = std::set<testing::VoxelCoordinate>;
+
+// The GPU's occupied voxels against an oracle's: each one it has not marked ambiguous must be expected, and each
+// expected one occupied. Returns how many occupied voxels were compared.
+uint32_t expectAsTheOracle(const std::map<testing::VoxelCoordinate, shader::Voxel>& occupied, const VoxelSet& expected,
+                           const VoxelSet& ambiguous) {
+  uint32_t compared = 0;
+  for (const auto& [coordinate, voxel] : occupied) {
+    if (ambiguous.count(coordinate)) continue;
+    ++compared;
+    const auto [x, y, z] = coordinate;
+    EXPECT_TRUE(expected.count(coordinate)) << "voxel " << x << "," << y << "," << z << " should be empty";
+  }
+  for (const auto& coordinate : expected) {
+    const auto [x, y, z] = coordinate;
+    if (!ambiguous.count(coordinate))
+      EXPECT_TRUE(occupied.count(coordinate)) << "voxel " << x << "," << y << "," << z << " missing";
+  }
+  return compared;
+}
+
 // The middle of the context's voxel volume, metres (where the face a voxel keeps of two opposite ones looks).
 glm::vec3 volumeCentre(const Context& context) {
   const shader::VoxelVolume& volume = gi::voxelSceneOf(context).current();
-  return (glm::vec3(volume.originBrick) + 0.5f * glm::vec3(volume.dimensionsBricks)) * volume.voxelSize.y;
+  return (glm::vec3(volume.originBrick) + 0.5f * glm::vec3(volume.dimensionsBricks)) * volume.brickSize;
 }
 
 // A camera at `position` looking straight up into an empty sky: it places the volume and allocates nothing, so that
@@ -644,16 +667,14 @@ TEST_F(VoxelScene, anOrthographicViewInjectsExactlyTheVoxelsItsRulesGive) {
     SCOPED_TRACE(phase);
     const auto occupied = occupiedVoxels(readState());
     const auto expected = oracle.occupied(), ambiguous = oracle.ambiguous();
-    uint32_t compared = 0;
+    const uint32_t compared = expectAsTheOracle(occupied, expected, ambiguous);
     for (const auto& [coordinate, voxel] : occupied) {
       const auto [x, y, z] = coordinate;
       if (ambiguous.count(coordinate)) continue;
-      ++compared;
-      EXPECT_TRUE(expected.count(coordinate)) << "voxel " << x << "," << y << "," << z << " should be empty";
       // A voxel of the floor's layer (y = 0) facing up holds the floor; any other, the box — but for the voxels of
       // the box's foot (x 1–5, z −2–2 in the floor's layer), where both meet and an extra view averages what it
       // sees of either.
-      const glm::vec3 normal = shader::unpackOctahedralNormal(voxel.surfaceAndLastHit & 0xffffu);
+      const glm::vec3 normal = shader::voxelNormal(voxel);
       const bool boxFoot = y == 0 && x >= 1 && x <= 5 && z >= -2 && z <= 2;
       const glm::vec3 colour = y == 0 && normal.y > 0.99f ? kFloor.radiance : box.radiance;
       const glm::vec3 radiance = shader::unpackR11G11B10F(voxel.radiance);
@@ -662,11 +683,6 @@ TEST_F(VoxelScene, anOrthographicViewInjectsExactlyTheVoxelsItsRulesGive) {
       }
       EXPECT_GT(glm::max(glm::abs(normal).x, glm::max(glm::abs(normal).y, glm::abs(normal).z)), 0.99f)
           << "voxel " << x << "," << y << "," << z << ": not a box face's normal";
-    }
-    for (const auto& coordinate : expected) {
-      if (ambiguous.count(coordinate)) continue;
-      const auto [x, y, z] = coordinate;
-      EXPECT_TRUE(occupied.count(coordinate)) << "voxel " << x << "," << y << "," << z << " missing";
     }
     EXPECT_GT(compared, 300u);
     EXPECT_LT(ambiguous.size(), expected.size() / 10) << "too few voxels decided clearly to test";
@@ -707,24 +723,13 @@ TEST_F(VoxelScene, anEmptyVoxelOfAFloorSeenAtAGrazingAngleIsFilledByALookAtItsFo
   const shader::VoxelVolume& volume = gi::voxelSceneOf(*context_).current();
   const glm::ivec3 volumeMin = glm::ivec3(volume.originBrick) * int(shader::kBrickSizeVoxels);
   const glm::ivec3 volumeMax = volumeMin + glm::ivec3(volume.dimensionsBricks) * int(shader::kBrickSizeVoxels);
-  std::set<std::tuple<int, int, int>> expected, ambiguous;
+  VoxelSet expected;
   for (const auto& [x, y, z] : oracle.occupied())
-    if (glm::all(glm::greaterThanEqual(glm::ivec3(x, y, z), volumeMin)) && glm::all(glm::lessThan(glm::ivec3(x, y, z), volumeMax)))
+    if (glm::all(glm::greaterThanEqual(glm::ivec3(x, y, z), volumeMin)) &&
+        glm::all(glm::lessThan(glm::ivec3(x, y, z), volumeMax)))
       expected.insert({x, y, z});
-  for (const auto& coordinate : oracle.ambiguous()) ambiguous.insert(coordinate);
-  const auto occupied = occupiedVoxels(readState());
-  uint32_t compared = 0;
-  for (const auto& [coordinate, voxel] : occupied) {
-    const auto [x, y, z] = coordinate;
-    if (ambiguous.count(coordinate)) continue;
-    ++compared;
-    EXPECT_TRUE(expected.count(coordinate)) << "voxel " << x << "," << y << "," << z << " should be empty";
-  }
-  for (const auto& coordinate : expected) {
-    const auto [x, y, z] = coordinate;
-    if (!ambiguous.count(coordinate))
-      EXPECT_TRUE(occupied.count(coordinate)) << "voxel " << x << "," << y << "," << z << " missing";
-  }
+  const VoxelSet ambiguous = oracle.ambiguous();
+  const uint32_t compared = expectAsTheOracle(occupiedVoxels(readState()), expected, ambiguous);
   EXPECT_GT(compared, 40u);
   const auto ahead = [](const std::set<std::tuple<int, int, int>>& voxels) {
     uint32_t count = 0;
@@ -763,11 +768,11 @@ TEST_F(VoxelScene, aWallOneVoxelThickTurnedRoundByAViewFromInsideTakesThatViewsL
   const auto outer = occupiedVoxels(readState());
   ASSERT_GT(outer.size(), 50u);
   for (const auto& [coordinate, voxel] : outer)
-    ASSERT_GT(shader::unpackOctahedralNormal(voxel.surfaceAndLastHit & 0xffffu).x, 0.99f) << "the outer face first";
+    ASSERT_GT(shader::voxelNormal(voxel).x, 0.99f) << "the outer face first";
   dispatch(sky, nullptr, {extraView(fromInside)});
   uint32_t turned = 0;
   for (const auto& [coordinate, voxel] : occupiedVoxels(readState())) {
-    if (shader::unpackOctahedralNormal(voxel.surfaceAndLastHit & 0xffffu).x > -0.99f) continue;
+    if (shader::voxelNormal(voxel).x > -0.99f) continue;
     const auto [x, y, z] = coordinate;
     EXPECT_NEAR(shader::unpackR11G11B10F(voxel.radiance).y, innerLight.y, innerLight.y / 32.0f)
         << "voxel " << x << "," << y << "," << z << " turned round to the inner face";
@@ -883,7 +888,7 @@ TEST_F(VoxelScene, nonFinitePixelsInTheHostsImagesLeaveNothingNonFiniteAndAreFor
 // Pool index of the live brick at a world brick coordinate, if any.
 std::optional<uint32_t> liveBrickAt(const GpuState& state, glm::ivec3 coordinate) {
   for (uint32_t b = 0; b < state.pool.bumpCount; ++b)
-    if (state.bricks[b].coordinate == glm::ivec4(coordinate, 1)) return b;
+    if (state.bricks[b].live == 1u && state.bricks[b].coordinate == coordinate) return b;
   return std::nullopt;
 }
 
@@ -920,7 +925,7 @@ TEST_F(VoxelScene, aMovingObjectLeavesNoVoxelsBehindAndItsBricksAreReleasedAndRe
   const GpuState reused = readState();
   const auto movedBrick = liveBrickAt(reused, {1, 2, 1});
   ASSERT_TRUE(movedBrick);
-  for (uint32_t index : freeAfter) EXPECT_EQ(reused.bricks[index].coordinate.w, 1) << "free slot " << index << " unused";
+  for (uint32_t index : freeAfter) EXPECT_EQ(reused.bricks[index].live, 1u) << "free slot " << index << " unused";
   expectPoolConsistent(reused, settings);
 }
 
@@ -963,7 +968,10 @@ TEST_F(VoxelScene, aFullPoolDropsNewBricksCountsThemAndKeepsWhatItHolds) {
   const GpuState later = readState();
   expectPoolConsistent(later, settings);
   // The same bricks at the same places, and every voxel they hold is the floor's: a full pool corrupts nothing.
-  for (uint32_t brick = 0; brick < 8; ++brick) EXPECT_EQ(later.bricks[brick].coordinate, full.bricks[brick].coordinate);
+  for (uint32_t brick = 0; brick < 8; ++brick) {
+    EXPECT_EQ(later.bricks[brick].coordinate, full.bricks[brick].coordinate);
+    EXPECT_EQ(later.bricks[brick].live, full.bricks[brick].live);
+  }
   const auto occupied = occupiedVoxels(later);
   EXPECT_FALSE(occupied.empty());
   for (const auto& [coordinate, voxel] : occupied) {
@@ -985,21 +993,73 @@ TEST_F(VoxelScene, theHighTierVoxelSceneFitsTheMemoryBudget) {
   EXPECT_EQ(stats.brickPoolCapacity, 16384u);
 }
 
-TEST(VoxelSceneApi, badDescriptionsAreRejectedWithTheFieldNamed) {
+// A description of the shared test device with default settings.
+ContextDesc testDeviceDesc() {
   gpu::OwnedDevice& device = testing::gpuTestDevice();
   ContextDesc desc;
   desc.instance = device.instance();
   desc.physicalDevice = device.physicalDevice();
   desc.device = device.device();
-  desc.settings.volumeBricks = {100, 48, 128};
-  auto result = Context::create(desc);
-  ASSERT_FALSE(result.ok());
-  EXPECT_EQ(result.error().status, Status::InvalidDescription);
-  EXPECT_NE(result.error().message.find("volumeBricks"), std::string::npos);
+  desc.maxWidth = desc.maxHeight = kSize;
+  return desc;
+}
 
-  desc.settings = Settings{};
+TEST(VoxelSceneApi, aDescriptionWithoutADeviceIsRefused) {
+  ContextDesc desc = testDeviceDesc();
   desc.device = VK_NULL_HANDLE;
   EXPECT_EQ(Context::create(desc).error().status, Status::InvalidDescription);
+}
+
+TEST(VoxelSceneApi, everySettingOutsideWhatItsInfoAcceptsIsRefusedWithItsNameAndEveryTierIsAccepted) {
+  // settingInfos() is the one list Context::create validates by: for every field, values just outside what its info
+  // says it accepts — below its minimum, above its maximum, off its multiple, not a power of two, not finite — are
+  // refused with the field named, and every tier's settings are accepted.
+  ContextDesc desc = testDeviceDesc();
+  for (QualityTier tier : {QualityTier::Low, QualityTier::Medium, QualityTier::High}) {
+    desc.settings = settingsForTier(tier);
+    const auto result = Context::create(desc);
+    EXPECT_TRUE(result.ok()) << "tier " << int(tier) << ": " << (result.ok() ? "" : result.error().message);
+  }
+  uint32_t refused = 0;
+  for (const SettingInfo& info : settingInfos()) {
+    std::vector<double> outside;
+    double below = info.minimumExcluded ? info.minimum : info.minimum - 1.0;
+    if (info.zeroTurnsOff && below == 0.0) below = -1.0;  // 0 is accepted as off
+    outside.push_back(below);
+    if (info.zeroTurnsOff && info.minimum > 0.0) outside.push_back(info.minimum / 2.0);
+    if (std::isfinite(info.maximum)) outside.push_back(info.maximum + double(info.multipleOf));
+    if (info.multipleOf > 1) outside.push_back(info.minimum + 1.0);
+    if (info.powerOfTwo) outside.push_back(3.0);
+    outside.push_back(std::numeric_limits<double>::quiet_NaN());
+    for (double value : outside) {
+      desc.settings = Settings{};
+      bool settable = false;
+      std::visit(
+          [&](auto member) {
+            using Value = std::remove_cvref_t<decltype(desc.settings.*member)>;
+            if constexpr (std::is_same_v<Value, float>) {
+              desc.settings.*member = float(value);
+              settable = true;
+            } else if constexpr (std::is_same_v<Value, uint32_t>) {
+              settable = value >= 0.0 && value <= 4294967295.0;  // a uint32 cannot hold the others
+              if (settable) desc.settings.*member = uint32_t(value);
+            } else if constexpr (std::is_same_v<Value, std::array<uint32_t, 3>>) {
+              settable = value >= 0.0 && value <= 4294967295.0;
+              if (settable) desc.settings.*member = {uint32_t(value), 48u, uint32_t(value)};
+            }
+          },
+          info.member);
+      if (!settable) continue;
+      const auto result = Context::create(desc);
+      ASSERT_FALSE(result.ok()) << info.name << " = " << value << " was accepted";
+      EXPECT_EQ(result.error().status, Status::InvalidDescription);
+      EXPECT_NE(result.error().message.find(std::string("Settings::") + info.name), std::string::npos)
+          << info.name << " = " << value << ": " << result.error().message;
+      ++refused;
+    }
+  }
+  std::printf("%u values outside what their settings accept, each refused with the setting named\n", refused);
+  EXPECT_GT(refused, 20u);
 }
 
 }  // namespace

@@ -96,8 +96,8 @@ class CpuVoxelScene {
   glm::ivec3 dimensions() const { return dimensions_; }
   glm::ivec3 sizeVoxels() const { return dimensions_ * int(shader::kBrickSizeVoxels); }
   glm::ivec3 originBrick() const { return glm::ivec3(volume_.originBrick); }
-  glm::vec3 minimumCorner() const { return glm::vec3(originBrick()) * volume_.voxelSize.y; }
-  float voxelSize() const { return volume_.voxelSize.x; }
+  glm::vec3 minimumCorner() const { return glm::vec3(originBrick()) * volume_.brickSize; }
+  float voxelSize() const { return volume_.voxelSize; }
   const std::vector<uint32_t>& lookup() const { return lookup_; }
   const std::vector<shader::Brick>& bricks() const { return bricks_; }
   const std::vector<shader::Voxel>& voxels() const { return voxels_; }
@@ -108,8 +108,9 @@ class CpuVoxelScene {
   uint32_t addBrick(glm::ivec3 localBrick, uint64_t mask, glm::vec3 radiance, glm::vec3 normal) {
     const uint32_t index = uint32_t(bricks_.size());
     shader::Brick brick{};
-    brick.coordinate = glm::ivec4(localBrick + originBrick(), 1);
-    brick.occupancy = glm::uvec4(uint32_t(mask), uint32_t(mask >> 32), 0, 0);
+    brick.coordinate = localBrick + originBrick();
+    brick.live = 1u;
+    brick.occupancy = glm::uvec2(uint32_t(mask), uint32_t(mask >> 32));
     bricks_.push_back(brick);
     for (uint32_t voxel = 0; voxel < shader::kVoxelsPerBrick; ++voxel)
       voxels_.push_back({shader::packR11G11B10F(radiance), shader::packOctahedralNormal(normal)});
@@ -126,7 +127,7 @@ class CpuVoxelScene {
     voxel.surfaceAndLastHit = (voxel.surfaceAndLastHit & 0xffffu) |
                               (shader::packVoxelPlane(offsetVoxels) << shader::kVoxelPlaneShift);
   }
-  void clearMask(uint32_t brick) { bricks_[brick].occupancy = glm::uvec4(0); }
+  void clearMask(uint32_t brick) { bricks_[brick].occupancy = glm::uvec2(0); }
   bool hasBrick(glm::ivec3 localBrick) const { return lookup_[cellOf(localBrick)] != shader::kInvalidBrick; }
 
   uint64_t maskAt(glm::ivec3 localBrick) const {
@@ -141,7 +142,7 @@ class CpuVoxelScene {
   // The volume-local voxel of a pool index and a voxel bit.
   glm::ivec3 voxelOf(uint32_t brick, uint32_t bit) const {
     const glm::ivec3 inBrick(int(bit & 3u), int((bit >> 2) & 3u), int(bit >> 4));
-    return (glm::ivec3(bricks_[brick].coordinate) - originBrick()) * int(shader::kBrickSizeVoxels) + inBrick;
+    return (bricks_[brick].coordinate - originBrick()) * int(shader::kBrickSizeVoxels) + inBrick;
   }
   std::vector<uint32_t> allocatedCells() const {
     std::vector<uint32_t> cells;
@@ -153,7 +154,7 @@ class CpuVoxelScene {
   // The grid levels as BuildOctree must leave them, computed over toroidal cells: a brick cell's bit is set when it
   // holds a brick with voxels, a coarser cell's when any of its 2×2×2 children's is.
   std::vector<uint32_t> expectedGrid() const {
-    std::vector<uint32_t> words(volume_.gridWordOffsets.w, 0u);
+    std::vector<uint32_t> words(volume_.gridWords, 0u);
     std::vector<bool> finer(lookup_.size());
     for (size_t cell = 0; cell < lookup_.size(); ++cell) {
       const uint32_t index = lookup_[cell];
@@ -285,8 +286,9 @@ std::vector<VoxelTraceRay> randomRays(const CpuVoxelScene& scene, std::mt19937_6
   for (VoxelTraceRay& ray : rays) {
     const float grow = rng() % 4 ? 0.0f : margin;
     const glm::vec3 origin = low - grow + (high - low + 2.0f * grow) * glm::vec3(unit(rng), unit(rng), unit(rng));
-    ray.originAndMaxDistance = glm::vec4(origin, length(rng));
-    ray.direction = glm::vec4(randomUnitVector(rng), 0.0f);
+    ray.origin = origin;
+    ray.maxDistance = length(rng);
+    ray.direction = randomUnitVector(rng);
   }
   return rays;
 }
@@ -321,8 +323,9 @@ std::vector<VoxelTraceRay> boundaryRays(const CpuVoxelScene& scene, std::mt19937
     std::swap(voxelPosition[int(rng() % 3)], voxelPosition[int(rng() % 3)]);
     const glm::vec3 origin = scene.minimumCorner() + voxelPosition * scene.voxelSize();  // exact: voxels are 2^-2 m
     const glm::vec3 direction = rng() % 4 ? directions[size_t(pickDirection(rng))] : randomUnitVector(rng);
-    ray.originAndMaxDistance = glm::vec4(origin, length(rng));
-    ray.direction = glm::vec4(direction, 0.0f);
+    ray.origin = origin;
+    ray.maxDistance = length(rng);
+    ray.direction = direction;
   }
   return rays;
 }
@@ -335,10 +338,10 @@ struct ReferenceHit {
 };
 
 ReferenceHit referenceTrace(const CpuVoxelScene& scene, const VoxelTraceRay& ray) {
-  const glm::dvec3 origin = (glm::dvec3(glm::vec3(ray.originAndMaxDistance)) - glm::dvec3(scene.minimumCorner())) /
+  const glm::dvec3 origin = (glm::dvec3(ray.origin) - glm::dvec3(scene.minimumCorner())) /
                             double(scene.voxelSize());
   const glm::dvec3 direction = glm::dvec3(glm::vec3(ray.direction)) / double(scene.voxelSize());  // voxels per metre
-  const double maxDistance = ray.originAndMaxDistance.w;
+  const double maxDistance = ray.maxDistance;
   const glm::ivec3 size = scene.sizeVoxels();
   double enter = 0.0, leave = maxDistance;
   for (int axis = 0; axis < 3; ++axis) {
@@ -373,12 +376,12 @@ ReferenceHit referenceTrace(const CpuVoxelScene& scene, const VoxelTraceRay& ray
   }
 }
 
-bool isHit(const VoxelTraceHit& hit) { return hit.voxel.x != shader::kInvalidBrick; }
+bool isHit(const VoxelTraceHit& hit) { return hit.brick != shader::kInvalidBrick; }
 
 // Radiance of a hit as the trace must report it: the stored value, black when the ray meets the voxel from behind.
 glm::vec3 expectedRadiance(const CpuVoxelScene& scene, const VoxelTraceHit& hit, glm::vec3 direction) {
-  const shader::Voxel& voxel = scene.voxels()[hit.voxel.x * shader::kVoxelsPerBrick + hit.voxel.y];
-  const glm::vec3 normal = shader::unpackOctahedralNormal(voxel.surfaceAndLastHit & 0xffffu);
+  const shader::Voxel& voxel = scene.voxels()[hit.brick * shader::kVoxelsPerBrick + hit.voxelBit];
+  const glm::vec3 normal = shader::voxelNormal(voxel);
   return glm::dot(normal, direction) > 0.0f ? glm::vec3(0.0f) : shader::unpackR11G11B10F(voxel.radiance);
 }
 
@@ -387,7 +390,7 @@ struct TraceRun {
   double milliseconds = 0.0;  // GPU time of the TraceRays scope; 0 without timestamps
   double averageReads() const {
     double reads = 0.0;
-    for (const VoxelTraceHit& hit : hits) reads += hit.voxel.z;
+    for (const VoxelTraceHit& hit : hits) reads += hit.reads;
     return reads / double(hits.size());
   }
 };
@@ -435,7 +438,7 @@ class VoxelSceneTest : public testing::GpuTest {
 
   std::vector<uint32_t> readGrid() {
     std::vector<uint32_t> grid = gpu::readBufferAs<uint32_t>(device(), scene_->occupancyGrid());
-    grid.resize(cpu_->volume().gridWordOffsets.w);
+    grid.resize(cpu_->volume().gridWords);
     return grid;
   }
 
@@ -502,7 +505,7 @@ TEST_F(BuildOctreePass, clearingABrickClearsOnlyTheAncestorsLeftWithoutChildren)
   const uint32_t isolated = cpu_->lookup()[cpu_->cellOf(kIsolatedBrick)];
   glm::ivec3 clustered(-1);
   for (uint32_t cell : cpu_->allocatedCells()) {
-    const glm::ivec3 brick = glm::ivec3(cpu_->bricks()[cpu_->lookup()[cell]].coordinate) - origin;
+    const glm::ivec3 brick = cpu_->bricks()[cpu_->lookup()[cell]].coordinate - origin;
     if (cpu_->maskAt(brick) == 0 || brick == kIsolatedBrick) continue;
     int nonEmptySiblings = 0;
     for (int child = 0; child < 8; ++child) {
@@ -556,15 +559,15 @@ TEST_F(VoxelTrace, hierarchicalTraceFindsTheSameFirstHitAsTheFlatDda) {
   for (size_t i = 0; i < rays.size(); ++i) {
     const VoxelTraceHit& h = hierarchical.hits[i];
     const VoxelTraceHit& f = flat.hits[i];
-    const bool same = h.voxel.x == f.voxel.x && h.voxel.y == f.voxel.y &&
-                      std::abs(h.radianceAndDistance.w - f.radianceAndDistance.w) <= 1e-4f &&
-                      glm::vec3(h.radianceAndDistance) == glm::vec3(f.radianceAndDistance);
+    const bool same = h.brick == f.brick && h.voxelBit == f.voxelBit &&
+                      std::abs(h.distance - f.distance) <= 1e-4f &&
+                      h.radiance == f.radiance;
     if (!same && ++mismatches <= 10) {
-      ADD_FAILURE() << "ray " << i << " from " << rays[i].originAndMaxDistance.x << " " << rays[i].originAndMaxDistance.y
-                    << " " << rays[i].originAndMaxDistance.z << " along " << rays[i].direction.x << " "
-                    << rays[i].direction.y << " " << rays[i].direction.z << ": hierarchical brick " << h.voxel.x
-                    << " voxel " << h.voxel.y << " at " << h.radianceAndDistance.w << ", flat brick " << f.voxel.x
-                    << " voxel " << f.voxel.y << " at " << f.radianceAndDistance.w;
+      ADD_FAILURE() << "ray " << i << " from " << rays[i].origin.x << " " << rays[i].origin.y
+                    << " " << rays[i].origin.z << " along " << rays[i].direction.x << " "
+                    << rays[i].direction.y << " " << rays[i].direction.z << ": hierarchical brick " << h.brick
+                    << " voxel " << h.voxelBit << " at " << h.distance << ", flat brick " << f.brick
+                    << " voxel " << f.voxelBit << " at " << f.distance;
     }
     hits += isHit(h) ? 1 : 0;
     boundaryHits += (i >= rays.size() - onBoundaries.size() && isHit(h)) ? 1 : 0;
@@ -585,7 +588,7 @@ TEST_F(VoxelTrace, watchingObservedSpaceBothTracesAgreeOnTheHitAndOnWhereUnobser
   std::mt19937_64 rng(5);
   const glm::ivec3 dimensions = cpu_->dimensions();
   const glm::ivec3 origin = glm::ivec3(cpu_->volume().originBrick);
-  std::vector<uint32_t> observed(cpu_->volume().gridWordOffsets.w, 0u);
+  std::vector<uint32_t> observed(cpu_->volume().gridWords, 0u);
   const auto setBit = [&](uint32_t level, glm::ivec3 worldCell) {
     const uint32_t shift = level - shader::kFirstGridLevel;
     const uint32_t index = shader::brickCellIndex(worldCell, dimensions >> int(shift));
@@ -611,21 +614,21 @@ TEST_F(VoxelTrace, watchingObservedSpaceBothTracesAgreeOnTheHitAndOnWhereUnobser
   gpu::uploadBuffer(device(), scene_->observedSpace(), std::as_bytes(std::span(observed)));
 
   std::vector<VoxelTraceRay> rays = randomRays(*cpu_, rng, 60'000);
-  for (VoxelTraceRay& ray : rays) ray.direction.w = 1.0f;
+  for (VoxelTraceRay& ray : rays) ray.watchesObservedSpace = 1u;
   const TraceRun hierarchical = trace(*hierarchical_, rays);
   const TraceRun flat = trace(*flat_, rays);
   size_t mismatches = 0, unobservedMisses = 0, unobservedHits = 0, observedMisses = 0;
   for (size_t i = 0; i < rays.size(); ++i) {
     const VoxelTraceHit& h = hierarchical.hits[i];
     const VoxelTraceHit& f = flat.hits[i];
-    const bool same = h.voxel.x == f.voxel.x && h.voxel.y == f.voxel.y && h.voxel.w == f.voxel.w &&
-                      std::abs(h.radianceAndDistance.w - f.radianceAndDistance.w) <= 1e-4f;
+    const bool same = h.brick == f.brick && h.voxelBit == f.voxelBit && h.crossedUnobservedSpace == f.crossedUnobservedSpace &&
+                      std::abs(h.distance - f.distance) <= 1e-4f;
     if (!same && ++mismatches <= 10)
-      ADD_FAILURE() << "ray " << i << ": hierarchical brick " << h.voxel.x << " voxel " << h.voxel.y << " unobserved "
-                    << h.voxel.w << " at " << h.radianceAndDistance.w << ", flat brick " << f.voxel.x << " voxel "
-                    << f.voxel.y << " unobserved " << f.voxel.w << " at " << f.radianceAndDistance.w;
-    if (h.voxel.w != 0) (isHit(h) ? unobservedHits : unobservedMisses) += 1;
-    if (h.voxel.w == 0 && !isHit(h)) ++observedMisses;
+      ADD_FAILURE() << "ray " << i << ": hierarchical brick " << h.brick << " voxel " << h.voxelBit << " unobserved "
+                    << h.crossedUnobservedSpace << " at " << h.distance << ", flat brick " << f.brick << " voxel "
+                    << f.voxelBit << " unobserved " << f.crossedUnobservedSpace << " at " << f.distance;
+    if (h.crossedUnobservedSpace != 0) (isHit(h) ? unobservedHits : unobservedMisses) += 1;
+    if (h.crossedUnobservedSpace == 0 && !isHit(h)) ++observedMisses;
   }
   EXPECT_EQ(mismatches, 0u) << "of " << rays.size() << " rays";
   // Every outcome occurs: misses through observed space (the sky), misses and hits beyond unobserved space.
@@ -647,19 +650,19 @@ TEST_F(VoxelTrace, bothTracesMatchACpuReferenceDda) {
       const VoxelTraceHit& hit = run.hits[i];
       ASSERT_EQ(isHit(hit), expected.hit) << "ray " << i;
       if (!expected.hit) {
-        EXPECT_EQ(glm::vec3(hit.radianceAndDistance), glm::vec3(0.0f)) << "ray " << i;
+        EXPECT_EQ(hit.radiance, glm::vec3(0.0f)) << "ray " << i;
         continue;
       }
       ++hits;
-      ASSERT_EQ(cpu_->voxelOf(hit.voxel.x, hit.voxel.y), expected.voxel) << "ray " << i;
-      ASSERT_NEAR(hit.radianceAndDistance.w, expected.distance, 1e-4) << "ray " << i;
+      ASSERT_EQ(cpu_->voxelOf(hit.brick, hit.voxelBit), expected.voxel) << "ray " << i;
+      ASSERT_NEAR(hit.distance, expected.distance, 1e-4) << "ray " << i;
       const glm::vec3 direction(rays[i].direction);
-      const shader::Voxel& voxel = cpu_->voxels()[hit.voxel.x * shader::kVoxelsPerBrick + hit.voxel.y];
-      EXPECT_LT(glm::distance(glm::vec3(hit.normal), shader::unpackOctahedralNormal(voxel.surfaceAndLastHit & 0xffffu)),
+      const shader::Voxel& voxel = cpu_->voxels()[hit.brick * shader::kVoxelsPerBrick + hit.voxelBit];
+      EXPECT_LT(glm::distance(glm::vec3(hit.normal), shader::voxelNormal(voxel)),
                 1e-5f)
           << "ray " << i;
       if (std::abs(glm::dot(glm::vec3(hit.normal), direction)) > 1e-4f) {  // not grazing: the side is unambiguous
-        EXPECT_EQ(glm::vec3(hit.radianceAndDistance), expectedRadiance(*cpu_, hit, direction)) << "ray " << i;
+        EXPECT_EQ(hit.radiance, expectedRadiance(*cpu_, hit, direction)) << "ray " << i;
       }
     }
     EXPECT_GT(hits, rays.size() / 5);
@@ -697,28 +700,27 @@ TEST_F(VoxelTrace, aHitOnAVoxelsBackFaceIsBlackButStillAHit) {
   upload();
   buildOctree(cpu_->allocatedCells());
 
-  const float brickSize = cpu_->volume().voxelSize.y;
+  const float brickSize = cpu_->volume().brickSize;
   const glm::vec3 brickMin = cpu_->minimumCorner() + glm::vec3(brick) * brickSize;
   const glm::vec3 throughMiddle = brickMin + glm::vec3(0.0f, 0.3f, 0.6f) * brickSize;
   const float approach = 2.3f;
   const std::vector<VoxelTraceRay> rays{
-      {glm::vec4(throughMiddle - glm::vec3(approach, 0.0f, 0.0f), 10.0f), glm::vec4(1.0f, 0.0f, 0.0f, 0.0f)},
-      {glm::vec4(throughMiddle + glm::vec3(brickSize + approach, 0.0f, 0.0f), 10.0f),
-       glm::vec4(-1.0f, 0.0f, 0.0f, 0.0f)},
+      {throughMiddle - glm::vec3(approach, 0.0f, 0.0f), 10.0f, glm::vec3(1.0f, 0.0f, 0.0f), 0u},
+      {throughMiddle + glm::vec3(brickSize + approach, 0.0f, 0.0f), 10.0f, glm::vec3(-1.0f, 0.0f, 0.0f), 0u},
   };
   for (gi::TraceRays* tracer : {hierarchical_.get(), flat_.get()}) {
     SCOPED_TRACE(tracer->method() == gi::TraceMethod::Flat ? "flat" : "hierarchical");
     const TraceRun run = trace(*tracer, rays);
     const VoxelTraceHit& fromBehind = run.hits[0];
     ASSERT_TRUE(isHit(fromBehind));
-    EXPECT_NEAR(fromBehind.radianceAndDistance.w, approach, 1e-5f);
-    EXPECT_EQ(cpu_->voxelOf(fromBehind.voxel.x, fromBehind.voxel.y).x, brick.x * 4);
-    EXPECT_EQ(glm::vec3(fromBehind.radianceAndDistance), glm::vec3(0.0f));
+    EXPECT_NEAR(fromBehind.distance, approach, 1e-5f);
+    EXPECT_EQ(cpu_->voxelOf(fromBehind.brick, fromBehind.voxelBit).x, brick.x * 4);
+    EXPECT_EQ(fromBehind.radiance, glm::vec3(0.0f));
     const VoxelTraceHit& fromFront = run.hits[1];
     ASSERT_TRUE(isHit(fromFront));
-    EXPECT_NEAR(fromFront.radianceAndDistance.w, approach, 1e-5f);
-    EXPECT_EQ(cpu_->voxelOf(fromFront.voxel.x, fromFront.voxel.y).x, brick.x * 4 + 3);
-    EXPECT_EQ(glm::vec3(fromFront.radianceAndDistance), shader::unpackR11G11B10F(shader::packR11G11B10F(radiance)));
+    EXPECT_NEAR(fromFront.distance, approach, 1e-5f);
+    EXPECT_EQ(cpu_->voxelOf(fromFront.brick, fromFront.voxelBit).x, brick.x * 4 + 3);
+    EXPECT_EQ(fromFront.radiance, shader::unpackR11G11B10F(shader::packR11G11B10F(radiance)));
   }
 }
 
@@ -737,24 +739,24 @@ TEST_F(VoxelTrace, aRayPassingInFrontOfAVoxelsSurfacePlaneGoesOnAndOneCrossingIt
   buildOctree(cpu_->allocatedCells());
 
   const float voxel = cpu_->voxelSize();
-  const glm::vec3 brickMin = cpu_->minimumCorner() + glm::vec3(brick) * cpu_->volume().voxelSize.y;
+  const glm::vec3 brickMin = cpu_->minimumCorner() + glm::vec3(brick) * cpu_->volume().brickSize;
   const float approach = 2.3f;
   const glm::vec3 alongX(1.0f, 0.0f, 0.0f), down(0.0f, -1.0f, 0.0f);
   const std::vector<VoxelTraceRay> rays{
-      {glm::vec4(brickMin + glm::vec3(-approach, 0.8f * voxel, 1.5f * voxel), 10.0f), glm::vec4(alongX, 0.0f)},
-      {glm::vec4(brickMin + glm::vec3(-approach, 0.05f * voxel, 1.5f * voxel), 10.0f), glm::vec4(alongX, 0.0f)},
-      {glm::vec4(brickMin + glm::vec3(2.5f * voxel, approach, 1.5f * voxel), 10.0f), glm::vec4(down, 0.0f)},
+      {brickMin + glm::vec3(-approach, 0.8f * voxel, 1.5f * voxel), 10.0f, alongX, 0u},
+      {brickMin + glm::vec3(-approach, 0.05f * voxel, 1.5f * voxel), 10.0f, alongX, 0u},
+      {brickMin + glm::vec3(2.5f * voxel, approach, 1.5f * voxel), 10.0f, down, 0u},
   };
   for (gi::TraceRays* tracer : {hierarchical_.get(), flat_.get()}) {
     SCOPED_TRACE(tracer->method() == gi::TraceMethod::Flat ? "flat" : "hierarchical");
     const TraceRun run = trace(*tracer, rays);
     EXPECT_FALSE(isHit(run.hits[0])) << "the ray in front of the surface stopped at a voxel";
     ASSERT_TRUE(isHit(run.hits[1]));
-    EXPECT_NEAR(run.hits[1].radianceAndDistance.w, approach, 1e-5f);  // the first voxel it enters
-    EXPECT_EQ(cpu_->voxelOf(run.hits[1].voxel.x, run.hits[1].voxel.y), glm::ivec3(brick) * 4 + glm::ivec3(0, 0, 1));
+    EXPECT_NEAR(run.hits[1].distance, approach, 1e-5f);  // the first voxel it enters
+    EXPECT_EQ(cpu_->voxelOf(run.hits[1].brick, run.hits[1].voxelBit), glm::ivec3(brick) * 4 + glm::ivec3(0, 0, 1));
     ASSERT_TRUE(isHit(run.hits[2]));
-    EXPECT_NEAR(run.hits[2].radianceAndDistance.w, approach - voxel, 1e-5f);  // where it enters the voxel's box
-    EXPECT_EQ(glm::vec3(run.hits[2].radianceAndDistance), shader::unpackR11G11B10F(shader::packR11G11B10F(radiance)));
+    EXPECT_NEAR(run.hits[2].distance, approach - voxel, 1e-5f);  // where it enters the voxel's box
+    EXPECT_EQ(run.hits[2].radiance, shader::unpackR11G11B10F(shader::packR11G11B10F(radiance)));
   }
 }
 

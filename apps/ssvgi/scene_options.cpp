@@ -12,6 +12,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <type_traits>
+#include <span>
 #include <variant>
 #include <vector>
 
@@ -175,7 +176,7 @@ uint32_t parseCount(const std::string& text, const std::string& option) {
 }
 
 // Sets `field` of `settings` from its --gi-set text.
-void parseSetting(const SettingField& field, ssvgi::Settings& settings, const std::string& text) {
+void parseSetting(const ssvgi::SettingInfo& field, ssvgi::Settings& settings, const std::string& text) {
   const std::string option = std::string("--gi-set ") + field.name;
   std::visit(
       [&](auto member) {
@@ -200,37 +201,13 @@ void parseSetting(const SettingField& field, ssvgi::Settings& settings, const st
 
 }  // namespace
 
-const std::vector<SettingField>& settingFields() {
-  using ssvgi::Settings;
-  static const std::vector<SettingField> fields = {
-      {"voxelSize", &Settings::voxelSize},
-      {"volumeBricks", &Settings::volumeBricks},
-      {"brickPoolCapacity", &Settings::brickPoolCapacity},
-      {"invalidFramesToClear", &Settings::invalidFramesToClear},
-      {"emptyFramesToRelease", &Settings::emptyFramesToRelease},
-      {"allocationPixelStride", &Settings::allocationPixelStride},
-      {"probeGrid", &Settings::probeGrid},
-      {"probeSpacing", &Settings::probeSpacing},
-      {"probeBudget", &Settings::probeBudget},
-      {"probeBlocksBeyondView", &Settings::probeBlocksBeyondView},
-      {"raysPerProbe", &Settings::raysPerProbe},
-      {"probeHistoryCap", &Settings::probeHistoryCap},
-      {"probeReservoirs", &Settings::probeReservoirs},
-      {"probeReservoirHistoryCap", &Settings::probeReservoirHistoryCap},
-      {"probeSampleClamp", &Settings::probeSampleClamp},
-      {"probeChangeThreshold", &Settings::probeChangeThreshold},
-      {"skyOnlyThroughObservedSpace", &Settings::skyOnlyThroughObservedSpace},
-      {"voxelRelightPeriod", &Settings::voxelRelightPeriod},
-  };
-  return fields;
-}
-
 void addGiOptions(CLI::App& command, GiOptions& options) {
   command.add_option("--tier", options.tier, "GI quality tier (SPEC §4.7)")
       ->capture_default_str()
       ->check(CLI::IsMember({"low", "medium", "high"}));
   std::string names;
-  for (const SettingField& field : settingFields()) names += std::string(names.empty() ? "" : ", ") + field.name;
+  for (const ssvgi::SettingInfo& field : ssvgi::settingInfos())
+    names += std::string(names.empty() ? "" : ", ") + field.name;
   command.add_option("--gi-set", options.overrides,
                      "Override one GI setting after the tier and the scene's detail scale, as NAME=VALUE (X,Y,Z for "
                      "volumeBricks and probeGrid); may be repeated. Names: " + names);
@@ -268,9 +245,10 @@ ssvgi::Settings giSettings(const GiOptions& options, const renderer::Scene& scen
   for (const std::string& assignment : options.overrides) {
     const size_t equals = assignment.find('=');
     const std::string name = assignment.substr(0, equals);
-    const auto field = std::find_if(settingFields().begin(), settingFields().end(),
-                                    [&](const SettingField& candidate) { return name == candidate.name; });
-    if (equals == std::string::npos || field == settingFields().end())
+    const std::span<const ssvgi::SettingInfo> fields = ssvgi::settingInfos();
+    const auto field = std::find_if(fields.begin(), fields.end(),
+                                    [&](const ssvgi::SettingInfo& candidate) { return name == candidate.name; });
+    if (equals == std::string::npos || field == fields.end())
       throw std::runtime_error("--gi-set " + assignment + ": expected NAME=VALUE with NAME a field of ssvgi::Settings");
     parseSetting(*field, settings, assignment.substr(equals + 1));
   }
@@ -279,7 +257,7 @@ ssvgi::Settings giSettings(const GiOptions& options, const renderer::Scene& scen
 
 nlohmann::json giSettingsJson(const ssvgi::Settings& settings) {
   nlohmann::json json = nlohmann::json::object();
-  for (const SettingField& field : settingFields())
+  for (const ssvgi::SettingInfo& field : ssvgi::settingInfos())
     std::visit([&](auto member) { json[field.name] = settings.*member; }, field.member);
   return json;
 }

@@ -15,7 +15,6 @@
 #include <limits>
 #include <optional>
 #include <string>
-#include <variant>
 #include <vector>
 
 namespace ssvgi::cli {
@@ -98,15 +97,6 @@ void addGiOptions(CLI::App& command, GiOptions& options);
 // The tier's settings with the scene's detail scale (renderer::Scene::giDetailScale) applied to the voxel size and
 // the probe spacing, then the overrides. Throws std::runtime_error with one line naming a bad override.
 ssvgi::Settings giSettings(const GiOptions& options, const renderer::Scene& scene);
-
-// A field of ssvgi::Settings by name: the one list that --gi-set parses, the stats show and the viewer edits.
-struct SettingField {
-  const char* name;
-  std::variant<float ssvgi::Settings::*, uint32_t ssvgi::Settings::*, bool ssvgi::Settings::*,
-               std::array<uint32_t, 3> ssvgi::Settings::*>
-      member;  // X,Y,Z for the three-axis ones
-};
-const std::vector<SettingField>& settingFields();
 
 // The settings as JSON, for the stats a command writes.
 nlohmann::json giSettingsJson(const ssvgi::Settings& settings);

@@ -30,7 +30,7 @@ void plot(const char* id, const std::deque<float>& values, float height) {
 // One field of ssvgi::Settings as an input; true once an edit is finished: a click on a checkbox, or a number field
 // left after a change (Enter, Tab or a click elsewhere). Not Enter alone: ImGui 1.86 misses a key pressed and
 // released within one frame, and a frame on lavapipe is long.
-bool settingInput(const SettingField& field, ssvgi::Settings& settings) {
+bool settingInput(const ssvgi::SettingInfo& field, ssvgi::Settings& settings) {
   return std::visit(
       [&](auto member) {
         auto& value = settings.*member;
@@ -79,7 +79,7 @@ void giSection(ViewerControls& controls, const PanelReadout& readout, PanelActio
   }
   if (ImGui::TreeNode("settings (applied when left)")) {
     ImGui::PushItemWidth(ImGui::GetFontSize() * 8.0f);  // room for the longest names beside their inputs
-    for (const SettingField& field : settingFields()) actions.rendererChanged |= settingInput(field, controls.gi);
+    for (const ssvgi::SettingInfo& field : ssvgi::settingInfos()) actions.rendererChanged |= settingInput(field, controls.gi);
     ImGui::PopItemWidth();
     ImGui::TreePop();
   }

@@ -3,15 +3,29 @@
 // ssvgi.h — and shade the pixel with albedo/π · E, E = ssvgiResolve(…).irradiance.
 //
 // The 2×2 texels around the pixel (texel h holds full-resolution pixel 2h), each weighted bilinearly times how well
-// its pixel lies on this pixel's surface: fully on its tangent plane, not at all kSsvgiResolvePlaneTolerance of the
-// view distance off it (a depth edge, a crease), its normal as dot^kSsvgiResolveNormalPower (half weight at about 24°)
-// — so that light does not bleed across silhouettes. A pixel whose texels all lie on other surfaces (a one-pixel
-// sliver) takes the texel of the 2×2 block it belongs to.
+// its pixel lies on this pixel's surface (ssvgiPlaneWeight × ssvgiNormalWeight) — so that light does not bleed across
+// silhouettes. A pixel whose texels all lie on other surfaces (a one-pixel sliver) takes the texel of the 2×2 block it
+// belongs to. ssvgi's own half-resolution filters (Upsample, TemporalFilter) weigh their neighbours with the same two
+// functions, so that what they keep apart the resolve keeps apart too.
 #ifndef SSVGI_RESOLVE_GLSL
 #define SSVGI_RESOLVE_GLSL
 
+#include "ssvgi/pixel_coordinates.h"
+
+// A neighbour counts fully on the pixel's tangent plane and not at all this fraction of the pixel's view distance off
+// it: a depth test that tilted surfaces pass and depth edges and creases fail.
 const float kSsvgiResolvePlaneTolerance = 0.02;
+// A neighbour's normal counts as dot^this (half weight at about 24°).
 const float kSsvgiResolveNormalPower = 8.0;
+
+float ssvgiPlaneWeight(vec3 position, vec3 normal, float viewDistance, vec3 neighbourPosition) {
+  float planeDistance = abs(dot(neighbourPosition - position, normal));
+  return clamp(1.0 - planeDistance / (kSsvgiResolvePlaneTolerance * viewDistance), 0.0, 1.0);
+}
+
+float ssvgiNormalWeight(vec3 normal, vec3 neighbourNormal) {
+  return pow(max(dot(normal, neighbourNormal), 0.0), kSsvgiResolveNormalPower);
+}
 
 // The frame the results are resolved for, as given to Context::dispatch() (FrameDesc::camera) with its images.
 struct SsvgiResolveView {
@@ -25,10 +39,9 @@ struct SsvgiResolved {
   float confidence;  // 0–1 (Context::confidence())
 };
 
-// A pixel's surface point, from its depth (D32 reversed-Z; rows top to bottom, NDC +y up, SPEC §2).
+// A pixel's surface point, from its depth (D32 reversed-Z).
 vec3 ssvgiPixelPosition(SsvgiResolveView view, ivec2 pixel, float depth) {
-  vec2 uv = (vec2(pixel) + vec2(0.5)) / view.size;
-  vec4 world = view.inverseViewProjection * vec4(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0, depth, 1.0);
+  vec4 world = view.inverseViewProjection * vec4(ssvgiPixelToNdc(vec2(pixel), view.size), depth, 1.0);
   return world.xyz / world.w;
 }
 
@@ -37,7 +50,7 @@ SsvgiResolved ssvgiResolve(sampler2D irradiance, sampler2D confidence, sampler2D
                            SsvgiResolveView view, ivec2 pixel) {
   vec3 position = ssvgiPixelPosition(view, pixel, texelFetch(depth, pixel, 0).r);
   vec3 surfaceNormal = normalize(texelFetch(normal, pixel, 0).xyz);
-  float tolerance = kSsvgiResolvePlaneTolerance * distance(position, view.cameraPosition);
+  float viewDistance = distance(position, view.cameraPosition);
   ivec2 lastTexel = textureSize(irradiance, 0) - 1;
   ivec2 firstTexel = pixel >> 1;  // the pixel sits at texel coordinate pixel/2: on texel 2h, or halfway to 2h + 2
   vec2 fraction = vec2(pixel & 1) * 0.5;
@@ -50,10 +63,9 @@ SsvgiResolved ssvgiResolve(sampler2D irradiance, sampler2D confidence, sampler2D
     ivec2 texelPixel = min(2 * texel, ivec2(view.size) - 1);
     float texelDepth = texelFetch(depth, texelPixel, 0).r;
     if (bilinear.x * bilinear.y == 0.0 || texelDepth <= 0.0) continue;
-    float planeDistance = abs(dot(ssvgiPixelPosition(view, texelPixel, texelDepth) - position, surfaceNormal));
-    float geometry = clamp(1.0 - planeDistance / tolerance, 0.0, 1.0) *
-                     pow(max(dot(surfaceNormal, normalize(texelFetch(normal, texelPixel, 0).xyz)), 0.0),
-                         kSsvgiResolveNormalPower);
+    float geometry =
+        ssvgiPlaneWeight(position, surfaceNormal, viewDistance, ssvgiPixelPosition(view, texelPixel, texelDepth)) *
+        ssvgiNormalWeight(surfaceNormal, normalize(texelFetch(normal, texelPixel, 0).xyz));
     vec4 texelValue = vec4(texelFetch(irradiance, texel, 0).rgb, texelFetch(confidence, texel, 0).r);
     sum += bilinear.x * bilinear.y * geometry * texelValue;
     totalWeight += bilinear.x * bilinear.y * geometry;

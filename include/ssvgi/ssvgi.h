@@ -11,7 +11,9 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <memory>
+#include <span>
 #include <string>
 #include <variant>
 #include <vector>
@@ -111,6 +113,25 @@ struct Settings {
 };
 
 Settings settingsForTier(QualityTier tier);
+
+// A field of Settings by name, with the values Context::create accepts for it: a value lies in [minimum, maximum]
+// (above minimum where minimumExcluded; each axis of an array alike), is a multiple of multipleOf, and a power of two
+// where powerOfTwo — or is 0 where zeroTurnsOff; a float is also finite. Settings that depend on one another
+// (probeReservoirs needs raysPerProbe ≥ 16) are checked beside this.
+struct SettingInfo {
+  const char* name;
+  std::variant<float Settings::*, uint32_t Settings::*, bool Settings::*, std::array<uint32_t, 3> Settings::*> member;
+  double minimum = 0.0;
+  double maximum = std::numeric_limits<double>::infinity();
+  bool minimumExcluded = false;
+  uint32_t multipleOf = 1;
+  bool powerOfTwo = false;
+  bool zeroTurnsOff = false;
+};
+
+// Every field of Settings: the one list that Context::create validates by and that a host's tools can show, parse and
+// save settings by (ssvgi's CLI: --gi-set, the stats' JSON, the viewer's panel).
+std::span<const SettingInfo> settingInfos();
 
 struct ContextDesc {
   VkInstance instance = VK_NULL_HANDLE;  // the host's, Vulkan 1.1 or later

@@ -17,13 +17,14 @@ layout(push_constant) uniform Push { uint rayCount; };
 void main() {
   uint index = gl_GlobalInvocationID.x;
   if (index >= rayCount) return;
-  vec3 origin = rays[index].originAndMaxDistance.xyz;
-  float maxDistance = rays[index].originAndMaxDistance.w;
-  vec3 direction = rays[index].direction.xyz;
-  bool watchesObservedSpace = rays[index].direction.w != 0.0;
+  VoxelTraceRay ray = rays[index];
+  vec3 origin = ray.origin;
+  float maxDistance = ray.maxDistance;
+  vec3 direction = ray.direction;
+  bool watchesObservedSpace = ray.watchesObservedSpace != 0u;
   VoxelHit hit = kTraceMethod == kTraceMethodFlat
                      ? traceVoxelsFlat(origin, direction, maxDistance, watchesObservedSpace)
                      : traceVoxelsHierarchical(origin, direction, maxDistance, watchesObservedSpace);
-  hits[index] = VoxelTraceHit(vec4(hit.radiance, hit.distance), vec4(hit.normal, 0.0),
-                              uvec4(hit.brick, hit.voxelIndex, hit.reads, hit.unobserved ? 1u : 0u));
+  hits[index] = VoxelTraceHit(hit.radiance, hit.distance, hit.normal, hit.brick, hit.voxelIndex, hit.reads,
+                              hit.unobserved ? 1u : 0u, 0u);
 }

@@ -5,7 +5,7 @@
 layout(binding = kBindGiFrame) uniform GiFrameBlock { GiFrame frame; };
 
 vec3 reconstructPosition(mat4 inverseViewProjection, vec2 pixel, vec2 size, float depth) {
-  vec4 world = inverseViewProjection * vec4(pixelToNdc(pixel, size), depth, 1.0);
+  vec4 world = inverseViewProjection * vec4(ssvgiPixelToNdc(pixel, size), depth, 1.0);
   return world.xyz / world.w;
 }
 

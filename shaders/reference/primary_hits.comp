@@ -18,7 +18,7 @@ void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(pixel, ivec2(frame.viewportSize.xy)))) return;
 
-  vec4 nearPoint = frame.inverseViewProjection * vec4(viewportPixelToNdc(vec2(pixel), frame.viewportSize), 1.0, 1.0);
+  vec4 nearPoint = frame.inverseViewProjection * vec4(ssvgiPixelToNdc(vec2(pixel), frame.viewportSize.xy), 1.0, 1.0);
   vec3 origin = nearPoint.xyz / nearPoint.w;
   vec3 direction = normalize(origin - frame.cameraPosition.xyz);
   RayHit hit;

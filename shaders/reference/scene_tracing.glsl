@@ -171,7 +171,7 @@ vec3 directIrradiance(vec3 position, vec3 normal, vec3 shadowOrigin) {
   if (frame.sunDirectionAndEnabled.w > 0.0) {
     vec3 toSun = frame.sunDirectionAndEnabled.xyz;
     float cosine = dot(normal, toSun);
-    if (cosine > 0.0 && !occluded(shadowOrigin, toSun, kInfiniteDistance)) irradiance += frame.sunIlluminance.rgb * cosine;
+    if (cosine > 0.0 && !occluded(shadowOrigin, toSun, kInfiniteDistance)) irradiance += frame.sunIlluminance * cosine;
   }
   uint lightCount = frame.localLightCount;
   for (uint i = 0u; i < lightCount; ++i) {

@@ -34,7 +34,7 @@ void main() {
   vec4 indirect = vec4(0.0);
   float depth = texelFetch(depthBuffer, pixel, 0).r;
   if (depth <= 0.0) {
-    vec4 world = frame.inverseViewProjection * vec4(viewportPixelToNdc(vec2(pixel), frame.viewportSize), 1.0, 1.0);
+    vec4 world = frame.inverseViewProjection * vec4(ssvgiPixelToNdc(vec2(pixel), frame.viewportSize.xy), 1.0, 1.0);
     vec3 direction = normalize(world.xyz / world.w - frame.cameraPosition.xyz);
     radiance = evaluateSky(frame.sky, direction);
   } else {

@@ -20,9 +20,9 @@ layout(binding = kBindLightingViewDistance, r32f) writeonly uniform image2D view
 const float kNormalOffsetTexels = 1.5;
 
 float sunVisibility(vec3 position, vec3 normal) {
-  vec3 offsetPosition = position + normal * (kNormalOffsetTexels * frame.sunIlluminance.w);
+  vec3 offsetPosition = position + normal * (kNormalOffsetTexels * frame.sunShadowTexelSize);
   vec4 clip = frame.sunShadowMatrix * vec4(offsetPosition, 1.0);
-  vec2 uv = ndcToUv(clip.xy);
+  vec2 uv = ssvgiNdcToUv(clip.xy);
   if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0))) || clip.z > 1.0) return 1.0;
   return texture(sunShadowMap, vec3(uv, clip.z));
 }
@@ -32,14 +32,14 @@ float localVisibility(GpuLight light, vec3 position, vec3 normal) {
   if (firstLayer == kNoShadow) return 1.0;
   // The texel footprint is the same for every face of a light, so the offset can be found before the face: choosing
   // the face from the offset point keeps it inside that face's frustum at cube seams.
-  float texelSize = shadowViews[1u + firstLayer].texelWorldSize.x * distance(position, light.positionAndType.xyz);
+  float texelSize = shadowViews[1u + firstLayer].texelWorldSize * distance(position, light.positionAndType.xyz);
   vec3 offsetPosition = position + normal * (kNormalOffsetTexels * texelSize);
   vec3 fromLight = offsetPosition - light.positionAndType.xyz;
   uint layer = firstLayer + (uint(light.positionAndType.w) == kLightPoint ? cubeFace(fromLight) : 0u);
   ShadowView view = shadowViews[1u + layer];
   vec4 clip = view.viewProjection * vec4(offsetPosition, 1.0);
   vec3 ndc = clip.xyz / clip.w;
-  vec2 uv = ndcToUv(ndc.xy);
+  vec2 uv = ssvgiNdcToUv(ndc.xy);
   if (clip.w <= 0.0 || any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return 0.0;  // outside the cone
   return texture(localShadowMaps, vec4(uv, float(layer), ndc.z));
 }
@@ -54,14 +54,14 @@ void main() {
     imageStore(viewDistance, pixel, vec4(0.0));
     return;
   }
-  vec4 world = frame.inverseViewProjection * vec4(viewportPixelToNdc(vec2(pixel), frame.viewportSize), depth, 1.0);
+  vec4 world = frame.inverseViewProjection * vec4(ssvgiPixelToNdc(vec2(pixel), frame.viewportSize.xy), depth, 1.0);
   vec3 position = world.xyz / world.w;
   vec3 normal = normalize(texelFetch(normalBuffer, pixel, 0).xyz);
 
   vec3 irradiance = vec3(0.0);
   if (frame.sunDirectionAndEnabled.w > 0.0) {
     float cosine = dot(normal, frame.sunDirectionAndEnabled.xyz);
-    if (cosine > 0.0) irradiance += frame.sunIlluminance.rgb * cosine * sunVisibility(position, normal);
+    if (cosine > 0.0) irradiance += frame.sunIlluminance * cosine * sunVisibility(position, normal);
   }
   uint lightCount = frame.localLightCount;
   for (uint i = 0u; i < lightCount; ++i) {

@@ -29,7 +29,7 @@ void main() {
   outEmission = vec4(material.emission.rgb, 0.0);
   outNormal = vec4(normal, 0.0);
   // Screen-space motion in UV units from last frame to this one (current - previous).
-  vec2 current = ndcToUv(inClip.xy / inClip.w);
-  vec2 previous = ndcToUv(inPreviousClip.xy / inPreviousClip.w);
+  vec2 current = ssvgiNdcToUv(inClip.xy / inClip.w);
+  vec2 previous = ssvgiNdcToUv(inPreviousClip.xy / inPreviousClip.w);
   outMotion = current - previous;
 }

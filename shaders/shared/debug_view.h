@@ -2,14 +2,16 @@
 #ifndef SSVGI_SHARED_DEBUG_VIEW_H
 #define SSVGI_SHARED_DEBUG_VIEW_H
 #include "shared/glsl_cpp.h"
-#include "shared/ndc.h"
+#include "ssvgi/pixel_coordinates.h"
 
 SSVGI_SHARED_BEGIN
 
 struct DebugViewCamera {
   mat4 inverseViewProjection;  // the debug camera, reversed-Z
-  vec4 position;
-  uvec4 sizeAndMode;           // x, y: image size; z: the view's mode
+  vec3 position;
+  uint mode;                   // the view's mode (each pass says what its modes are)
+  uvec2 size;                  // the image's, pixels
+  uvec2 unused;
 };
 SSVGI_CHECK_SIZE(DebugViewCamera, 96);
 
@@ -22,8 +24,10 @@ SSVGI_CHECK_SIZE(VoxelDebugViewPush, 96);
 // ProbeDebugView: the finest probe level as it stood in the last dispatch.
 struct ProbeDebugViewPush {
   DebugViewCamera camera;
-  ivec4 probeOrigin;  // xyz: world probe coordinate of level 0's minimum corner; w: its spacing (float bits)
-  ivec4 probeDimensions;  // xyz: probes per level and axis; w: probes per level
+  ivec3 probeOrigin;      // world probe coordinate of level 0's minimum corner
+  float probeSpacing;     // level 0's, metres
+  ivec3 probeDimensions;  // probes per level and axis
+  int probesPerLevel;
 };
 SSVGI_CHECK_SIZE(ProbeDebugViewPush, 128);
 
@@ -35,7 +39,7 @@ SSVGI_CHECK_SIZE(ConfidenceDebugViewPush, 96);
 
 // The unit direction of the camera ray through a pixel's centre (rows top to bottom).
 SSVGI_INLINE vec3 debugViewDirection(DebugViewCamera camera, uvec2 pixel) {
-  vec2 ndc = pixelToNdc(vec2(pixel), vec2(camera.sizeAndMode.x, camera.sizeAndMode.y));
+  vec2 ndc = ssvgiPixelToNdc(vec2(pixel), vec2(camera.size));
   vec4 onPlane = camera.inverseViewProjection * vec4(ndc, 0.5f, 1.0f);
   return normalize(vec3(onPlane) / onPlane.w - vec3(camera.position));
 }

@@ -35,11 +35,6 @@ SSVGI_CONSTANT(float, kGatherOccludedProbeWeight, 0.02f);
 // becomes noise that the temporal filter averages.
 SSVGI_CONSTANT(float, kGatherLevelBlendSpacings, 2.0f);
 
-// Upsample and TemporalFilter: a neighbour counts when it lies within this fraction of the view distance of the
-// pixel's tangent plane (a depth test that tilted surfaces pass and depth edges and creases fail) and its normal agrees
-// (weight dot^kGatherNormalPower).
-SSVGI_CONSTANT(float, kGatherPlaneTolerance, 0.02f);
-SSVGI_CONSTANT(float, kGatherNormalPower, 8.0f);
 // TemporalFilter: the weight of the new frame. 1/16 spans the 16 frames the gather's jitter needs to visit a tile's
 // every pixel.
 SSVGI_CONSTANT(float, kTemporalBlend, 1.0f / 16.0f);

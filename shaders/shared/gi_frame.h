@@ -4,7 +4,7 @@
 #define SSVGI_SHARED_GI_FRAME_H
 
 #include "shared/glsl_cpp.h"
-#include "shared/ndc.h"
+#include "ssvgi/pixel_coordinates.h"
 
 SSVGI_SHARED_BEGIN
 
@@ -24,20 +24,29 @@ SSVGI_CONSTANT(uint, kViewObservesOnly, 8u);  // (an extra view) given without c
 
 // A view's projection may be perspective or orthographic (any view-projection that maps depth to reversed-Z): what the
 // passes need of its geometry they find from the matrices (gi_frame.glsl: viewRayDirection), not from a position.
+// Where a level of the Hi-Z pyramid lies in its buffer.
+struct HiZLevel {
+  uvec2 size;       // texels
+  uint firstTexel;  // its first float in the pyramid buffer
+  uint unused;
+};
+SSVGI_CHECK_SIZE(HiZLevel, 16);
+
 struct GiFrame {
   mat4 viewProjection;             // current camera, reversed-Z
   mat4 inverseViewProjection;
   mat4 litViewProjection;          // the camera the lit frame was rendered with
   mat4 litInverseViewProjection;
-  vec4 cameraPosition;             // xyz: current camera position (the host's camera: the gather's distances)
+  vec3 cameraPosition;             // current camera position (the host's camera: the gather's distances)
+  uint frameIndex;
   uvec2 size;                      // current depth size, pixels
   uvec2 litSize;                   // lit frame size, pixels
-  uint frameIndex;
   uint allocationPixelStride;      // BrickAllocate reads every Nth pixel in X and Y
   uint hizLevelCount;
   uint viewKind;                   // kViewIs… bits
+  uint unused;
   vec4 frustumPlanes[6];           // current camera, world space, normals pointing inwards: dot(n, p) + w >= 0 inside
-  uvec4 hizLevels[kMaxHiZLevels];  // per Hi-Z level: x: first float in the pyramid buffer; y: width; z: height
+  HiZLevel hizLevels[kMaxHiZLevels];
 };
 SSVGI_CHECK_SIZE(GiFrame, 4 * 64 + 3 * 16 + 6 * 16 + 16 * 16);
 

@@ -3,7 +3,7 @@
 #define SSVGI_SHARED_RENDERER_INTERFACE_H
 
 #include "shared/glsl_cpp.h"
-#include "shared/ndc.h"
+#include "ssvgi/pixel_coordinates.h"
 #include "shared/sky.h"
 
 SSVGI_SHARED_BEGIN
@@ -26,7 +26,8 @@ struct FrameConstants {
   vec4 cameraForward;           // xyz: unit view direction
   vec4 viewportSize;            // width, height, 1/width, 1/height
   vec4 sunDirectionAndEnabled;  // xyz: unit vector towards the sun; w: 1 when the sun is on
-  vec4 sunIlluminance;          // rgb: irradiance on a surface facing the sun, W/m²; w: sun shadow texel size, m
+  vec3 sunIlluminance;          // irradiance on a surface facing the sun, W/m²
+  float sunShadowTexelSize;     // metres
   uint localLightCount;
   float exposure;               // multiplier before tonemapping
   uint addsIndirectLight;       // 1: the composite adds albedo/π · ssvgi's indirect irradiance
@@ -46,14 +47,19 @@ struct GpuLight {
   vec4 positionAndType;         // xyz: world position; w: kLightPoint / kLightSpot
   vec4 directionAndRange;       // xyz: spot axis (away from the light); w: range, 0 = unlimited
   vec4 intensityAndShadow;      // rgb: radiant intensity, W/sr; w: first shadow layer (uintBitsToFloat), kNoShadow
-  vec4 spotCosines;             // x: cos(inner cone angle); y: cos(outer cone angle)
+  float cosInnerCone;           // cos(inner cone angle)
+  float cosOuterCone;           // cos(outer cone angle)
+  vec2 unused;
 };
 SSVGI_CHECK_SIZE(GpuLight, 64);
 
 // One rendered shadow view: a sun cascade or a face/spot of the local shadow array.
 struct ShadowView {
   mat4 viewProjection;          // world -> clip, [0,1] depth
-  vec4 texelWorldSize;          // x: size of a shadow texel at unit distance (perspective) or in metres (ortho)
+  float texelWorldSize;         // size of a shadow texel at unit distance (perspective) or in metres (ortho)
+  float unused0;
+  float unused1;
+  float unused2;
 };
 SSVGI_CHECK_SIZE(ShadowView, 80);
 
@@ -114,12 +120,6 @@ SSVGI_CONSTANT(uint, kBindTonemapFrame, 0u);
 SSVGI_CONSTANT(uint, kBindTonemapInput, 1u);
 SSVGI_CONSTANT(uint, kBindTonemapOutput, 2u);        // out: rgba8, sRGB-encoded
 
-// pixelToNdc (shared/ndc.h) with the pixel scaled by 1/size, as the renderer has always done: dividing instead changes
-// its images, and the reference's, in the last bits (and the cornell error figure in its fourth digit).
-SSVGI_INLINE vec2 viewportPixelToNdc(vec2 pixel, vec4 viewportSize) {
-  return uvToNdc((pixel + vec2(0.5f)) * vec2(viewportSize.z, viewportSize.w));
-}
-
 // Radiant intensity reaching a point from a local light, per unit of cos(incidence): I · spot · window / d², as glTF's
 // KHR_lights_punctual recommends (smooth range window, quadratic spot falloff).
 SSVGI_INLINE vec3 localLightIrradianceScale(GpuLight light, vec3 toLight, float distanceSquared) {
@@ -133,7 +133,7 @@ SSVGI_INLINE vec3 localLightIrradianceScale(GpuLight light, vec3 toLight, float 
   float spot = 1.0f;
   if (uint(light.positionAndType.w) == kLightSpot) {
     float cosAngle = dot(-toLight, vec3(light.directionAndRange));
-    float t = clamp((cosAngle - light.spotCosines.y) / max(light.spotCosines.x - light.spotCosines.y, 1e-4f), 0.0f, 1.0f);
+    float t = clamp((cosAngle - light.cosOuterCone) / max(light.cosInnerCone - light.cosOuterCone, 1e-4f), 0.0f, 1.0f);
     spot = t * t;
   }
   return vec3(light.intensityAndShadow) * (spot * window / max(distanceSquared, 1e-8f));

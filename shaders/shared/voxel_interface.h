@@ -49,16 +49,20 @@ SSVGI_CONSTANT(uint, kBindCullingVisibleBricks, kBindFirstPassSlot + 1u);  // In
 
 // Per-frame description of the volume (uniform buffer).
 struct VoxelVolume {
-  ivec4 originBrick;        // xyz: world brick coordinate of the volume's minimum corner; w: frame index
-  ivec4 dimensionsBricks;   // xyz: volume size in bricks (multiples of 4); w: brick pool capacity
-  vec4 voxelSize;           // x: voxel size (m); y: brick size (m); z: 1 / brick size; w: unused
-  uvec4 gridWordOffsets;    // x, y, z: first uint of occupancy levels 2, 3, 4 in the grid bit buffer; w: total words
-  uvec4 settings;           // x: frames a voxel may be seen through before it is cleared; y: injections an empty
-                            // brick is kept; z: 1 when probe rays see the sky only through observed space
-                            // (Settings::skyOnlyThroughObservedSpace); w: unused
-  ivec4 previousOriginBrick;  // xyz: originBrick of the last frame (VolumeScroll forgets what scrolled in); w: unused
+  ivec3 originBrick;            // world brick coordinate of the volume's minimum corner
+  uint brickPoolCapacity;       // Settings::brickPoolCapacity
+  ivec3 dimensionsBricks;       // the volume's size in bricks (multiples of 4)
+  uint invalidFramesToClear;    // Settings::invalidFramesToClear: injections a voxel may be seen through
+  float voxelSize;              // metres
+  float brickSize;              // metres
+  float bricksPerMetre;         // 1 / brickSize
+  uint emptyFramesToRelease;    // Settings::emptyFramesToRelease: injections an empty brick is kept
+  uvec3 gridWordOffsets;        // the first uint of occupancy levels 2, 3, 4 in the grid bit buffer
+  uint gridWords;               // the grid bit buffer's size in uints
+  ivec3 previousOriginBrick;    // originBrick of the last frame (VolumeScroll forgets what scrolled in)
+  uint skyOnlyThroughObservedSpace;  // 1: probe rays see the sky only through observed space (Settings::…)
 };
-SSVGI_CHECK_SIZE(VoxelVolume, 96);
+SSVGI_CHECK_SIZE(VoxelVolume, 80);
 
 // Observed space (SPEC §6.4, "unknown is not sky"): which brick cells of the volume a view — the camera or an extra
 // view — has observed, by seeing through them (known empty) or into them (they hold the surface it saw). Three bit
@@ -69,9 +73,11 @@ SSVGI_CHECK_SIZE(VoxelVolume, 96);
 
 // A brick of the pool.
 struct Brick {
-  ivec4 coordinate;   // xyz: world brick coordinate; w: 1 while the brick is live, 0 when free
-  uvec4 occupancy;    // xy: 64-bit voxel occupancy mask (bit = x + 4y + 16z); z: injections the mask has been empty;
-                      // w: 1 + the frame index at which the brick's cell was last listed as changed
+  ivec3 coordinate;        // world brick coordinate
+  uint live;               // 1 while the brick is live, 0 when free
+  uvec2 occupancy;         // 64-bit voxel occupancy mask (bit = x + 4y + 16z)
+  uint emptyInjections;    // injections the mask has been empty
+  uint changeListedStamp;  // 1 + the frame index at which the brick's cell was last listed as changed
 };
 SSVGI_CHECK_SIZE(Brick, 32);
 
@@ -207,6 +213,22 @@ SSVGI_INLINE vec3 unpackOctahedralNormal(uint packed) {
     n.y = unfolded.y;
   }
   return normalize(n);
+}
+
+// The fields of Voxel::surfaceAndLastHit.
+SSVGI_INLINE vec3 voxelNormal(Voxel voxel) { return unpackOctahedralNormal(voxel.surfaceAndLastHit & 0xffffu); }
+SSVGI_INLINE uint voxelPlaneCode(Voxel voxel) { return (voxel.surfaceAndLastHit >> kVoxelPlaneShift) & 0xffu; }
+SSVGI_INLINE uint voxelSeenThroughCount(Voxel voxel) {
+  return (voxel.surfaceAndLastHit >> kVoxelLastHitShift) & kVoxelMaxLastHit;
+}
+SSVGI_INLINE uint voxelExtraViewsSinceLitFrame(Voxel voxel) { return voxel.surfaceAndLastHit >> kVoxelExtraViewsShift; }
+// The surface alone (normal and plane), as a valid injection sets it; the counters beside it.
+SSVGI_INLINE uint packVoxelSurface(vec3 normal, uint planeCode) {
+  return packOctahedralNormal(normal) | (planeCode << kVoxelPlaneShift);
+}
+SSVGI_INLINE uint voxelSurface(Voxel voxel) { return voxel.surfaceAndLastHit & ((1u << kVoxelLastHitShift) - 1u); }
+SSVGI_INLINE uint packVoxelSurfaceAndCounters(uint surface, uint seenThroughCount, uint extraViewsSinceLitFrame) {
+  return surface | (seenThroughCount << kVoxelLastHitShift) | (extraViewsSinceLitFrame << kVoxelExtraViewsShift);
 }
 
 // Positive modulo: toroidal addressing of world coordinates into the volume (SPEC §4.1). GLSL leaves % undefined for

@@ -15,18 +15,22 @@ SSVGI_CONSTANT(uint, kTraceMethodHierarchical, 0u);  // over the occupancy hiera
 SSVGI_CONSTANT(uint, kTraceMethodFlat, 1u);          // voxel by voxel: the baseline
 
 struct VoxelTraceRay {
-  vec4 originAndMaxDistance;  // xyz: world position (m); w: how far to trace (m)
-  vec4 direction;             // xyz: unit direction; w: 1 to watch observed space (as the probes' rays, SPEC §6.4)
+  vec3 origin;                // world position, m
+  float maxDistance;          // how far to trace, m
+  vec3 direction;             // unit
+  uint watchesObservedSpace;  // 1: as the probes' rays (SPEC §6.4)
 };
 SSVGI_CHECK_SIZE(VoxelTraceRay, 32);
 
 struct VoxelTraceHit {
-  vec4 radianceAndDistance;  // rgb: the hit voxel's radiance, black for a miss or a back face; a: distance (m) to
-                             // where the ray enters the hit voxel, the ray's maximum distance for a miss
-  vec4 normal;               // xyz: the hit voxel's normal, zero for a miss; w: unused
-  uvec4 voxel;               // x: pool index of the hit voxel's brick, kInvalidBrick for a miss; y: the voxel's bit
-                             // in its brick (voxelBit); z: buffer reads the trace made; w: 1 when the ray crossed
-                             // unobserved space before its hit or its end, else 0
+  vec3 radiance;                // the hit voxel's, black for a miss or a back face
+  float distance;               // m to where the ray enters the hit voxel; the ray's maximum distance for a miss
+  vec3 normal;                  // the hit voxel's, zero for a miss
+  uint brick;                   // pool index of the hit voxel's brick, kInvalidBrick for a miss
+  uint voxelBit;                // the voxel's bit in its brick (voxelBit)
+  uint reads;                   // buffer reads the trace made
+  uint crossedUnobservedSpace;  // 1 when the ray crossed unobserved space before its hit or its end
+  uint unused;
 };
 SSVGI_CHECK_SIZE(VoxelTraceHit, 48);
 

@@ -19,6 +19,9 @@
 #include <cmath>
 #include <cstring>
 #include <optional>
+#include <sstream>
+#include <type_traits>
+#include <vector>
 
 namespace ssvgi {
 
@@ -44,11 +47,11 @@ void frustumPlanes(const glm::mat4& viewProjection, glm::vec4 planes[6]) {
 }
 
 // Levels of the Hi-Z pyramid for a depth of `width` × `height`: level 0 is half size, down to 1×1.
-uint32_t hizLayout(uint32_t width, uint32_t height, glm::uvec4 levels[shader::kMaxHiZLevels]) {
+uint32_t hizLayout(uint32_t width, uint32_t height, shader::HiZLevel levels[shader::kMaxHiZLevels]) {
   uint32_t count = 0, offset = 0;
   glm::uvec2 size((width + 1) / 2, (height + 1) / 2);
   for (;;) {
-    levels[count++] = glm::uvec4(offset, size.x, size.y, 0);
+    levels[count++] = {size, offset, 0};
     offset += size.x * size.y;
     if ((size.x == 1 && size.y == 1) || count == shader::kMaxHiZLevels) return count;
     size = (size + 1u) / 2u;
@@ -73,48 +76,63 @@ gpu::ExternalDevice externalDevice(const ContextDesc& desc) {
           desc.debugUtilsEnabled, desc.vkGetInstanceProcAddr, desc.vkGetDeviceProcAddr};
 }
 
+// Whether a setting's value is one its SettingInfo accepts.
+bool accepted(const SettingInfo& info, double value) {
+  if (!std::isfinite(value)) return false;
+  if (info.zeroTurnsOff && value == 0.0) return true;
+  if (info.minimumExcluded ? !(value > info.minimum) : !(value >= info.minimum)) return false;
+  if (!(value <= info.maximum)) return false;
+  if (info.multipleOf > 1 && std::fmod(value, double(info.multipleOf)) != 0.0) return false;
+  return !info.powerOfTwo || (uint64_t(value) & (uint64_t(value) - 1)) == 0;
+}
+
+std::string numberText(double value) {
+  std::ostringstream text;
+  text << value;
+  return text.str();
+}
+
+// What a SettingInfo accepts, in words: "a power of two in 1..32", "a positive multiple of 8", "0 (off) or at least 1".
+std::string acceptedValues(const SettingInfo& info, bool isFloat) {
+  const bool positive = info.minimumExcluded ? info.minimum == 0.0 : (!isFloat && info.minimum == 1.0);
+  std::string range = std::isfinite(info.maximum) ? "in " + numberText(info.minimum) + ".." + numberText(info.maximum)
+                      : positive                  ? "positive"
+                      : info.minimum == 0.0       ? "0 or more"
+                                                  : "at least " + numberText(info.minimum);
+  if (info.powerOfTwo) range = "a power of two " + range;
+  if (info.multipleOf > 1)
+    range = positive && !std::isfinite(info.maximum) ? "a positive multiple of " + std::to_string(info.multipleOf)
+                                                     : "a multiple of " + std::to_string(info.multipleOf) + " " + range;
+  if (info.zeroTurnsOff) range = "0 (off) or " + range;
+  return isFloat ? range + " and finite" : range;
+}
+
 Error validateSettings(const ContextDesc& desc) {
   const Settings& settings = desc.settings;
   if (!desc.instance || !desc.physicalDevice || !desc.device)
     return invalid("ContextDesc: instance, physicalDevice and device are required");
-  for (int axis = 0; axis < 3; ++axis)
-    if (settings.volumeBricks[axis] == 0 || settings.volumeBricks[axis] % (2 * shader::kScrollStepBricks) != 0)
-      return invalid("Settings::volumeBricks must be positive multiples of 8 (got " +
-                     std::to_string(settings.volumeBricks[axis]) + ")");
-  if (!(settings.voxelSize > 0.0f) || !std::isfinite(settings.voxelSize))
-    return invalid("Settings::voxelSize must be positive and finite");
-  if (settings.brickPoolCapacity == 0) return invalid("Settings::brickPoolCapacity must be positive");
-  if (settings.allocationPixelStride == 0) return invalid("Settings::allocationPixelStride must be positive");
-  if (settings.invalidFramesToClear == 0 || settings.invalidFramesToClear > shader::kVoxelMaxLastHit)
-    return invalid("Settings::invalidFramesToClear must be in 1.." + std::to_string(shader::kVoxelMaxLastHit));
-  if (settings.emptyFramesToRelease == 0) return invalid("Settings::emptyFramesToRelease must be positive");
-  for (int axis = 0; axis < 3; ++axis)
-    if (settings.probeGrid[axis] == 0 || settings.probeGrid[axis] % shader::kProbeBlockSize != 0 ||
-        settings.probeGrid[axis] > 4096)  // 1024 blocks: packProbeBlock's 10 bits
-      return invalid("Settings::probeGrid must be multiples of 4 in 4..4096 (got " +
-                     std::to_string(settings.probeGrid[axis]) + ")");
-  if (!(settings.probeSpacing > 0.0f) || !std::isfinite(settings.probeSpacing))
-    return invalid("Settings::probeSpacing must be positive and finite");
-  if (settings.probeBudget == 0) return invalid("Settings::probeBudget must be positive");
-  // A power of two up to the workgroup size divides the 1024 directions into whole slices.
-  if (settings.raysPerProbe == 0 || settings.raysPerProbe > shader::kProbeTraceGroupSize ||
-      (settings.raysPerProbe & (settings.raysPerProbe - 1)) != 0)
-    return invalid("Settings::raysPerProbe must be a power of two in 1..32");
-  if (settings.probeHistoryCap == 0 || settings.probeHistoryCap > 255)
-    return invalid("Settings::probeHistoryCap must be in 1..255");
+  for (const SettingInfo& info : settingInfos()) {
+    std::vector<double> values;
+    bool isFloat = false;
+    std::visit(
+        [&](auto member) {
+          using Value = std::remove_cvref_t<decltype(settings.*member)>;
+          if constexpr (std::is_same_v<Value, std::array<uint32_t, 3>>) {
+            for (uint32_t axis : settings.*member) values.push_back(axis);
+          } else if constexpr (!std::is_same_v<Value, bool>) {
+            values.push_back(double(settings.*member));
+            isFloat = std::is_same_v<Value, float>;
+          }
+        },
+        info.member);
+    for (double value : values)
+      if (!accepted(info, value))
+        return invalid(std::string("Settings::") + info.name + " must be " + acceptedValues(info, isFloat) + " (got " +
+                       numberText(value) + ")");
+  }
   if (settings.probeReservoirs && settings.raysPerProbe < 2 * shader::kProbeStrata)
     return invalid("Settings::raysPerProbe must be at least 16 with Settings::probeReservoirs (" +
                    std::to_string(shader::kProbeStrata) + " strata, each a new candidate and its reservoir's ray)");
-  // M is stored in 8 bits and grows by up to 3 candidates past the cap in an update.
-  if (settings.probeReservoirHistoryCap == 0 || settings.probeReservoirHistoryCap > 252)
-    return invalid("Settings::probeReservoirHistoryCap must be in 1..252");
-  if (!(settings.probeSampleClamp == 0.0f || settings.probeSampleClamp >= 1.0f) ||
-      !std::isfinite(settings.probeSampleClamp))
-    return invalid("Settings::probeSampleClamp must be 0 (off) or at least 1");
-  if (!(settings.probeChangeThreshold >= 0.0f) || !std::isfinite(settings.probeChangeThreshold))
-    return invalid("Settings::probeChangeThreshold must be 0 (off) or positive");
-  if (settings.voxelRelightPeriod == 0 || settings.voxelRelightPeriod > 64)
-    return invalid("Settings::voxelRelightPeriod must be in 1..64");
   if (desc.framesInFlight == 0 || desc.framesInFlight > 8) return invalid("ContextDesc::framesInFlight must be in 1..8");
   if (desc.maxWidth == 0 || desc.maxHeight == 0) return invalid("ContextDesc::maxWidth/maxHeight must be positive");
   if (desc.maxExtraViewSize > kMaxExtraViewSizeLimit)
@@ -298,10 +316,10 @@ class ContextImplementation final : public Context {
 
   // The pyramid of the largest view: the camera's frame or an extra view.
   static VkDeviceSize hizBytes(const ContextDesc& desc) {
-    glm::uvec4 levels[shader::kMaxHiZLevels];
+    shader::HiZLevel levels[shader::kMaxHiZLevels];
     const uint32_t count = hizLayout(std::max(desc.maxWidth, desc.maxExtraViewSize),
                                      std::max(desc.maxHeight, desc.maxExtraViewSize), levels);
-    return VkDeviceSize(levels[count - 1].x + 1) * sizeof(float);
+    return VkDeviceSize(levels[count - 1].firstTexel + 1) * sizeof(float);
   }
 
   template <typename Record>
@@ -347,7 +365,7 @@ class ContextImplementation final : public Context {
     shader::GiFrame frame{};
     frame.viewProjection = toMat4(current.viewProjection);
     frame.inverseViewProjection = glm::inverse(frame.viewProjection);
-    frame.cameraPosition = glm::vec4(current.position[0], current.position[1], current.position[2], 1.0f);
+    frame.cameraPosition = glm::vec3(current.position[0], current.position[1], current.position[2]);
     frame.litViewProjection = toMat4(lit.viewProjection);
     frame.litInverseViewProjection = glm::inverse(frame.litViewProjection);
     frame.size = glm::uvec2(current.width, current.height);

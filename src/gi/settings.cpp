@@ -1,6 +1,13 @@
 #include "ssvgi/ssvgi.h"
 
+#include "shared/probe_interface.h"
+#include "shared/voxel_interface.h"
+
 namespace ssvgi {
+
+namespace {
+constexpr double kUnlimited = std::numeric_limits<double>::infinity();
+}  // namespace
 
 // SPEC §4.7: the tiers differ in the voxel range, the probe budget and the rays per probe; the pool shrinks with the
 // range. Medium and low keep 32×16×32 probes per level (level 0 then covers 32×16×32 m, level 2 128×64×128 m, past
@@ -31,6 +38,36 @@ Settings settingsForTier(QualityTier tier) {
       break;
   }
   return settings;
+}
+
+std::span<const SettingInfo> settingInfos() {
+  // Why each range: the volume re-centres in steps of kScrollStepBricks and keeps the camera at a whole step from its
+  // middle (multiples of twice that); the seen-through counter has 6 bits; the CPU culls probes in blocks of 4 and
+  // packs a block coordinate in 10 bits (1024 blocks); a power of two up to the workgroup divides the 1024 directions
+  // into whole slices; m has 8 bits; a reservoir's M has 8 bits and grows by up to 3 candidates past its cap in an
+  // update; a relight period past 64 frames would leave voxels stale for seconds.
+  static const SettingInfo infos[] = {
+      {"voxelSize", &Settings::voxelSize, 0.0, kUnlimited, true},
+      {"volumeBricks", &Settings::volumeBricks, 1.0, kUnlimited, false, 2 * uint32_t(shader::kScrollStepBricks)},
+      {"brickPoolCapacity", &Settings::brickPoolCapacity, 1.0},
+      {"invalidFramesToClear", &Settings::invalidFramesToClear, 1.0, double(shader::kVoxelMaxLastHit)},
+      {"emptyFramesToRelease", &Settings::emptyFramesToRelease, 1.0},
+      {"allocationPixelStride", &Settings::allocationPixelStride, 1.0},
+      {"probeGrid", &Settings::probeGrid, double(shader::kProbeBlockSize), 1024.0 * shader::kProbeBlockSize, false,
+       shader::kProbeBlockSize},
+      {"probeSpacing", &Settings::probeSpacing, 0.0, kUnlimited, true},
+      {"probeBudget", &Settings::probeBudget, 1.0},
+      {"probeBlocksBeyondView", &Settings::probeBlocksBeyondView},
+      {"raysPerProbe", &Settings::raysPerProbe, 1.0, double(shader::kProbeTraceGroupSize), false, 1, true},
+      {"probeHistoryCap", &Settings::probeHistoryCap, 1.0, 255.0},
+      {"probeReservoirs", &Settings::probeReservoirs},
+      {"probeReservoirHistoryCap", &Settings::probeReservoirHistoryCap, 1.0, 252.0},
+      {"probeSampleClamp", &Settings::probeSampleClamp, 1.0, kUnlimited, false, 1, false, true},
+      {"probeChangeThreshold", &Settings::probeChangeThreshold},
+      {"skyOnlyThroughObservedSpace", &Settings::skyOnlyThroughObservedSpace},
+      {"voxelRelightPeriod", &Settings::voxelRelightPeriod, 1.0, 64.0},
+  };
+  return infos;
 }
 
 }  // namespace ssvgi

@@ -332,10 +332,10 @@ std::string OwnedDevice::description() const {
 }
 
 // One command buffer, re-recorded by every submit and freed only with its pool. Freeing the command buffer as soon as
-// its fence had signalled and allocating the next one (which gets the same handle back) corrupted the heap in about
-// one test process in thirty under the Khronos validation layer 1.3.239 on lavapipe, whenever the CPU was
-// oversubscribed: the crashes were inside the layer (vkCmdBeginDebugUtilsLabelEXT, vkAllocateDescriptorSets) while
-// the layer's own queue thread was still busy with the submission the fence wait had just returned from.
+// its fence had signalled and allocating the next one (which gets the same handle back) corrupted the heap under the
+// Khronos validation layer on lavapipe when the CPU was oversubscribed (docs/ARCHITECTURE.md, "Tests"): the crashes
+// were inside the layer (vkCmdBeginDebugUtilsLabelEXT, vkAllocateDescriptorSets) while the layer's own queue thread
+// was still busy with the submission the fence wait had just returned from.
 void OwnedDevice::submitAndWait(const std::function<void(VkCommandBuffer)>& record) {
   if (recording_) throw GpuError("OwnedDevice::submitAndWait was called while recording its own command buffer");
   recording_ = true;

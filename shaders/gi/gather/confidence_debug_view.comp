@@ -16,10 +16,10 @@ const vec3 kNoSurface = vec3(0.0, 0.0, 0.25);
 
 void main() {
   uvec2 pixel = gl_GlobalInvocationID.xy;
-  if (any(greaterThanEqual(pixel, push.camera.sizeAndMode.xy))) return;
-  vec3 origin = push.camera.position.xyz;
+  if (any(greaterThanEqual(pixel, push.camera.size))) return;
+  vec3 origin = push.camera.position;
   vec3 direction = debugViewDirection(push.camera, pixel);
-  float range = length(vec3(volume.dimensionsBricks.xyz)) * volume.voxelSize.y;
+  float range = length(vec3(volume.dimensionsBricks)) * volume.brickSize;
   VoxelHit hit = traceVoxelsHierarchical(origin, direction, range, kIgnoreObservedSpace);
   vec3 colour = kNoSurface;
   if (hit.hit) {

@@ -4,6 +4,7 @@
 // to a pixel's surface) and the tile samples around a pixel.
 #include "gi/gi_frame.glsl"
 #include "shared/gather_interface.h"
+#include "ssvgi/resolve.glsl"
 
 layout(binding = kBindGatherConstants) uniform GatherConstantsBlock { GatherConstants gather; };
 layout(binding = kBindGatherDepth) uniform sampler2D depthBuffer;
@@ -24,20 +25,18 @@ Surface surfaceAt(mat4 inverseViewProjection, vec3 cameraPosition, ivec2 pixel, 
 
 // The surface at a pixel of this frame (depth > 0: something was drawn there).
 Surface currentSurface(ivec2 pixel, float depth) {
-  return surfaceAt(frame.inverseViewProjection, frame.cameraPosition.xyz, pixel, vec2(frame.size), depth,
+  return surfaceAt(frame.inverseViewProjection, frame.cameraPosition, pixel, vec2(frame.size), depth,
                    normalize(texelFetch(normalBuffer, pixel, 0).xyz));
 }
 
-// 1 on the pixel's tangent plane, falling to 0 at kGatherPlaneTolerance of its view distance off it: a neighbour
-// across a depth edge or a crease lies far off the plane, one on the same tilted floor does not.
+// How much a neighbour belongs to the pixel's surface, as the host's resolve weighs it (ssvgi/resolve.glsl): a
+// neighbour across a depth edge or a crease lies far off the pixel's tangent plane, one on the same tilted floor does
+// not.
 float planeWeight(Surface pixel, vec3 neighbourPosition) {
-  float planeDistance = abs(dot(neighbourPosition - pixel.position, pixel.normal));
-  return clamp(1.0 - planeDistance / (kGatherPlaneTolerance * pixel.viewDistance), 0.0, 1.0);
+  return ssvgiPlaneWeight(pixel.position, pixel.normal, pixel.viewDistance, neighbourPosition);
 }
 
-float normalWeight(Surface pixel, vec3 neighbourNormal) {
-  return pow(max(dot(pixel.normal, neighbourNormal), 0.0), kGatherNormalPower);
-}
+float normalWeight(Surface pixel, vec3 neighbourNormal) { return ssvgiNormalWeight(pixel.normal, neighbourNormal); }
 
 // Taps beyond the bilinear 2×2 keep this spatial weight: they count only where the 2×2 are all on other surfaces (a
 // thin object, a silhouette), so such a pixel borrows from its own surface a tile further away instead of going dark.

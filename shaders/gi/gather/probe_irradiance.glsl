@@ -81,7 +81,7 @@ GatheredLight gatherLevel(uint level, vec3 position, vec3 normal, bool testVisib
       if (testVisibility) {
         VoxelHit blocker = traceVoxelsHierarchical(probePosition, fromProbe / pointDistance, pointDistance,
                                                       kIgnoreObservedSpace);
-        if (blocker.hit && blocker.distance < pointDistance - 0.5 * volume.voxelSize.x) continue;
+        if (blocker.hit && blocker.distance < pointDistance - 0.5 * volume.voxelSize) continue;
       }
     }
     Sh2Rgb radiance = probeRadianceSh(stored);

@@ -25,7 +25,7 @@ vec4 reprojectHistory(Surface surface, vec2 size) {
   vec4 clip = gather.historyViewProjection * vec4(surface.position, 1.0);
   if (clip.w <= 0.0) return vec4(0.0);
   // Half-resolution texel h holds full-resolution pixel 2h, centred at 2h + 0.5.
-  vec2 texelCoordinate = (ndcToPixel(clip.xy / clip.w, size) - 0.5) / 2.0;
+  vec2 texelCoordinate = (ssvgiNdcToPixel(clip.xy / clip.w, size) - 0.5) / 2.0;
   ivec2 firstTexel = ivec2(floor(texelCoordinate));
   vec2 fraction = texelCoordinate - vec2(firstTexel);
   vec3 sum = vec3(0.0);

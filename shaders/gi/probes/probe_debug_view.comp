@@ -37,10 +37,10 @@ vec3 probeColour(Probe probe, vec3 normal) {
 
 void main() {
   uvec2 pixel = gl_GlobalInvocationID.xy;
-  if (any(greaterThanEqual(pixel, push.camera.sizeAndMode.xy))) return;
-  vec3 origin = push.camera.position.xyz;
+  if (any(greaterThanEqual(pixel, push.camera.size))) return;
+  vec3 origin = push.camera.position;
   vec3 direction = debugViewDirection(push.camera, pixel);
-  float range = length(vec3(volume.dimensionsBricks.xyz)) * volume.voxelSize.y;
+  float range = length(vec3(volume.dimensionsBricks)) * volume.brickSize;
   VoxelHit scene = traceVoxelsHierarchical(origin, direction, range, kIgnoreObservedSpace);
   vec3 colour = scene.radiance;
   float nearest = scene.distance;
@@ -48,8 +48,8 @@ void main() {
   // Walk the cells of the probe grid centred on the probes (a 3D DDA, Amanatides and Woo) and test the probe of each.
   // A virtual offset may move a sphere partly into a neighbouring cell, where that cell's walk does not see it: a
   // clipped sphere is good enough for a debug picture.
-  float spacing = intBitsToFloat(push.probeOrigin.w);
-  ivec3 first = push.probeOrigin.xyz, dimensions = push.probeDimensions.xyz;
+  float spacing = push.probeSpacing;
+  ivec3 first = push.probeOrigin, dimensions = push.probeDimensions;
   vec3 grid = origin / spacing + 0.5;
   ivec3 cell = ivec3(floor(grid));
   ivec3 stepDirection = ivec3(sign(direction));

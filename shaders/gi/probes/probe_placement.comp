@@ -27,10 +27,10 @@ layout(binding = kBindProbeList) buffer ProbeList {
 // cells searched are clipped to the volume first, so that no probe spacing makes the loop longer than the volume.
 bool voxelsWithin(vec3 lo, vec3 hi) {
   uint level = update.placementSearchLevel;
-  float cellSize = volume.voxelSize.x * float(1u << level);
+  float cellSize = volume.voxelSize * float(1u << level);
   int bricksPerCell = 1 << (level - kFirstGridLevel);
-  ivec3 volumeFirst = volume.originBrick.xyz / bricksPerCell;  // the volume's origin is a whole number of cells
-  ivec3 volumeLast = volumeFirst + volume.dimensionsBricks.xyz / bricksPerCell - 1;
+  ivec3 volumeFirst = volume.originBrick / bricksPerCell;  // the volume's origin is a whole number of cells
+  ivec3 volumeLast = volumeFirst + volume.dimensionsBricks / bricksPerCell - 1;
   ivec3 first = max(ivec3(floor(max(lo / cellSize, vec3(volumeFirst)))), volumeFirst);
   ivec3 last = min(ivec3(ceil(min(hi / cellSize, vec3(volumeLast + 1)))) - 1, volumeLast);
   for (int z = first.z; z <= last.z; ++z)

@@ -79,7 +79,7 @@ void main() {
   vec3 farthest = vec3(coordinate) * spacing + offset + direction * reach;
   // Traced a voxel past the probe: a probe inside a voxel has that voxel's far side at (or, rounded, just past) its
   // own position.
-  VoxelHit surface = traceVoxelsHierarchical(farthest, -direction, max(reach, 0.0) + volume.voxelSize.x,
+  VoxelHit surface = traceVoxelsHierarchical(farthest, -direction, max(reach, 0.0) + volume.voxelSize,
                                              kIgnoreObservedSpace);
   // Halfway into the room behind the surface must stay clear of it after rounding each component to a step.
   float room = surface.distance;

@@ -109,9 +109,9 @@ bool coarserLevelRadiance(ivec3 probe, vec3 position, out Sh2Rgb radiance) {
     if (weight == 0.0 || !probeIsUsable(candidate, coarser)) continue;
     vec3 coarserPosition = probeWorldPosition(coarser, 2.0 * update.spacing, candidate.state);
     float separation = distance(coarserPosition, position);
-    if (separation > 0.5 * volume.voxelSize.x &&
+    if (separation > 0.5 * volume.voxelSize &&
         traceVoxelsHierarchical(coarserPosition, (position - coarserPosition) / separation,
-                                separation - 0.5 * volume.voxelSize.x, kIgnoreObservedSpace).hit)
+                                separation - 0.5 * volume.voxelSize, kIgnoreObservedSpace).hit)
       continue;
     radiance = sh2Add(radiance, sh2Scale(probeRadianceSh(candidate), weight));
     weightSum += weight;
@@ -326,7 +326,7 @@ VoxelHit traceRay(ListedProbe probe, ProbeRay chosen, uint ray) {
   rayMetSurface[ray] = false;
   VoxelHit hit;
   if (!chosen.traced) return hit;
-  bool watchesObservedSpace = volume.settings.z != 0u;
+  bool watchesObservedSpace = volume.skyOnlyThroughObservedSpace != 0u;
   hit = traceVoxelsHierarchical(probe.origin, chosen.direction, update.rayLength, watchesObservedSpace);
   rayUnknown[ray] = !hit.hit && hit.unobserved;  // neither a surface nor the sky (SPEC §6.4)
   rayMetSurface[ray] = hit.hit;

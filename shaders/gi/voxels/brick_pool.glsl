@@ -25,18 +25,17 @@ void markCellChanged(uint cell) {
 // A free pool index, or kInvalidBrick when the pool is full (the caller counts the drop).
 uint allocateBrickIndex() {
   uint available = atomicAdd(pool.freeCount, uint(-1));
-  if (available != 0u && available <= uint(volume.dimensionsBricks.w)) return freeList[available - 1u];
+  if (available != 0u && available <= volume.brickPoolCapacity) return freeList[available - 1u];
   atomicAdd(pool.freeCount, 1u);  // the list was empty: undo
   uint fresh = atomicAdd(pool.bumpCount, 1u);
-  if (fresh < uint(volume.dimensionsBricks.w)) return fresh;
+  if (fresh < volume.brickPoolCapacity) return fresh;
   atomicAdd(pool.bumpCount, uint(-1));  // the pool is full: undo
   return kInvalidBrick;
 }
 
 // Returns a live brick to the pool and empties its cell, the same frame (SPEC §4.1).
 void releaseBrick(uint brick, uint cell) {
-  bricks[brick].coordinate.w = 0;
-  bricks[brick].occupancy = uvec4(0u);
+  bricks[brick] = Brick(bricks[brick].coordinate, 0u, uvec2(0u), 0u, 0u);
   brickLookup[cell] = kInvalidBrick;
   freeList[atomicAdd(pool.freeCount, 1u)] = brick;
   atomicAdd(pool.releasedThisFrame, 1u);

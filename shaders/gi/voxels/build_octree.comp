@@ -31,7 +31,7 @@ void main() {
   bool occupied = false;
   if (level == kFirstGridLevel) {
     uint brick = brickLookup[cell];
-    occupied = brick < uint(volume.dimensionsBricks.w) && any(notEqual(bricks[brick].occupancy.xy, uvec2(0u)));
+    occupied = brick < volume.brickPoolCapacity && any(notEqual(bricks[brick].occupancy, uvec2(0u)));
   } else {
     for (int child = 0; child < 8; ++child)
       occupied = occupied || gridOccupied(level - 1u, worldCell * 2 + ivec3(child & 1, (child >> 1) & 1, child >> 2));

@@ -11,22 +11,23 @@ layout(binding = kBindHiZDepth) uniform sampler2D depthBuffer;
 layout(binding = kBindHiZPyramid) buffer HiZ { float hiz[]; };
 layout(push_constant) uniform Push { uint level; } push;
 
-float source(ivec2 texel, uvec4 sourceLevel) {
-  texel = min(texel, ivec2(sourceLevel.yz) - 1);
+float source(ivec2 texel, HiZLevel sourceLevel) {
+  texel = min(texel, ivec2(sourceLevel.size) - 1);
   if (push.level == 0u) return texelFetch(depthBuffer, texel, 0).r;
-  return hiz[sourceLevel.x + uint(texel.y) * sourceLevel.y + uint(texel.x)];
+  return hiz[sourceLevel.firstTexel + uint(texel.y) * sourceLevel.size.x + uint(texel.x)];
 }
 
 void main() {
-  uvec4 target = frame.hizLevels[push.level];
+  HiZLevel target = frame.hizLevels[push.level];
   uvec2 texel = gl_GlobalInvocationID.xy;
-  if (any(greaterThanEqual(texel, target.yz))) return;
-  uvec4 sourceLevel = push.level == 0u ? uvec4(0u, frame.size, 0u) : frame.hizLevels[push.level - 1u];
+  if (any(greaterThanEqual(texel, target.size))) return;
+  HiZLevel sourceLevel = HiZLevel(frame.size, 0u, 0u);  // level 0 reads the depth itself
+  if (push.level > 0u) sourceLevel = frame.hizLevels[push.level - 1u];
   // An odd-sized source has a last row/column no 2×2 block covers: the last texel of the target takes it too.
   ivec2 first = ivec2(texel * 2u);
-  ivec2 last = first + 1 + ivec2(equal(texel + 1u, target.yz)) * ivec2(sourceLevel.yz & 1u);
+  ivec2 last = first + 1 + ivec2(equal(texel + 1u, target.size)) * ivec2(sourceLevel.size & 1u);
   float farthest = 1.0;
   for (int y = first.y; y <= last.y; ++y)
     for (int x = first.x; x <= last.x; ++x) farthest = min(farthest, source(ivec2(x, y), sourceLevel));
-  hiz[target.x + texel.y * target.y + texel.x] = farthest;
+  hiz[target.firstTexel + texel.y * target.size.x + texel.x] = farthest;
 }

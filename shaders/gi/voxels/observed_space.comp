@@ -42,12 +42,12 @@ void main() {
   float depth = texelFetch(depthBuffer, ivec2(pixel), 0).r;
   vec2 size = vec2(frame.size);
   // The segment in brick units, clipped to the volume.
-  float bricksPerMetre = volume.voxelSize.z;
+  float bricksPerMetre = volume.bricksPerMetre;
   vec3 start = reconstructPosition(frame.inverseViewProjection, vec2(pixel), size, 1.0) * bricksPerMetre;
   vec3 end = reconstructPosition(frame.inverseViewProjection, vec2(pixel), size, max(depth, kNothingDrawnDepth)) *
              bricksPerMetre;
   vec3 segment = end - start;
-  vec3 volumeMin = vec3(volume.originBrick.xyz);
+  vec3 volumeMin = vec3(volume.originBrick);
   vec3 volumeMax = volumeMin + vec3(volumeDimensions());
   vec3 inverse = 1.0 / mix(segment, vec3(1.0), equal(segment, vec3(0.0)));
   vec3 entries = vec3(-1.0), exits = vec3(2.0);
@@ -65,7 +65,7 @@ void main() {
   if (first > last) return;
 
   // A voxel DDA over brick cells (Amanatides & Woo), in the segment's parameter t ∈ [first, last].
-  ivec3 lowest = volume.originBrick.xyz, highest = lowest + volumeDimensions() - 1;
+  ivec3 lowest = volume.originBrick, highest = lowest + volumeDimensions() - 1;
   ivec3 cell = clamp(ivec3(floor(start + segment * first)), lowest, highest);
   ivec3 lastCell = clamp(ivec3(floor(start + segment * last)), lowest, highest);
   ivec3 stepDirection = ivec3(sign(segment));

@@ -85,8 +85,8 @@ ViewSample viewSampleAt(ivec2 texel, vec2 litSize) {
 // of the voxel volume, where the camera is — the side its surroundings see — rather than flipping between the two with
 // the views (the dark room's walls turned black from inside, and flickered: QUALITY.md, "Views beyond the camera").
 bool holdsSeenSurface(ViewSample seen, vec3 voxelMin, bool occupied, vec3 storedNormal) {
-  float voxelSize = volume.voxelSize.x;
-  vec3 volumeCentre = (vec3(volume.originBrick.xyz) + 0.5 * vec3(volume.dimensionsBricks.xyz)) * volume.voxelSize.y;
+  float voxelSize = volume.voxelSize;
+  vec3 volumeCentre = (vec3(volume.originBrick) + 0.5 * vec3(volume.dimensionsBricks)) * volume.brickSize;
   bool turnsSurfaceAround = occupied && dot(storedNormal, seen.normal) < 0.0 &&
                             dot(seen.normal, volumeCentre - (voxelMin + 0.5 * voxelSize)) <= 0.0;
   return seen.depth > 0.0 && !turnsSurfaceAround && all(greaterThanEqual(seen.held, voxelMin)) &&
@@ -101,7 +101,7 @@ ivec2 footprintTexel(vec3 voxelMin, float voxelSize, vec2 litSize, uvec3 worldVo
   for (int corner = 0; corner < 8; ++corner) {
     vec4 clip = frame.litViewProjection * vec4(voxelMin + voxelSize * vec3(corner & 1, (corner >> 1) & 1, corner >> 2), 1.0);
     if (clip.w <= 0.0) return ivec2(-1);
-    vec2 pixel = ndcToPixel(clip.xy / clip.w, litSize);
+    vec2 pixel = ssvgiNdcToPixel(clip.xy / clip.w, litSize);
     lowest = min(lowest, pixel);
     highest = max(highest, pixel);
   }
@@ -119,13 +119,13 @@ void main() {
   uint brick = visibleBricks[gl_WorkGroupID.x];
   uint voxelIndex = gl_LocalInvocationID.x;
   uvec3 voxelInBrick = uvec3(voxelIndex & 3u, (voxelIndex >> 2u) & 3u, voxelIndex >> 4u);
-  ivec3 worldBrick = bricks[brick].coordinate.xyz;
+  ivec3 worldBrick = bricks[brick].coordinate;
   ivec3 worldVoxel = worldBrick * int(kBrickSizeVoxels) + ivec3(voxelInBrick);
-  float voxelSize = volume.voxelSize.x;
+  float voxelSize = volume.voxelSize;
   uint bit = voxelBit(voxelInBrick);
   bool occupied = voxelOccupied(brick, voxelInBrick);
   Voxel voxel = voxels[brick * kVoxelsPerBrick + voxelIndex];
-  uvec4 brickOccupancy = bricks[brick].occupancy;
+  Brick heldBrick = bricks[brick];
 
   if (voxelIndex == 0u) {
     occupancyLow = 0u;
@@ -138,7 +138,7 @@ void main() {
   vec4 clip = frame.litViewProjection * vec4(samplePoint, 1.0);
   vec3 ndc = clip.xyz / clip.w;
   vec2 litSize = vec2(frame.litSize);
-  vec2 pixel = ndcToPixel(ndc.xy, litSize);
+  vec2 pixel = ssvgiNdcToPixel(ndc.xy, litSize);
   // Only a point between the view's near and far planes (reversed-Z: NDC depth 1 to 0) is seen: what the near plane
   // or an orthographic view's far plane clipped away is not known to be empty.
   bool inDepthRange = clip.w > 0.0 && ndc.z <= 1.0 && ndc.z >= 0.0;
@@ -165,7 +165,7 @@ void main() {
     // (holes in walls, and light through them). Only a voxel wholly in front of that plane is seen through.
     float halfExtent = 0.5 * voxelSize * dot(abs(seen.normal), vec3(1.0));
     bool cutBySurfacePlane = abs(dot(voxelMin + 0.5 * voxelSize - seen.held, seen.normal)) < halfExtent;
-    vec3 storedNormal = unpackOctahedralNormal(voxel.surfaceAndLastHit & 0xffffu);
+    vec3 storedNormal = voxelNormal(voxel);
     bool holdsSurface = holdsSeenSurface(seen, voxelMin, occupied, storedNormal);
     // The point's own texel shows this voxel's surface only where the view meets it nearly head-on: seen at a grazing
     // angle, the surface behind a random point of the voxel lies a voxel or more further on. An empty voxel gets a
@@ -194,9 +194,9 @@ void main() {
       // The lit frame's light stays where it keeps coming (kVoxelExtraViewsBeforeWrite): an extra view counts its
       // visit and writes only once there have been enough since the lit frame last wrote.
       bool fromCamera = (frame.viewKind & kViewIsExtra) == 0u;
-      uint extraViews = voxel.surfaceAndLastHit >> kVoxelExtraViewsShift;
+      uint extraViews = voxelExtraViewsSinceLitFrame(voxel);
       bool writes = fromCamera || !occupied || extraViews >= kVoxelExtraViewsBeforeWrite;
-      uint surfaceBits = voxel.surfaceAndLastHit & ((1u << kVoxelLastHitShift) - 1u);
+      uint surface = voxelSurface(voxel);
       if (writes) {
         // An extra view's light is averaged with what the voxel held only while the voxel keeps its surface's side. A
         // wall one voxel thick has both faces in its voxels; one that a view saw from outside while it was empty
@@ -207,17 +207,17 @@ void main() {
         // A valid sample sets the voxel's surface (normal and plane); a refresh keeps it.
         float planeOffset = dot(seen.surface - (voxelMin + 0.5 * voxelSize), seen.normal) / voxelSize;
         if (holdsSurface)
-          surfaceBits = packOctahedralNormal(seen.normal) | (packVoxelPlane(planeOffset) << kVoxelPlaneShift);
+          surface = packVoxelSurface(seen.normal, packVoxelPlane(planeOffset));
       }
       extraViews = fromCamera ? 0u : (writes ? kVoxelExtraViewsBeforeWrite : extraViews + 1u);
       // Seeing its surface resets the seen-through counter.
-      voxel.surfaceAndLastHit = surfaceBits | (extraViews << kVoxelExtraViewsShift);
+      voxel.surfaceAndLastHit = packVoxelSurfaceAndCounters(surface, 0u, extraViews);
       occupied = true;
     } else if (occupied && (nearestDepth <= 0.0 || (inFront && !cutBySurfacePlane))) {
-      uint lastHit = min(((voxel.surfaceAndLastHit >> kVoxelLastHitShift) & kVoxelMaxLastHit) + 1u, kVoxelMaxLastHit);
-      voxel.surfaceAndLastHit = (voxel.surfaceAndLastHit & ~(kVoxelMaxLastHit << kVoxelLastHitShift)) |
-                                (lastHit << kVoxelLastHitShift);
-      if (lastHit >= volume.settings.x) occupied = false;
+      uint lastHit = min(voxelSeenThroughCount(voxel) + 1u, kVoxelMaxLastHit);
+      voxel.surfaceAndLastHit =
+          packVoxelSurfaceAndCounters(voxelSurface(voxel), lastHit, voxelExtraViewsSinceLitFrame(voxel));
+      if (lastHit >= volume.invalidFramesToClear) occupied = false;
     }
     voxels[brick * kVoxelsPerBrick + voxelIndex] = occupied ? voxel : Voxel(0u, 0u, 0u, 0u);
   }
@@ -231,14 +231,16 @@ void main() {
   if (voxelIndex == 0u) {
     uvec2 mask = uvec2(occupancyLow, occupancyHigh);
     bool empty = mask == uvec2(0u);
-    uint emptyFrames = empty ? brickOccupancy.z + 1u : 0u;
+    uint emptyInjections = empty ? heldBrick.emptyInjections + 1u : 0u;
     uint cell = brickCellIndex(worldBrick, volumeDimensions());
     // BuildOctree's brick level records whether a brick's mask is empty: only a change of that needs the cell listed,
     // and once a frame is enough (BuildOctree runs after every view's injection).
     uint listedStamp = frame.frameIndex + 1u;
-    bool listed = empty != (brickOccupancy.xy == uvec2(0u)) && brickOccupancy.w != listedStamp;
-    bricks[brick].occupancy = uvec4(mask, emptyFrames, listed ? listedStamp : brickOccupancy.w);
-    if (emptyFrames >= volume.settings.y) {
+    bool listed = empty != (heldBrick.occupancy == uvec2(0u)) && heldBrick.changeListedStamp != listedStamp;
+    bricks[brick].occupancy = mask;
+    bricks[brick].emptyInjections = emptyInjections;
+    if (listed) bricks[brick].changeListedStamp = listedStamp;
+    if (emptyInjections >= volume.emptyFramesToRelease) {
       releaseBrick(brick, cell);
     } else if (listed) {
       markCellChanged(cell);

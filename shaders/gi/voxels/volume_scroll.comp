@@ -20,10 +20,10 @@ void main() {
   ivec3 dimensions = volumeDimensions();
   if (cell >= uint(dimensions.x * dimensions.y * dimensions.z)) return;
   ivec3 worldBrick = worldBrickOfCell(cell);
-  ivec3 local = worldBrick - volume.previousOriginBrick.xyz;
+  ivec3 local = worldBrick - volume.previousOriginBrick;
   if (any(lessThan(local, ivec3(0))) || any(greaterThanEqual(local, dimensions))) forgetObserved(worldBrick);
 
   uint brick = brickLookup[cell];
   if (brick == kInvalidBrick) return;
-  if (!brickInVolume(bricks[brick].coordinate.xyz, volume)) releaseBrick(brick, cell);
+  if (!brickInVolume(bricks[brick].coordinate, volume)) releaseBrick(brick, cell);
 }

@@ -31,19 +31,19 @@ layout(binding = kBindObservedSpace) coherent buffer ObservedSpace { uint observ
 layout(binding = kBindObservedSpace) readonly buffer ObservedSpace { uint observedSpace[]; };
 #endif
 
-ivec3 volumeDimensions() { return volume.dimensionsBricks.xyz; }
+ivec3 volumeDimensions() { return volume.dimensionsBricks; }
 
 // The world brick whose toroidal cell (brickCellIndex) this is: the one inside the volume.
 ivec3 worldBrickOfCell(uint cell) {
   ivec3 dimensions = volumeDimensions();
   ivec3 slot = ivec3(int(cell) % dimensions.x, (int(cell) / dimensions.x) % dimensions.y,
                      int(cell) / (dimensions.x * dimensions.y));
-  ivec3 origin = volume.originBrick.xyz;
+  ivec3 origin = volume.originBrick;
   return origin + wrapCoordinate(slot - origin, dimensions);
 }
 
 // The world brick containing a world position.
-ivec3 worldBrickOf(vec3 position) { return ivec3(floor(position * volume.voxelSize.z)); }
+ivec3 worldBrickOf(vec3 position) { return ivec3(floor(position * volume.bricksPerMetre)); }
 
 // Pool index of the brick at a world brick coordinate, or kInvalidBrick (also outside the volume or mid-allocation).
 uint brickAt(ivec3 worldBrick) {
@@ -55,7 +55,7 @@ uint brickAt(ivec3 worldBrick) {
 // The point of the voxel scene that holds a surface point seen at a pixel (BrickAllocate, SceneVoxelization): a hair
 // behind the surface, along its normal. A surface on a voxel boundary (a wall on the grid) then always lands in the
 // voxel on its solid side rather than in either by rounding, so its voxels do not spread into the free side.
-vec3 heldSurfacePoint(vec3 surface, vec3 normal) { return surface - normal * (0.01 * volume.voxelSize.x); }
+vec3 heldSurfacePoint(vec3 surface, vec3 normal) { return surface - normal * (0.01 * volume.voxelSize); }
 
 bool voxelOccupied(uint brick, uvec3 voxelInBrick) {
   uint bit = voxelBit(voxelInBrick);

@@ -15,18 +15,18 @@ layout(push_constant) uniform Push { VoxelDebugViewPush push; };
 
 void main() {
   uvec2 pixel = gl_GlobalInvocationID.xy;
-  if (any(greaterThanEqual(pixel, push.camera.sizeAndMode.xy))) return;
-  vec3 origin = push.camera.position.xyz;
+  if (any(greaterThanEqual(pixel, push.camera.size))) return;
+  vec3 origin = push.camera.position;
   vec3 direction = debugViewDirection(push.camera, pixel);
-  float range = length(vec3(volume.dimensionsBricks.xyz)) * volume.voxelSize.y;  // crosses the whole volume
-  uint mode = push.camera.sizeAndMode.z;
+  float range = length(vec3(volume.dimensionsBricks)) * volume.brickSize;  // crosses the whole volume
+  uint mode = push.camera.mode;
   VoxelHit hit = traceVoxelsHierarchical(origin, direction, range, mode == 2u);
   vec3 colour = hit.unobserved ? vec3(1.0, 0.0, 1.0) : vec3(0.0);
   if (hit.hit) {
     if (mode != 1u) {
       colour = hit.unobserved ? 0.5 * (hit.radiance + vec3(1.0, 0.0, 1.0)) : hit.radiance;
     } else {
-      vec3 brickColour = vec3(0.25) + 0.75 * hashToUnitCube(uvec3(bricks[hit.brick].coordinate.xyz + ivec3(1 << 16)));
+      vec3 brickColour = vec3(0.25) + 0.75 * hashToUnitCube(uvec3(bricks[hit.brick].coordinate + ivec3(1 << 16)));
       colour = brickColour * (0.35 + 0.65 * abs(dot(hit.normal, direction)));
     }
   }

@@ -20,7 +20,7 @@ layout(push_constant) uniform Slice {
 layout(binding = kBindPoolState) readonly buffer PoolBlock { BrickPoolState pool; };
 
 void relightVoxel(uint brick, uint voxelIndex) {
-  if (bricks[brick].coordinate.w == 0) return;  // free
+  if (bricks[brick].live == 0u) return;  // free
   uvec3 voxelInBrick = uvec3(voxelIndex & 3u, (voxelIndex >> 2u) & 3u, voxelIndex >> 4u);
   if (!voxelOccupied(brick, voxelInBrick)) return;
   uint index = brick * kVoxelsPerBrick + voxelIndex;
@@ -28,12 +28,12 @@ void relightVoxel(uint brick, uint voxelIndex) {
   if ((voxel.albedo & kVoxelRelit) == 0u) return;  // its view gave all of its light: it stays as given
   // The camera's lit frame keeps the voxels it lights current with the gather's light (SceneVoxelization): those it
   // lit last and no extra view has seen since are left to it; a voxel off screen is relit once a view sees it.
-  if ((voxel.surfaceAndLastHit >> kVoxelExtraViewsShift) == 0u) return;
+  if (voxelExtraViewsSinceLitFrame(voxel) == 0u) return;
 
-  ivec3 worldVoxel = bricks[brick].coordinate.xyz * int(kBrickSizeVoxels) + ivec3(voxelInBrick);
-  float voxelSize = volume.voxelSize.x;
-  vec3 normal = unpackOctahedralNormal(voxel.surfaceAndLastHit & 0xffffu);
-  uint planeCode = (voxel.surfaceAndLastHit >> kVoxelPlaneShift) & 0xffu;
+  ivec3 worldVoxel = bricks[brick].coordinate * int(kBrickSizeVoxels) + ivec3(voxelInBrick);
+  float voxelSize = volume.voxelSize;
+  vec3 normal = voxelNormal(voxel);
+  uint planeCode = voxelPlaneCode(voxel);
   float planeOffset = planeCode != 0u ? unpackVoxelPlane(planeCode) : 0.0;
   vec3 surface = (vec3(worldVoxel) + 0.5) * voxelSize + normal * (planeOffset * voxelSize);
   // The level-boundary noise is the voxel's own, the same every frame: the voxel's light must not flicker between

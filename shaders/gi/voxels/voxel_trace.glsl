@@ -99,8 +99,8 @@ ivec3 volumeSizeVoxels() { return volumeDimensions() * int(kBrickSizeVoxels); }
 // Starts a walk at the ray's origin, or where the ray enters the volume when the origin is outside (space outside the
 // volume is empty). False when the ray misses the volume within maxDistance. `direction` must be unit length.
 bool beginVoxelWalk(vec3 origin, vec3 direction, float maxDistance, out VoxelWalk walk) {
-  float voxelSize = volume.voxelSize.x;
-  precise vec3 relativeOrigin = origin - vec3(volume.originBrick.xyz) * volume.voxelSize.y;
+  float voxelSize = volume.voxelSize;
+  precise vec3 relativeOrigin = origin - vec3(volume.originBrick) * volume.brickSize;
   walk.origin = relativeOrigin / voxelSize;
   walk.step = ivec3(sign(direction)) * ivec3(greaterThanEqual(abs(direction), vec3(kParallelComponent)));
   walk.voxelsPerMetre = direction / voxelSize;
@@ -154,11 +154,11 @@ bool isCached(CachedBrick cached, ivec3 brick) { return all(equal(cached.brick, 
 void loadBrick(inout CachedBrick cached, ivec3 brick, inout uint reads) {
   if (isCached(cached, brick)) return;
   cached.brick = brick;
-  cached.index = brickAt(brick + volume.originBrick.xyz);
+  cached.index = brickAt(brick + volume.originBrick);
   cached.mask = uvec2(0u);
   reads += 1u;
   if (cached.index != kInvalidBrick) {
-    cached.mask = bricks[cached.index].occupancy.xy;
+    cached.mask = bricks[cached.index].occupancy;
     reads += 1u;
   }
 }
@@ -190,7 +190,7 @@ CachedGridWords noCachedGridWords() { return CachedGridWords(uvec3(0xffffffffu),
 // Whether the level-`level` cell holding `voxel` has its bit set in the occupancy grid or, with `observedSpaceBits`,
 // in the observed space's bit volumes (the same layout; GLSL cannot pass a buffer, so a flag picks it).
 bool gridCellBitSet(bool observedSpaceBits, int level, ivec3 voxel, inout CachedGridWords cached, inout uint reads) {
-  ivec3 worldCell = (voxel + volume.originBrick.xyz * int(kBrickSizeVoxels)) >> level;
+  ivec3 worldCell = (voxel + volume.originBrick * int(kBrickSizeVoxels)) >> level;
   uvec2 address = gridBitAddress(uint(level), worldCell);
   int slot = level - kBrickLevel;
   if (cached.address[slot] != address.x) {
@@ -305,8 +305,8 @@ VoxelHit voxelHitAt(VoxelWalk walk, CachedBrick cached, vec3 direction, uint rea
   uint voxelIndex = voxelBit(uvec3(voxelInBrick(walk.voxel)));
   Voxel voxel = voxels[cached.index * kVoxelsPerBrick + voxelIndex];
   reads += 1u;
-  vec3 normal = unpackOctahedralNormal(voxel.surfaceAndLastHit & 0xffffu);
-  uint planeCode = (voxel.surfaceAndLastHit >> kVoxelPlaneShift) & 0xffu;
+  vec3 normal = voxelNormal(voxel);
+  uint planeCode = voxelPlaneCode(voxel);
   if (planeCode != 0u) {
     vec3 centre = vec3(walk.voxel) + 0.5;
     float plane = unpackVoxelPlane(planeCode);

@@ -15,8 +15,7 @@ void ProbeDebugView::record(gpu::CommandList& commands, const VoxelScene& scene,
   const glm::ivec3 dimensions = probes.current().probesPerAxis;
   const shader::ProbeDebugViewPush push{
       debugViewCamera(camera, 0u),
-      glm::ivec4(probes.levelOrigin(0, probeCamera), glm::floatBitsToInt(probes.levelSpacing(0))),
-      glm::ivec4(dimensions, int(probes.probesPerLevel()))};
+      probes.levelOrigin(0, probeCamera), probes.levelSpacing(0), dimensions, int(probes.probesPerLevel())};
   const gpu::Bindings bindings = scene.bindings()
                                      .externalStorage(shader::kBindFirstPassSlot, targetView)
                                      .buffer(shader::kBindProbes, probes.probes());

@@ -61,10 +61,10 @@ OfferedProbeBlocks ProbeVolume::prepare(uint32_t frameIndex, glm::vec3 cameraPos
   const glm::ivec3 origin = levelOrigin(level, cameraPosition);
   // Rays go as far as the voxel volume reaches (its diagonal; the trace stops at its boundary anyway): a far wall
   // still hides the sky, and empty space costs one read per 4 m cell.
-  const float maxTraceDistance = glm::length(glm::vec3(voxels.dimensionsBricks) * voxels.voxelSize.y);
+  const float maxTraceDistance = glm::length(glm::vec3(voxels.dimensionsBricks) * voxels.brickSize);
   // The search level of ProbePlacement: the coarsest occupancy grid level whose cells are no wider than the spacing.
   const int searchLevel =
-      std::clamp(int(std::floor(std::log2(spacing / voxels.voxelSize.x))), int(shader::kFirstGridLevel),
+      std::clamp(int(std::floor(std::log2(spacing / voxels.voxelSize))), int(shader::kFirstGridLevel),
                  int(shader::kOccupancyLevels) - 1);
 
   current_.originProbe = origin;

@@ -13,7 +13,7 @@ void HiZBuild::record(gpu::CommandList& commands, const VoxelFrameInputs& inputs
                                      .externalSampled(shader::kBindHiZDepth, inputs.depth, inputs.pointSampler)
                                      .buffer(shader::kBindHiZPyramid, inputs.hiz);
   for (uint32_t level = 0; level < levels; ++level) {
-    const glm::uvec3 texels(frame.hizLevels[level].y, frame.hizLevels[level].z, 1);
+    const glm::uvec3 texels(frame.hizLevels[level].size, 1);
     commands.dispatch(pipeline_, bindings, texels, level);
   }
 }

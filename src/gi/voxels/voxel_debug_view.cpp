@@ -9,8 +9,8 @@ namespace ssvgi::gi {
 
 shader::DebugViewCamera debugViewCamera(const View& camera, uint32_t mode) {
   return {glm::inverse(glm::make_mat4(camera.viewProjection.data())),
-          glm::vec4(camera.position[0], camera.position[1], camera.position[2], 0.0f),
-          glm::uvec4(camera.width, camera.height, mode, 0u)};
+          glm::vec3(camera.position[0], camera.position[1], camera.position[2]), mode,
+          glm::uvec2(camera.width, camera.height), glm::uvec2(0u)};
 }
 
 VoxelDebugView::VoxelDebugView(gpu::Device& device) : pipeline_(device, shaders::voxel_debug_view_comp) {}

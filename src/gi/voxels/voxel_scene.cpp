@@ -39,13 +39,17 @@ VoxelScene::VoxelScene(gpu::Device& device, const Settings& settings, uint32_t f
     volumes_.emplace_back(device, "ssvgi voxel volume", sizeof(shader::VoxelVolume), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                           gpu::MemoryUsage::HostUpload);
   const glm::uvec3 dimensions(settings.volumeBricks[0], settings.volumeBricks[1], settings.volumeBricks[2]);
-  current_.dimensionsBricks = glm::ivec4(glm::ivec3(dimensions), int(settings.brickPoolCapacity));
-  current_.voxelSize = glm::vec4(settings.voxelSize, settings.voxelSize * shader::kBrickSizeVoxels,
-                                 1.0f / (settings.voxelSize * shader::kBrickSizeVoxels), 0.0f);
+  current_.dimensionsBricks = glm::ivec3(dimensions);
+  current_.brickPoolCapacity = settings.brickPoolCapacity;
+  current_.voxelSize = settings.voxelSize;
+  current_.brickSize = settings.voxelSize * shader::kBrickSizeVoxels;
+  current_.bricksPerMetre = 1.0f / current_.brickSize;
   const uint32_t level2 = gridWords(dimensions), level3 = gridWords(dimensions / 2u), level4 = gridWords(dimensions / 4u);
-  current_.gridWordOffsets = glm::uvec4(0, level2, level2 + level3, level2 + level3 + level4);
-  current_.settings = glm::uvec4(settings.invalidFramesToClear, settings.emptyFramesToRelease,
-                                 settings.skyOnlyThroughObservedSpace ? 1u : 0u, 0u);
+  current_.gridWordOffsets = glm::uvec3(0, level2, level2 + level3);
+  current_.gridWords = level2 + level3 + level4;
+  current_.invalidFramesToClear = settings.invalidFramesToClear;
+  current_.emptyFramesToRelease = settings.emptyFramesToRelease;
+  current_.skyOnlyThroughObservedSpace = settings.skyOnlyThroughObservedSpace ? 1u : 0u;
 }
 
 gpu::Bindings VoxelScene::bindings() const {
@@ -65,17 +69,17 @@ uint32_t VoxelScene::cellCount() const {
 }
 
 shader::VoxelVolume VoxelScene::place(glm::vec3 cameraPosition, uint32_t frameIndex, bool& scrolled) {
-  const glm::ivec3 dimensions = glm::ivec3(current_.dimensionsBricks);
-  const float brickSize = current_.voxelSize.y;
+  const glm::ivec3 dimensions = current_.dimensionsBricks;
+  const float brickSize = current_.brickSize;
   const int step = shader::kScrollStepBricks;
   // The step-aligned brick under the camera, minus half the volume (itself a multiple of the step: dimensions are
   // multiples of 2 × step).
   const glm::ivec3 cameraBrick = glm::ivec3(glm::floor(cameraPosition / (brickSize * float(step)))) * step;
   const glm::ivec3 origin = cameraBrick - dimensions / 2;
-  scrolled = !placed_ || origin != glm::ivec3(current_.originBrick);
-  current_.previousOriginBrick = placed_ ? glm::ivec4(glm::ivec3(current_.originBrick), 0) : glm::ivec4(origin, 0);
+  scrolled = !placed_ || origin != current_.originBrick;
+  current_.previousOriginBrick = placed_ ? current_.originBrick : origin;
   placed_ = true;
-  current_.originBrick = glm::ivec4(origin, int(frameIndex));
+  current_.originBrick = origin;
   currentVolume_ = frameIndex % volumes_.size();
   std::memcpy(volumes_[currentVolume_].mapped(), &current_, sizeof(current_));
   return current_;
