@@ -130,7 +130,7 @@ struct SettingInfo {
 };
 
 // Every field of Settings: the one list that Context::create validates by and that a host's tools can show, parse and
-// save settings by (ssvgi's CLI: --gi-set, the stats' JSON, the viewer's panel).
+// save settings by (a settings panel, a command line, a saved file).
 std::span<const SettingInfo> settingInfos();
 
 struct ContextDesc {
