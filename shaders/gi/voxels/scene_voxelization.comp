@@ -97,9 +97,12 @@ bool holdsSeenSurface(ViewSample seen, vec3 voxelMin, bool occupied, vec3 stored
 // corners' projections, clipped to the image. (-1, -1) where the footprint lies off the image or a corner lies behind
 // a perspective view's eye.
 ivec2 footprintTexel(vec3 voxelMin, float voxelSize, vec2 litSize, uvec3 worldVoxel) {
+  // The projection is linear in clip space: one product for the minimum corner, the matrix's columns for the edges.
+  vec4 minimumClip = frame.litViewProjection * vec4(voxelMin, 1.0);
+  mat3x4 edges = mat3x4(frame.litViewProjection[0], frame.litViewProjection[1], frame.litViewProjection[2]) * voxelSize;
   vec2 lowest = vec2(3.0e38), highest = vec2(-3.0e38);
   for (int corner = 0; corner < 8; ++corner) {
-    vec4 clip = frame.litViewProjection * vec4(voxelMin + voxelSize * vec3(corner & 1, (corner >> 1) & 1, corner >> 2), 1.0);
+    vec4 clip = minimumClip + edges * vec3(corner & 1, (corner >> 1) & 1, corner >> 2);
     if (clip.w <= 0.0) return ivec2(-1);
     vec2 pixel = ssvgiNdcToPixel(clip.xy / clip.w, litSize);
     lowest = min(lowest, pixel);
@@ -172,8 +175,8 @@ void main() {
     // second look, at a random texel of its footprint in the view, so that a wall the view grazes (one beside the
     // camera, in a capture face) fills in fewer injections — its holes let the probes' rays see what lies behind it.
     // Only an empty one: an occupied voxel's light is refreshed from its own surface's pixels (below), and a look
-    // anywhere in its footprint took the light of neighbouring surfaces into it (a ceiling voxel beside a light
-    // panel; docs/QUALITY.md, "Holes in walls seen at a grazing angle").
+    // anywhere in its footprint took the light of neighbouring surfaces into it (cornell's light panel grew; docs/
+    // QUALITY.md, "Holes in walls a view grazes, and a wall's two faces").
     if (!holdsSurface && !occupied) {
       ivec2 footprint = footprintTexel(voxelMin, voxelSize, litSize, uvec3(worldVoxel));
       if (footprint.x >= 0) {
