@@ -249,7 +249,9 @@ class ProbeCache : public testing::GpuTest {
       const uint32_t cell = shader::brickCellIndex(brick.coordinate, dimensions);
       ASSERT_EQ(lookup[cell], shader::kInvalidBrick) << "two bricks in one cell";
       lookup[cell] = uint32_t(bricks.size());
-      bricks.push_back({brick.coordinate, 1u, glm::uvec2(uint32_t(brick.mask), uint32_t(brick.mask >> 32)), 0u, 0u});
+      // Every voxel observed: the scene as views that saw all of it left it.
+      bricks.push_back({brick.coordinate, 1u, glm::uvec2(uint32_t(brick.mask), uint32_t(brick.mask >> 32)),
+                        glm::uvec2(~0u), 0u, 0u, glm::uvec2(0u)});
       for (uint32_t voxel = 0; voxel < shader::kVoxelsPerBrick; ++voxel) {
         const bool bright = (brick.brightMask >> voxel) & 1u;
         const uint32_t extraViews = brick.albedo ? shader::kVoxelExtraViewsBeforeWrite : 0u;

@@ -128,6 +128,9 @@ class CpuVoxelScene {
                               (shader::packVoxelPlane(offsetVoxels) << shader::kVoxelPlaneShift);
   }
   void clearMask(uint32_t brick) { bricks_[brick].occupancy = glm::uvec2(0); }
+  void setObserved(uint32_t brick, uint64_t observed) {
+    bricks_[brick].observed = glm::uvec2(uint32_t(observed), uint32_t(observed >> 32));
+  }
   bool hasBrick(glm::ivec3 localBrick) const { return lookup_[cellOf(localBrick)] != shader::kInvalidBrick; }
 
   uint64_t maskAt(glm::ivec3 localBrick) const {
@@ -580,12 +583,23 @@ TEST_F(VoxelTrace, hierarchicalTraceFindsTheSameFirstHitAsTheFlatDda) {
 }
 
 // Unknown is not sky (SPEC §6.4): watching observed space, both traces report the same first hit, and whether and
-// where the ray first crossed a brick cell that holds no voxel and that no view observed. The observed bits are
-// random, 70 % of the brick cells; the coarser levels are set where all their bricks are — but for a tenth of them,
-// left unset as a race between two ObservedSpace walks may leave them, which must change nothing but the cost.
+// where the ray first crossed a brick cell that holds no voxel and that no view observed, or ended at an unobserved
+// voxel. The observed bits are random, 70 % of the brick cells; the coarser levels are set where all their bricks
+// are — but for a tenth of them, left unset as a race between two ObservedSpace walks may leave them, which must
+// change nothing but the cost. Each brick's empty voxels are observed at random, 90 % of them.
 TEST_F(VoxelTrace, watchingObservedSpaceBothTracesAgreeOnTheHitAndOnWhereUnobservedSpaceBegins) {
   buildRandomScene(3);
   std::mt19937_64 rng(5);
+  std::bernoulli_distribution observedVoxel(0.9);
+  for (uint32_t brick = 0; brick < cpu_->bricks().size(); ++brick) {
+    const glm::uvec2 occupancy = cpu_->bricks()[brick].occupancy;
+    uint64_t observedVoxels = uint64_t(occupancy.x) | (uint64_t(occupancy.y) << 32);
+    for (uint32_t bit = 0; bit < shader::kVoxelsPerBrick; ++bit)
+      if (observedVoxel(rng)) observedVoxels |= uint64_t(1) << bit;
+    cpu_->setObserved(brick, observedVoxels);
+  }
+  upload();
+  buildOctree(cpu_->allocatedCells());
   const glm::ivec3 dimensions = cpu_->dimensions();
   const glm::ivec3 origin = glm::ivec3(cpu_->volume().originBrick);
   std::vector<uint32_t> observed(cpu_->volume().gridWords, 0u);
@@ -617,24 +631,34 @@ TEST_F(VoxelTrace, watchingObservedSpaceBothTracesAgreeOnTheHitAndOnWhereUnobser
   for (VoxelTraceRay& ray : rays) ray.watchesObservedSpace = 1u;
   const TraceRun hierarchical = trace(*hierarchical_, rays);
   const TraceRun flat = trace(*flat_, rays);
-  size_t mismatches = 0, unobservedMisses = 0, unobservedHits = 0, observedMisses = 0;
+  size_t mismatches = 0, unobservedMisses = 0, unobservedHits = 0, observedMisses = 0, endsAtUnobservedVoxel = 0;
   for (size_t i = 0; i < rays.size(); ++i) {
     const VoxelTraceHit& h = hierarchical.hits[i];
     const VoxelTraceHit& f = flat.hits[i];
     const bool same = h.brick == f.brick && h.voxelBit == f.voxelBit && h.crossedUnobservedSpace == f.crossedUnobservedSpace &&
-                      std::abs(h.distance - f.distance) <= 1e-4f;
+                      std::abs(h.distance - f.distance) <= 1e-4f &&
+                      std::abs(h.unobservedDistance - f.unobservedDistance) <= 1e-4f;
     if (!same && ++mismatches <= 10)
       ADD_FAILURE() << "ray " << i << ": hierarchical brick " << h.brick << " voxel " << h.voxelBit << " unobserved "
-                    << h.crossedUnobservedSpace << " at " << h.distance << ", flat brick " << f.brick << " voxel "
-                    << f.voxelBit << " unobserved " << f.crossedUnobservedSpace << " at " << f.distance;
+                    << h.crossedUnobservedSpace << " from " << h.unobservedDistance << " at " << h.distance
+                    << ", flat brick " << f.brick << " voxel " << f.voxelBit << " unobserved "
+                    << f.crossedUnobservedSpace << " from " << f.unobservedDistance << " at " << f.distance;
     if (h.crossedUnobservedSpace != 0) (isHit(h) ? unobservedHits : unobservedMisses) += 1;
     if (h.crossedUnobservedSpace == 0 && !isHit(h)) ++observedMisses;
+    // A ray that ends at an unobserved voxel: unknown from a point inside a brick holding voxels.
+    if (h.crossedUnobservedSpace != 0 && !isHit(h) && h.unobservedDistance > 0.0f) {
+      const glm::vec3 at = glm::vec3(rays[i].origin) + glm::vec3(rays[i].direction) * (h.unobservedDistance + 1e-3f);
+      const glm::ivec3 voxel = glm::ivec3(glm::floor((at - cpu_->minimumCorner()) / cpu_->voxelSize()));
+      if (cpu_->maskAt(voxel / int(shader::kBrickSizeVoxels)) != 0) ++endsAtUnobservedVoxel;
+    }
   }
   EXPECT_EQ(mismatches, 0u) << "of " << rays.size() << " rays";
-  // Every outcome occurs: misses through observed space (the sky), misses and hits beyond unobserved space.
+  // Every outcome occurs: misses through observed space (the sky), misses and hits beyond unobserved space, rays that
+  // end at an unobserved voxel.
   EXPECT_GT(unobservedMisses, rays.size() / 50);
   EXPECT_GT(unobservedHits, rays.size() / 50);
   EXPECT_GT(observedMisses, rays.size() / 200);
+  EXPECT_GT(endsAtUnobservedVoxel, rays.size() / 100);
 }
 
 TEST_F(VoxelTrace, bothTracesMatchACpuReferenceDda) {

@@ -21,7 +21,7 @@ VoxelHit traceVoxelsFlat(vec3 origin, vec3 direction, float maxDistance, bool wa
   float unobservedDistance = maxDistance;
   for (;;) {
     bool newBrick = !isCached(cached, walk.voxel >> kBrickLevel);
-    loadBrick(cached, walk.voxel >> kBrickLevel, reads);
+    loadBrick(cached, walk.voxel >> kBrickLevel, watchesObservedSpace, reads);
     if (watchesObservedSpace && !unobserved && newBrick && brickUnobserved(walk, cached, observed, reads)) {
       unobserved = true;
       unobservedDistance = walk.distance;
@@ -30,6 +30,8 @@ VoxelHit traceVoxelsFlat(vec3 origin, vec3 direction, float maxDistance, bool wa
       VoxelHit hit = voxelHitAt(walk, cached, direction, reads);
       if (hit.hit) return withObservation(hit, unobserved, unobservedDistance);
       reads = hit.reads;
+    } else if (endsAtUnobservedVoxel(walk, cached)) {
+      return unknownAtVoxel(walk, unobserved, unobservedDistance, reads);
     }
     int axis = firstCrossingAxis(nextCrossing);
     if (nextCrossing[axis] > maxDistance) break;

@@ -26,5 +26,5 @@ void main() {
                      ? traceVoxelsFlat(origin, direction, maxDistance, watchesObservedSpace)
                      : traceVoxelsHierarchical(origin, direction, maxDistance, watchesObservedSpace);
   hits[index] = VoxelTraceHit(hit.radiance, hit.distance, hit.normal, hit.brick, hit.voxelIndex, hit.reads,
-                              hit.unobserved ? 1u : 0u, 0u);
+                              hit.unobserved ? 1u : 0u, hit.unobservedDistance);
 }

@@ -76,10 +76,13 @@ struct Brick {
   ivec3 coordinate;        // world brick coordinate
   uint live;               // 1 while the brick is live, 0 when free
   uvec2 occupancy;         // 64-bit voxel occupancy mask (bit = x + 4y + 16z)
+  uvec2 observed;          // voxels a view has observed since the brick was allocated: seen holding a surface, or
+                           // seen through (SPEC §6.4, at the voxel's scale; the trace's use in voxel_trace.glsl)
   uint emptyInjections;    // injections the mask has been empty
   uint changeListedStamp;  // 1 + the frame index at which the brick's cell was last listed as changed
+  uvec2 padding;           // std430 rounds a struct holding an ivec3 up to a multiple of 16 bytes
 };
-SSVGI_CHECK_SIZE(Brick, 32);
+SSVGI_CHECK_SIZE(Brick, 48);
 
 // Allocation state of the pool, plus this frame's counters (reset at the start of every frame). Followed in its
 // buffer by the free list: brickPoolCapacity pool indices, the first freeCount of them free.

@@ -30,7 +30,7 @@ struct VoxelTraceHit {
   uint voxelBit;                // the voxel's bit in its brick (voxelBit)
   uint reads;                   // buffer reads the trace made
   uint crossedUnobservedSpace;  // 1 when the ray crossed unobserved space before its hit or its end
-  uint unused;
+  float unobservedDistance;     // m to where it first entered unobserved space; `distance` where it did not
 };
 SSVGI_CHECK_SIZE(VoxelTraceHit, 48);
 

@@ -33,7 +33,7 @@ void main() {
     brickLookup[cell] = kInvalidBrick;
     return;
   }
-  bricks[brick] = Brick(worldBrick, 1u, uvec2(0u), 0u, 0u);
+  bricks[brick] = Brick(worldBrick, 1u, uvec2(0u), uvec2(0u), 0u, 0u, uvec2(0u));
   for (uint voxel = 0u; voxel < kVoxelsPerBrick; ++voxel) voxels[brick * kVoxelsPerBrick + voxel] = Voxel(0u, 0u, 0u, 0u);
   atomicAdd(pool.allocatedThisFrame, 1u);
   brickLookup[cell] = brick;

@@ -35,7 +35,7 @@ uint allocateBrickIndex() {
 
 // Returns a live brick to the pool and empties its cell, the same frame (SPEC §4.1).
 void releaseBrick(uint brick, uint cell) {
-  bricks[brick] = Brick(bricks[brick].coordinate, 0u, uvec2(0u), 0u, 0u);
+  bricks[brick] = Brick(bricks[brick].coordinate, 0u, uvec2(0u), uvec2(0u), 0u, 0u, uvec2(0u));
   brickLookup[cell] = kInvalidBrick;
   freeList[atomicAdd(pool.freeCount, 1u)] = brick;
   atomicAdd(pool.releasedThisFrame, 1u);

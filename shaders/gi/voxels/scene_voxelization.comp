@@ -117,6 +117,8 @@ ivec2 footprintTexel(vec3 voxelMin, float voxelSize, vec2 litSize, uvec3 worldVo
 
 shared uint occupancyLow;
 shared uint occupancyHigh;
+shared uint observedLow;
+shared uint observedHigh;
 
 void main() {
   uint brick = visibleBricks[gl_WorkGroupID.x];
@@ -133,6 +135,8 @@ void main() {
   if (voxelIndex == 0u) {
     occupancyLow = 0u;
     occupancyHigh = 0u;
+    observedLow = 0u;
+    observedHigh = 0u;
   }
   barrier();
 
@@ -145,6 +149,8 @@ void main() {
   // Only a point between the view's near and far planes (reversed-Z: NDC depth 1 to 0) is seen: what the near plane
   // or an orthographic view's far plane clipped away is not known to be empty.
   bool inDepthRange = clip.w > 0.0 && ndc.z <= 1.0 && ndc.z >= 0.0;
+  bool seenThrough = false;
+  bool observedNow = false;
   if (inDepthRange && all(greaterThanEqual(pixel, vec2(0.0))) && all(lessThan(pixel, litSize))) {
     ViewSample seen = viewSampleAt(ivec2(pixel), litSize);
     // "Clearly in front" along the view's ray (perspective or orthographic): by more than half a voxel, so that depth
@@ -154,10 +160,14 @@ void main() {
     // (the sun's, a capture's) have texels as wide as a voxel: a skylight's rim was cleared every few frames.
     float clearMargin = voxelSize * 0.5;
     float nearestDepth = 0.0;  // reversed-Z: the largest is the nearest; 0 where all four see nothing
+    bool surfaceAround = false;  // one of the four shows a surface inside this voxel
     ivec2 firstTexel = ivec2(floor(pixel - 0.5));
     for (int corner = 0; corner < 4; ++corner) {
       ivec2 neighbour = clamp(firstTexel + ivec2(corner & 1, corner >> 1), ivec2(0), ivec2(litSize) - 1);
-      nearestDepth = max(nearestDepth, texelFetch(litDepth, neighbour, 0).r);
+      ViewSample around = viewSampleAt(neighbour, litSize);
+      nearestDepth = max(nearestDepth, around.depth);
+      surfaceAround = surfaceAround || (around.depth > 0.0 && all(greaterThanEqual(around.held, voxelMin)) &&
+                                        all(lessThan(around.held, voxelMin + voxelSize)));
     }
     vec3 nearestSurface = reconstructPosition(frame.litInverseViewProjection, pixel - 0.5, litSize, nearestDepth);
     vec3 viewDirection = viewRayDirection(frame.litInverseViewProjection, ndc.xy);
@@ -216,7 +226,15 @@ void main() {
       // Seeing its surface resets the seen-through counter.
       voxel.surfaceAndLastHit = packVoxelSurfaceAndCounters(surface, 0u, extraViews);
       occupied = true;
-    } else if (occupied && (nearestDepth <= 0.0 || (inFront && !cutBySurfacePlane))) {
+    }
+    seenThrough = !holdsSurface && !refreshesColour && (nearestDepth <= 0.0 || (inFront && !cutBySurfacePlane));
+    // Observed empty (Brick::observed) takes less: the point's own texel sees past it, the surface that texel shows
+    // does not cut the voxel, and none of the four around shows a surface inside it. The rim of an opening, whose
+    // voxels lie wholly in the opening, is then observed, and a rim's own voxels, and the holes a view leaves in a
+    // wall it grazes, are not.
+    bool seesPast = seen.depth <= 0.0 || dot(seen.surface - samplePoint, viewDirection) > clearMargin;
+    observedNow = !holdsSurface && !refreshesColour && seesPast && !cutBySurfacePlane && !surfaceAround;
+    if (occupied && seenThrough) {
       uint lastHit = min(voxelSeenThroughCount(voxel) + 1u, kVoxelMaxLastHit);
       voxel.surfaceAndLastHit =
           packVoxelSurfaceAndCounters(voxelSurface(voxel), lastHit, voxelExtraViewsSinceLitFrame(voxel));
@@ -228,6 +246,12 @@ void main() {
   if (occupied) {
     if (bit < 32u) atomicOr(occupancyLow, 1u << bit);
     else atomicOr(occupancyHigh, 1u << (bit - 32u));
+  }
+  // Observed (SPEC §6.4, voxel_interface.h): a voxel seen holding a surface or seen through. An empty voxel the seen
+  // surface's plane cuts is neither: it may hold that surface where the view did not look (a hole in a wall).
+  if (occupied || observedNow) {
+    if (bit < 32u) atomicOr(observedLow, 1u << bit);
+    else atomicOr(observedHigh, 1u << (bit - 32u));
   }
   barrier();
 
@@ -241,6 +265,7 @@ void main() {
     uint listedStamp = frame.frameIndex + 1u;
     bool listed = empty != (heldBrick.occupancy == uvec2(0u)) && heldBrick.changeListedStamp != listedStamp;
     bricks[brick].occupancy = mask;
+    bricks[brick].observed = heldBrick.observed | uvec2(observedLow, observedHigh);
     bricks[brick].emptyInjections = emptyInjections;
     if (listed) bricks[brick].changeListedStamp = listedStamp;
     if (emptyInjections >= volume.emptyFramesToRelease) {

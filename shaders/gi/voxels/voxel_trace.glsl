@@ -28,7 +28,8 @@ struct VoxelHit {
   vec3 normal;      // the voxel's stored unit normal; zero for a miss
   uint reads;       // buffer loads made (brick lookups, occupancy masks, grid words, the hit voxel): the cost statistic
   // For a trace that watches observed space (SPEC §6.4): whether the ray crossed a brick cell that no view has
-  // observed and that holds no voxel, before its hit or its end, and where it first entered one (metres).
+  // observed and that holds no voxel, or ended at an unobserved voxel (below), before its hit or its end, and where it
+  // first entered unobserved space (metres).
   bool unobserved;
   float unobservedDistance;
 };
@@ -142,24 +143,36 @@ bool beginVoxelWalk(vec3 origin, vec3 direction, float maxDistance, out VoxelWal
 
 // The brick a walk is in, kept while it stays there so that its lookup and occupancy mask are read once.
 struct CachedBrick {
-  ivec3 brick;  // volume-local brick coordinate; -1 before the first
-  uint index;   // pool index or kInvalidBrick
-  uvec2 mask;   // 64-bit occupancy mask, zero without a brick
+  ivec3 brick;       // volume-local brick coordinate; -1 before the first
+  uint index;        // pool index or kInvalidBrick
+  uvec2 mask;        // 64-bit occupancy mask, zero without a brick
+  uvec2 unobserved;  // for a trace that watches observed space, the brick's unobserved voxels (below); else zero
 };
 
-CachedBrick noCachedBrick() { return CachedBrick(ivec3(-1), kInvalidBrick, uvec2(0u)); }
+CachedBrick noCachedBrick() { return CachedBrick(ivec3(-1), kInvalidBrick, uvec2(0u), uvec2(0u)); }
 
 bool isCached(CachedBrick cached, ivec3 brick) { return all(equal(cached.brick, brick)); }
 
-void loadBrick(inout CachedBrick cached, ivec3 brick, inout uint reads) {
+// Unobserved voxels (SPEC §6.4 at the voxel's scale): the empty voxels of a brick that holds surface which no view
+// has seen holding a surface or seen through. A view that meets a wall at a grazing angle, or has seen it only a few
+// times, leaves some of its voxels empty (SceneVoxelization fills a voxel only when a sample lands on its surface):
+// such a voxel is most likely wall not yet seen, and a probe ray through it would find the sky or the sunlit ground
+// behind the wall. A trace that watches observed space ends there, unknown. Only in a brick holding surface: an
+// empty brick of the pool is one being filled or released, and a trace that steps over empty bricks never looks in.
+void loadBrick(inout CachedBrick cached, ivec3 brick, bool watchesVoxels, inout uint reads) {
   if (isCached(cached, brick)) return;
   cached.brick = brick;
   cached.index = brickAt(brick + volume.originBrick);
   cached.mask = uvec2(0u);
+  cached.unobserved = uvec2(0u);
   reads += 1u;
   if (cached.index != kInvalidBrick) {
     cached.mask = bricks[cached.index].occupancy;
     reads += 1u;
+    if (watchesVoxels && any(notEqual(cached.mask, uvec2(0u)))) {
+      cached.unobserved = ~(bricks[cached.index].observed | cached.mask);
+      reads += 1u;
+    }
   }
 }
 
@@ -216,31 +229,42 @@ bool brickUnobserved(VoxelWalk walk, CachedBrick brick, inout CachedGridWords ob
 }
 
 // What a cell of the walk holds for the hierarchical DDA: nothing it must look into, something (an occupied voxel
-// in it, or — while a trace watches observed space — an unobserved brick cell), or, at the brick level, no voxel and
-// no observation.
+// in it, or — while a trace watches observed space — an unobserved brick cell or voxel), at the brick level no voxel
+// and no observation, or at the voxel level an unobserved voxel.
 const uint kCellEmpty = 0u;
 const uint kCellOccupied = 1u;
 const uint kCellUnobserved = 2u;
+const uint kCellUnobservedVoxel = 3u;
+
+// Whether an unobserved voxel ends the walk: any but the one the ray starts in — a probe stands in empty space,
+// whether or not a view has seen it so.
+bool endsAtUnobservedVoxel(VoxelWalk walk, CachedBrick brick) {
+  return walk.distance > 0.0 && voxelBitSet(brick.unobserved, voxelInBrick(walk.voxel));
+}
 
 // What the level-`level` cell holding the walk's voxel holds: grid levels from the grid (except for the brick
-// already at hand), finer ones from the brick's mask.
-uint cellContents(VoxelWalk walk, int level, bool watchesObservedSpace, inout CachedBrick brick,
+// already at hand), finer ones from the brick's masks. `watchesCells`: unobserved brick cells count; `watchesVoxels`:
+// unobserved voxels do.
+uint cellContents(VoxelWalk walk, int level, bool watchesCells, bool watchesVoxels, inout CachedBrick brick,
                   inout CachedGridWords grid, inout CachedGridWords observed, inout uint reads) {
   if (level >= kBrickLevel) {
     bool occupied = level == kBrickLevel && isCached(brick, walk.voxel >> kBrickLevel)
                         ? any(notEqual(brick.mask, uvec2(0u)))
                         : gridCellOccupied(level, walk.voxel, grid, reads);
     if (occupied) return kCellOccupied;
-    if (!watchesObservedSpace || gridCellObserved(level, walk.voxel, observed, reads)) return kCellEmpty;
+    if (!watchesCells || gridCellObserved(level, walk.voxel, observed, reads)) return kCellEmpty;
     return level == kBrickLevel ? kCellUnobserved : kCellOccupied;
   }
   // A walk at a finer level can step straight into the next brick, which no test at the brick level has seen.
   bool newBrick = !isCached(brick, walk.voxel >> kBrickLevel);
-  loadBrick(brick, walk.voxel >> kBrickLevel, reads);
-  if (watchesObservedSpace && newBrick && brickUnobserved(walk, brick, observed, reads)) return kCellUnobserved;
+  loadBrick(brick, walk.voxel >> kBrickLevel, watchesVoxels, reads);
+  if (watchesCells && newBrick && brickUnobserved(walk, brick, observed, reads)) return kCellUnobserved;
   ivec3 inBrick = voxelInBrick(walk.voxel);
-  bool occupied = level == kVoxelLevel ? voxelBitSet(brick.mask, inBrick) : blockOccupied(brick.mask, inBrick);
-  return occupied ? kCellOccupied : kCellEmpty;
+  if (level == kVoxelLevel) {
+    if (voxelBitSet(brick.mask, inBrick)) return kCellOccupied;
+    return endsAtUnobservedVoxel(walk, brick) ? kCellUnobservedVoxel : kCellEmpty;
+  }
+  return blockOccupied(brick.mask | brick.unobserved, inBrick) ? kCellOccupied : kCellEmpty;
 }
 
 // Moves the walk past the level-`level` cell it is in: to the voxel the ray reaches by the first crossing of the
@@ -273,8 +297,9 @@ VoxelHit voxelMiss(float maxDistance, uint reads) {
 
 // Whether a trace watches observed space (SPEC §6.4) — the probes' rays, whose misses through space no view has
 // observed are not the sky — or takes every brick cell without voxels for empty (a visibility test between two
-// points, most debug views). A watching trace goes on through unobserved space: a surface it meets beyond is a
-// surface the views did see, and the rays that pass a pillar's blind spot to a sunlit wall find the wall.
+// points, most debug views). A watching trace goes on through unobserved brick cells: a surface it meets beyond is a
+// surface the views did see, and the rays that pass a pillar's blind spot to a sunlit wall find the wall. It ends,
+// unknown, at an unobserved voxel of a brick that holds surface (loadBrick).
 const bool kWatchObservedSpace = true;
 const bool kIgnoreObservedSpace = false;
 
@@ -282,6 +307,12 @@ VoxelHit withObservation(VoxelHit hit, bool unobserved, float unobservedDistance
   hit.unobserved = unobserved;
   hit.unobservedDistance = unobserved ? unobservedDistance : hit.distance;
   return hit;
+}
+
+// A walk ended at an unobserved voxel: no hit, and unobserved from where it first entered unobserved space.
+VoxelHit unknownAtVoxel(VoxelWalk walk, bool crossedUnobserved, float unobservedDistance, uint reads) {
+  return withObservation(voxelMiss(walk.maxDistance, reads), true,
+                         crossedUnobserved ? unobservedDistance : walk.distance);
 }
 
 // How far in front of a voxel's surface plane (in voxels) a ray still meets it: the plane's 8-bit quantisation (0.007)
@@ -323,7 +354,8 @@ VoxelHit voxelHitAt(VoxelWalk walk, CachedBrick cached, vec3 direction, uint rea
 // over it and go a level up; when it is occupied, go a level down; an occupied voxel ends the trace. One refinement
 // of the talk's rule saves reads without skipping any cell: after a step the walk goes up only if the parent cell's
 // occupancy is unknown — it is known (occupied) while the walk is still inside a cell it came down from.
-// A trace that watches observed space looks for unobserved brick cells (cellContents) until it has crossed one.
+// A trace that watches observed space looks for unobserved brick cells (cellContents) until it has crossed one, and
+// for unobserved voxels all the way.
 VoxelHit traceVoxelsHierarchical(vec3 origin, vec3 direction, float maxDistance, bool watchesObservedSpace) {
   VoxelWalk walk;
   if (!beginVoxelWalk(origin, direction, maxDistance, walk)) return voxelMiss(maxDistance, 0u);
@@ -339,7 +371,9 @@ VoxelHit traceVoxelsHierarchical(vec3 origin, vec3 direction, float maxDistance,
   bool unobserved = false;
   float unobservedDistance = maxDistance;
   for (;;) {
-    uint contents = cellContents(walk, level, watchesObservedSpace && !unobserved, cached, grid, observed, reads);
+    uint contents = cellContents(walk, level, watchesObservedSpace && !unobserved, watchesObservedSpace, cached, grid,
+                                 observed, reads);
+    if (contents == kCellUnobservedVoxel) return unknownAtVoxel(walk, unobserved, unobservedDistance, reads);
     if (contents == kCellUnobserved) {
       unobserved = true;
       unobservedDistance = walk.distance;
