@@ -115,6 +115,22 @@ ivec2 footprintTexel(vec3 voxelMin, float voxelSize, vec2 litSize, uvec3 worldVo
   return ivec2(mix(lowest, highest, pick));
 }
 
+// The texel `corner` (0–3) of the 2×2 texels from `firstTexel`, clamped to the image.
+ivec2 aroundTexel(ivec2 firstTexel, int corner, vec2 litSize) {
+  return clamp(firstTexel + ivec2(corner & 1, corner >> 1), ivec2(0), ivec2(litSize) - 1);
+}
+
+// Whether one of the 2×2 texels from `firstTexel` shows a surface inside the voxel.
+bool surfaceAround(ivec2 firstTexel, vec2 litSize, vec3 voxelMin) {
+  for (int corner = 0; corner < 4; ++corner) {
+    ViewSample around = viewSampleAt(aroundTexel(firstTexel, corner, litSize), litSize);
+    if (around.depth > 0.0 && all(greaterThanEqual(around.held, voxelMin)) &&
+        all(lessThan(around.held, voxelMin + volume.voxelSize)))
+      return true;
+  }
+  return false;
+}
+
 shared uint occupancyLow;
 shared uint occupancyHigh;
 shared uint observedLow;
@@ -129,6 +145,7 @@ void main() {
   float voxelSize = volume.voxelSize;
   uint bit = voxelBit(voxelInBrick);
   bool occupied = voxelOccupied(brick, voxelInBrick);
+  bool wasObserved = (((bit < 32u ? bricks[brick].observed.x : bricks[brick].observed.y) >> (bit & 31u)) & 1u) != 0u;
   Voxel voxel = voxels[brick * kVoxelsPerBrick + voxelIndex];
   Brick heldBrick = bricks[brick];
 
@@ -160,15 +177,9 @@ void main() {
     // (the sun's, a capture's) have texels as wide as a voxel: a skylight's rim was cleared every few frames.
     float clearMargin = voxelSize * 0.5;
     float nearestDepth = 0.0;  // reversed-Z: the largest is the nearest; 0 where all four see nothing
-    bool surfaceAround = false;  // one of the four shows a surface inside this voxel
     ivec2 firstTexel = ivec2(floor(pixel - 0.5));
-    for (int corner = 0; corner < 4; ++corner) {
-      ivec2 neighbour = clamp(firstTexel + ivec2(corner & 1, corner >> 1), ivec2(0), ivec2(litSize) - 1);
-      ViewSample around = viewSampleAt(neighbour, litSize);
-      nearestDepth = max(nearestDepth, around.depth);
-      surfaceAround = surfaceAround || (around.depth > 0.0 && all(greaterThanEqual(around.held, voxelMin)) &&
-                                        all(lessThan(around.held, voxelMin + voxelSize)));
-    }
+    for (int corner = 0; corner < 4; ++corner)
+      nearestDepth = max(nearestDepth, texelFetch(litDepth, aroundTexel(firstTexel, corner, litSize), 0).r);
     vec3 nearestSurface = reconstructPosition(frame.litInverseViewProjection, pixel - 0.5, litSize, nearestDepth);
     vec3 viewDirection = viewRayDirection(frame.litInverseViewProjection, ndc.xy);
     bool inFront = dot(nearestSurface - samplePoint, viewDirection) > clearMargin;
@@ -232,8 +243,10 @@ void main() {
     // does not cut the voxel, and none of the four around shows a surface inside it. The rim of an opening, whose
     // voxels lie wholly in the opening, is then observed, and a rim's own voxels, and the holes a view leaves in a
     // wall it grazes, are not.
+    // Once observed, a voxel stays so (the mask is sticky): only one not yet observed is looked at again.
     bool seesPast = seen.depth <= 0.0 || dot(seen.surface - samplePoint, viewDirection) > clearMargin;
-    observedNow = !holdsSurface && !refreshesColour && seesPast && !cutBySurfacePlane && !surfaceAround;
+    observedNow = !wasObserved && !holdsSurface && !refreshesColour && seesPast && !cutBySurfacePlane &&
+                  !surfaceAround(firstTexel, litSize, voxelMin);
     if (occupied && seenThrough) {
       uint lastHit = min(voxelSeenThroughCount(voxel) + 1u, kVoxelMaxLastHit);
       voxel.surfaceAndLastHit =
