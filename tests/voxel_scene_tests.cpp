@@ -720,6 +720,15 @@ TEST_F(VoxelScene, anOrthographicViewInjectsExactlyTheVoxelsItsRulesGive) {
   expectOracle("the box taken away");
 }
 
+// The grazing view of the floor, to be given as an extra view while the camera looks straight up into an empty sky, so
+// that what the voxels hold comes from that view alone.
+struct GrazedFloor {
+  explicit GrazedFloor(gpu::OwnedDevice& device)
+      : floor(device, grazingFloorCamera(), {kFloor}), sky(device, lookingUp({0.5f, 1.0f, 0.5f}), {}) {}
+  HostFrame floor;
+  HostFrame sky;
+};
+
 TEST_F(VoxelScene, anEmptyVoxelOfAFloorSeenAtAGrazingAngleIsFilledByALookAtItsFootprint) {
   // The grazing view of the floor (6° to 21° over the 44 voxels ahead) as an extra view: a random point of a floor
   // voxel projects to a pixel that shows the floor a voxel or more away unless it lies within a few centimetres of the
@@ -728,17 +737,16 @@ TEST_F(VoxelScene, anEmptyVoxelOfAFloorSeenAtAGrazingAngleIsFilledByALookAtItsFo
   // those of the oracle, and the floor ahead has clearly more of them than the point's pixels alone would fill.
   const Settings settings = smallSettings();
   create(settings);
-  const HostFrame floor(device(), grazingFloorCamera(), {kFloor});
-  const HostFrame sky(device(), lookingUp({0.5f, 1.0f, 0.5f}), {});
-  dispatch(sky, nullptr);  // places the volume around the camera
+  const GrazedFloor view(device());
+  dispatch(view.sky, nullptr);  // places the volume around the camera
   InjectionOracle oracle(kVoxel, settings.invalidFramesToClear, volumeCentre(*context_));
   InjectionOracle pointOnly(kVoxel, settings.invalidFramesToClear, volumeCentre(*context_), false);
-  oracle.addCandidates(floor);
-  pointOnly.addCandidates(floor);
+  oracle.addCandidates(view.floor);
+  pointOnly.addCandidates(view.floor);
   for (uint32_t injection = 0; injection < 4; ++injection) {
-    oracle.inject(floor, frameIndex_);
-    pointOnly.inject(floor, frameIndex_);
-    dispatch(sky, nullptr, {extraView(floor)});
+    oracle.inject(view.floor, frameIndex_);
+    pointOnly.inject(view.floor, frameIndex_);
+    dispatch(view.sky, nullptr, {extraView(view.floor)});
   }
   // The view sees the floor to the horizon; the voxels are those inside the volume.
   const shader::VoxelVolume& volume = gi::voxelSceneOf(*context_).current();
@@ -772,16 +780,15 @@ TEST_F(VoxelScene, aViewObservesTheVoxelsItSeesThroughOrFilledButNotTheHolesOfAF
   // observed space ends there rather than passing through the floor (voxel_trace.glsl).
   const Settings settings = smallSettings();
   create(settings);
-  const HostFrame floor(device(), grazingFloorCamera(), {kFloor});
-  const HostFrame sky(device(), lookingUp({0.5f, 1.0f, 0.5f}), {});
-  dispatch(sky, nullptr);  // places the volume around the camera
+  const GrazedFloor view(device());
+  dispatch(view.sky, nullptr);  // places the volume around the camera
   InjectionOracle oracle(kVoxel, settings.invalidFramesToClear, volumeCentre(*context_));
   for (int x = -8; x <= 8; ++x)
     for (int y = 0; y < int(shader::kBrickSizeVoxels); ++y)
       for (int z = -40; z <= 4; ++z) oracle.addVoxel({x, y, z});
   for (uint32_t injection = 0; injection < 4; ++injection) {
-    oracle.inject(floor, frameIndex_);
-    dispatch(sky, nullptr, {extraView(floor)});
+    oracle.inject(view.floor, frameIndex_);
+    dispatch(view.sky, nullptr, {extraView(view.floor)});
   }
   const GpuState state = readState();
   std::map<testing::VoxelCoordinate, bool> gpuObserved;  // the voxels of every live brick
