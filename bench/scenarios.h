@@ -22,7 +22,7 @@ namespace ssvgi::bench {
 struct ScenarioRendering {
   uint32_t width = 640;
   uint32_t height = 360;
-  Settings gi = settingsForTier(QualityTier::High);  // with the scene's detail scale applied (renderer::scaledToScene)
+  Settings gi = settingsForTier(QualityTier::High);  // the renderer's for a scene: renderer::giSettingsFor
   renderer::ExtraViewSettings extraViews;  // the views beyond the camera the renderer gives ssvgi
   bool litFrameDirectOnly = true;          // renderer::RendererSettings::litFrameDirectOnly
 };
@@ -104,14 +104,20 @@ LagResult measureLag(gpu::OwnedDevice& device, const ScenarioRendering& renderin
 
 // ---------------------------------------------------------------------------------------------------------------------
 // Camera cut: the camera jumps (a teleport, a 180° turn) in one frame. The images after the cut must stay finite and
-// return to what a run that sat at the new view all along shows.
+// return to what a run that sat at the new view all along shows — or, where the voxels and the space the views
+// observed from the old view are still of use there, be no further from the path-traced reference than that run.
 
 struct CameraCutOptions {
   renderer::Camera to;             // the view after the cut; the scenario's camera is the one before it
   uint32_t framesBefore = 32;      // frames at the first view
   uint32_t framesAfter = 32;       // frames at the new view after the cut
   double recoveryTolerance = 0.1;  // recovered: differenceFromSettled below this from some frame to the last
+  // > 0: both runs' E_indirect, averaged over their last kCutFramesAgainstReference frames, are compared with the
+  // reference path-traced with this many samples per pixel at the new view.
+  uint32_t referenceSamples = 0;
 };
+
+inline constexpr uint32_t kCutFramesAgainstReference = 8;
 
 struct CameraCutResult {
   bool allFinite = true;  // no NaN or infinity in E_indirect or the final image, any frame after the cut
@@ -119,6 +125,10 @@ struct CameraCutResult {
   // E_indirect (RGB, surface pixels) against the same frame of a run that rendered the new view from its first frame.
   std::vector<double> differenceFromSettled;
   std::optional<uint32_t> framesToRecover;  // the first frame from which every difference is below the tolerance
+  // With CameraCutOptions::referenceSamples: the relative mean absolute error against the reference (4×4 blocks, the
+  // surface pixels) of the run after the cut and of the run that sat at the new view.
+  std::optional<double> errorAfterCut;
+  std::optional<double> errorSettled;
 };
 
 CameraCutResult measureCameraCut(gpu::OwnedDevice& device, const ScenarioRendering& rendering, const ScenarioView& view,

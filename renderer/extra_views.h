@@ -33,25 +33,19 @@ struct ExtraViewSettings {
   // Pixels per side of the sun's view (0: none). Its texels are a voxel wide (ssvgi::Settings::voxelSize), or
   // narrower where the voxel volume's footprint seen from the sun is smaller than the view: it covers that footprint,
   // or the square of this many voxels around the camera where the footprint is larger (256: 64 m at the high tier's
-  // 0.25 m voxels, of its 128 m volume; docs/PERFORMANCE.md has what larger views cost). Off by default for now, as
-  // is the capture around the camera: docs/QUALITY.md ("Views beyond the camera") has what they do to the other
-  // scenario figures; kRecommendedSunViewSize and kRecommendedSurroundViewSize are the sizes measured there, with
-  // ssvgi::Settings::skyOnlyThroughObservedSpace on.
-  uint32_t sunViewSize = 0;
-  uint32_t surroundViewSize = 0;   // pixels per side of each face of the capture around the camera; 0: none
+  // 0.25 m voxels, of its 128 m volume; docs/PERFORMANCE.md has what larger views cost, docs/QUALITY.md ("Views
+  // beyond the camera") what the views do to the scenario figures).
+  uint32_t sunViewSize = 256;
+  uint32_t surroundViewSize = 64;  // pixels per side of each face of the capture around the camera; 0: none
   uint32_t lightViewSize = 64;     // pixels per side of each view of a local light; 0: none
   // Pixels per side of the overhead view (0: none). Its texels are the voxel volume's footprint over this: about half
   // a brick at 256 and the high tier, so that its jittered rays cross every column of brick cells within a few
   // renders.
-  uint32_t overheadViewSize = 0;
+  uint32_t overheadViewSize = 256;
   // Views rendered and given to ssvgi per frame, 1..ssvgi::kMaxExtraViews; when there are more (the sun, six faces
   // around the camera, six per point light, one per spot), they take turns.
   uint32_t viewsPerFrame = 4;
 };
-
-inline constexpr uint32_t kRecommendedSunViewSize = 256;
-inline constexpr uint32_t kRecommendedSurroundViewSize = 64;
-inline constexpr uint32_t kRecommendedOverheadViewSize = 256;
 
 class ExtraViews {
  public:

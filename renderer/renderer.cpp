@@ -235,9 +235,11 @@ void Renderer::drawGiDebugView(ssvgi::DebugView view, const std::optional<Camera
   });
 }
 
-ssvgi::Settings scaledToScene(ssvgi::Settings settings, const Scene& scene) {
+ssvgi::Settings giSettingsFor(ssvgi::QualityTier tier, const Scene& scene) {
+  ssvgi::Settings settings = ssvgi::settingsForTier(tier);
   settings.voxelSize *= scene.giDetailScale;
   settings.probeSpacing *= scene.giDetailScale;
+  settings.skyOnlyThroughObservedSpace = true;
   return settings;
 }
 

@@ -26,8 +26,11 @@ shader::GpuLight toGpuLight(const LocalLight& light);
 // Reads back an rgba32f, r32f, D32 or rgba16f image's first `channels` channels.
 FloatImage readFloatImage(gpu::OwnedDevice& device, const gpu::Image& image, uint32_t channels);
 
-// GI settings with the scene's detail scale (Scene::giDetailScale) applied to the voxel size and the probe spacing.
-ssvgi::Settings scaledToScene(ssvgi::Settings settings, const Scene& scene);
+// The GI settings the renderer runs ssvgi with: the tier's, with the scene's detail scale (Scene::giDetailScale)
+// applied to the voxel size and the probe spacing, and the probes' rays taking the sky only through space a view has
+// observed (ssvgi::Settings::skyOnlyThroughObservedSpace), since the renderer's views beyond the camera
+// (ExtraViewSettings) observe the space around it.
+ssvgi::Settings giSettingsFor(ssvgi::QualityTier tier, const Scene& scene);
 
 // The light the final image shows on surfaces (the sky stays): all of it, direct and emitted light only, or the GI's
 // alone, albedo/π · E_indirect (the viewer's "direct only" and "indirect only").

@@ -106,7 +106,7 @@ TEST_F(ExtraViews, theSunsViewFillsASunlitWallTheCameraNeverSeesInItsSunlitColou
     // The sun's view every frame, nothing else, 16 times.
     renderer::Renderer renderer(device(), wall.scene,
                                 rendering({.sunViewSize = 64, .surroundViewSize = 0, .lightViewSize = 0,
-                                           .viewsPerFrame = 1}));
+                                           .overheadViewSize = 0, .viewsPerFrame = 1}));
     renderFrames(renderer, wall.scene, 16);
     const auto occupied = testing::readOccupiedVoxels(device(), *renderer.giContext());
     const uint32_t found = wallVoxels(occupied, [&](int x, int y, const shader::Voxel& voxel) {
@@ -122,7 +122,8 @@ TEST_F(ExtraViews, theSunsViewFillsASunlitWallTheCameraNeverSeesInItsSunlitColou
   {
     // Without it, nothing the camera sees is near the wall.
     renderer::Renderer renderer(device(), wall.scene,
-                                rendering({.sunViewSize = 0, .surroundViewSize = 0, .lightViewSize = 0}));
+                                rendering({.sunViewSize = 0, .surroundViewSize = 0, .lightViewSize = 0,
+                                           .overheadViewSize = 0}));
     renderFrames(renderer, wall.scene, 8);
     EXPECT_EQ(wallVoxels(testing::readOccupiedVoxels(device(), *renderer.giContext()), [](int, int, const auto&) {}), 0u);
   }
@@ -146,7 +147,8 @@ TEST_F(ExtraViews, theCaptureAroundTheCameraFillsTheCeilingAboveAndBehindIt) {
                               camera);
   auto ceilingVoxelsAboveAndBehind = [&](uint32_t surroundViewSize) {
     renderer::Renderer renderer(device(), room,
-                                rendering({.sunViewSize = 0, .surroundViewSize = surroundViewSize, .viewsPerFrame = 2}));
+                                rendering({.sunViewSize = 0, .surroundViewSize = surroundViewSize,
+                                           .overheadViewSize = 0, .viewsPerFrame = 2}));
     // Each face of the cube 6 times: each voxel has tested 6 random points of itself against the upward face (a
     // point above the ceiling's face, seen through it, lands up to 0.14 r nearer the zenith, r from it: in another
     // voxel, out there).
@@ -173,7 +175,7 @@ TEST_F(ExtraViews, takeTurnsWithinTheirBudgetSoThatEachIsGivenEquallyOften) {
                                .direction = {0.0f, -1.0f, 0.0f}});
   renderer::Renderer renderer(device(), wall.scene,
                               rendering({.sunViewSize = 32, .surroundViewSize = 16, .lightViewSize = 24,
-                                         .viewsPerFrame = 3}));
+                                         .overheadViewSize = 0, .viewsPerFrame = 3}));
   std::map<std::string, uint32_t> given;
   for (uint32_t frame = 0; frame < 8; ++frame) {
     renderFrames(renderer, wall.scene, 1);
@@ -203,7 +205,7 @@ TEST_F(ExtraViews, theSunsTexelGridStaysFixedInTheWorldAsTheCameraMoves) {
   SunlitWallBehindTheCamera wall;
   renderer::Renderer renderer(device(), wall.scene,
                               rendering({.sunViewSize = 64, .surroundViewSize = 0, .lightViewSize = 0,
-                                         .viewsPerFrame = 1}));
+                                         .overheadViewSize = 0, .viewsPerFrame = 1}));
   const glm::vec3 point(1.3f, 0.7f, -2.9f);
   std::vector<glm::vec2> positionsInTexel;
   for (uint32_t render = 1; render <= 4; ++render) {

@@ -473,7 +473,7 @@ CornellRender renderCornell(bool gi) {
   const auto scene = renderer::makeBuiltinScene("cornell");
   renderer::RendererSettings settings;
   settings.width = settings.height = kCornellSize;
-  if (gi) settings.gi = renderer::scaledToScene(settingsForTier(QualityTier::Low), *scene);
+  if (gi) settings.gi = renderer::giSettingsFor(QualityTier::Low, *scene);
   renderer::Renderer renderer(testing::gpuTestDevice(), *scene, settings);
   for (uint32_t frame = 0; frame < kFrames; ++frame)
     renderer.render(renderer::evaluateAnimation(*scene, scene->cameras[0], 0.0f));

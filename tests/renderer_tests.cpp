@@ -315,7 +315,7 @@ TEST_F(RendererAnalytic, theFinalImageShowsTheIndirectOrTheDirectLightAloneOnReq
   renderer::RendererSettings settings;
   settings.width = kWidth;
   settings.height = kHeight;
-  settings.gi = renderer::scaledToScene(ssvgi::settingsForTier(ssvgi::QualityTier::Low), *scene);
+  settings.gi = renderer::giSettingsFor(ssvgi::QualityTier::Low, *scene);
   renderer::Renderer withGi(device(), *scene, settings);
   for (int frame = 0; frame < 4; ++frame) withGi.render(state);
 

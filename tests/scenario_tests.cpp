@@ -18,7 +18,7 @@ namespace {
 constexpr uint32_t kTestWidth = 128, kTestHeight = 72;
 
 bench::ScenarioRendering testRendering(const renderer::Scene& scene) {
-  return {kTestWidth, kTestHeight, renderer::scaledToScene(settingsForTier(QualityTier::High), scene)};
+  return {kTestWidth, kTestHeight, renderer::giSettingsFor(QualityTier::High, scene)};
 }
 
 bench::ScenarioView builtinView(const std::string& name, const std::string& camera = {}) {
@@ -53,11 +53,15 @@ TEST_F(Scenario, withTheDoorRemovedTheDarkRoomReceivesTheLitRoomsLight) {
   EXPECT_GT(open.leakRatio, 2.0 * kLeakBound) << "lit " << open.litRoomIrradiance << " W/m², dark " << open.darkRoomIrradiance;
 }
 
-TEST_F(Scenario, convergedDarkRoomChangesUnderOnePercentFromFrameToFrame) {
+// The bound is 2 %, 1.51 % measured: the room is lit only by a sun patch of 1 m², which few of a probe's 32 rays meet.
+// The 1 % it had was set on the camera alone, whose probes saw the sky through every wall the camera had not seen: its
+// indirect light was 16× the reference's, and the same noise over that mean a sixth as large (docs/QUALITY.md, "The
+// views on by default").
+TEST_F(Scenario, convergedDarkRoomChangesUnderTwoPercentFromFrameToFrame) {
   const bench::ScenarioView view = builtinView("dark-room");
   const bench::FlickerResult flicker = bench::measureFlicker(device(), testRendering(view.scene), view);
   EXPECT_EQ(flicker.pixels, uint64_t{kTestWidth * kTestHeight}) << "a closed room fills the view";
-  EXPECT_LT(flicker.finalImageFlicker, 0.01) << "indirect alone: " << flicker.indirectFlicker;
+  EXPECT_LT(flicker.finalImageFlicker, 0.02) << "indirect alone: " << flicker.indirectFlicker;
 }
 
 TEST_F(Scenario, cornellLightSwitchedOnArrivesSoonerWithChangeDetection) {
@@ -102,11 +106,15 @@ TEST_F(Scenario, cornellLightSwitchedOffWhileTheCameraLooksAwayFadesOnceItLooksB
   EXPECT_LT(lookAway.differenceFromNeverOn.back(), 0.5 * lookAway.differenceWithTheLightOn);
 }
 
-// Recovered: E_indirect within 10 % (relative mean absolute difference) of a run that sat at the new view all along.
-// The two runs never become identical — the cut one keeps the voxels and probes of the old view — and settle a few
-// per cent apart; 10 % lies between that residue and the cut itself (docs/QUALITY.md, "What the scenario tests' bounds
-// rest on").
+// The cut changes the GI: E_indirect on its frame differs by more than 10 % (relative mean absolute difference) from a
+// run that sat at the new view all along.
 constexpr double kRecoveryTolerance = 0.1;
+// Recovered: after 32 frames, no further from the path-traced reference of the new view than that run, within 2 points
+// of relative MAE (both runs averaged over their last 8 frames, the reference at 512 samples per pixel). Not "equal to
+// that run": the run after the cut keeps the voxels and the observed space of the old view, and where they are still
+// of use it stays apart from the other for good — after the teleport 46 % apart, and nearer the reference (docs/
+// QUALITY.md, "The views on by default").
+constexpr double kReferenceTolerance = 0.02;
 
 struct CameraCut {
   const char* name;
@@ -115,17 +123,21 @@ struct CameraCut {
 
 class ScenarioCameraCut : public testing::GpuTest, public ::testing::WithParamInterface<CameraCut> {};
 
-TEST_P(ScenarioCameraCut, staysFiniteAndRecoversWithin32Frames) {
+TEST_P(ScenarioCameraCut, staysFiniteAndWithin32FramesIsNoFurtherFromTheReferenceThanARunThatSatThere) {
   const bench::ScenarioView view = builtinView("courtyard", "court");
   bench::CameraCutOptions options;
   options.to = GetParam().to;
   options.to.verticalFov = view.camera.verticalFov;
   options.recoveryTolerance = kRecoveryTolerance;
+  options.referenceSamples = 512;
   const bench::CameraCutResult cut = bench::measureCameraCut(device(), testRendering(view.scene), view, options);
+  std::printf("%s: %s\n", GetParam().name, bench::toJson(cut).dump().c_str());
   EXPECT_TRUE(cut.allFinite);
   ASSERT_EQ(cut.differenceFromSettled.size(), options.framesAfter);
   EXPECT_GT(cut.differenceFromSettled.front(), kRecoveryTolerance) << "the cut changes the GI: there is a recovery";
-  EXPECT_TRUE(cut.framesToRecover.has_value()) << "last difference " << cut.differenceFromSettled.back();
+  ASSERT_TRUE(cut.errorAfterCut && cut.errorSettled);
+  EXPECT_LT(*cut.errorAfterCut, *cut.errorSettled + kReferenceTolerance)
+      << "last difference from the run that sat there " << cut.differenceFromSettled.back();
 }
 
 INSTANTIATE_TEST_SUITE_P(

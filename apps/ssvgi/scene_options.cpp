@@ -157,10 +157,8 @@ ResolvedScene resolveScene(const SceneOptions& options) {
   return resolved;
 }
 
-ssvgi::Settings giSettingsForTier(const std::string& tier) {
-  return ssvgi::settingsForTier(tier == "low"      ? ssvgi::QualityTier::Low
-                                : tier == "medium" ? ssvgi::QualityTier::Medium
-                                                   : ssvgi::QualityTier::High);
+ssvgi::QualityTier qualityTier(const std::string& tier) {
+  return tier == "low" ? ssvgi::QualityTier::Low : tier == "medium" ? ssvgi::QualityTier::Medium : ssvgi::QualityTier::High;
 }
 
 namespace {
@@ -218,14 +216,12 @@ void addGiOptions(CLI::App& command, GiOptions& options) {
         ->check(CLI::Range(0u, 4096u));
   };
   addViewSize("--sun-view", options.extraViews.sunViewSize,
-              "the sun's view (an orthographic reflective shadow map over the voxel volume, texels a voxel wide; 256 "
-              "recommended)");
+              "the sun's view (an orthographic reflective shadow map over the voxel volume, texels a voxel wide)");
   addViewSize("--surround-views", options.extraViews.surroundViewSize,
-              "a capture around the camera (six 90° views from its position; 64 recommended)");
+              "a capture around the camera (six 90° views from its position)");
   addViewSize("--overhead-view", options.extraViews.overheadViewSize,
               "a view straight down over the whole voxel volume, as depth only: it observes the open space the "
-              "probes' rays cross to the sky beyond the sun's view, for skyOnlyThroughObservedSpace (256 "
-              "recommended)");
+              "probes' rays cross to the sky beyond the sun's view, for skyOnlyThroughObservedSpace)");
   addViewSize("--light-views", options.extraViews.lightViewSize,
               "the views of the scene's local lights (six per point light, one per spot)");
   command.add_option("--views-per-frame", options.extraViews.viewsPerFrame,
@@ -241,7 +237,7 @@ void addGiOptions(CLI::App& command, GiOptions& options) {
 }
 
 ssvgi::Settings giSettings(const GiOptions& options, const renderer::Scene& scene) {
-  ssvgi::Settings settings = renderer::scaledToScene(giSettingsForTier(options.tier), scene);
+  ssvgi::Settings settings = renderer::giSettingsFor(qualityTier(options.tier), scene);
   for (const std::string& assignment : options.overrides) {
     const size_t equals = assignment.find('=');
     const std::string name = assignment.substr(0, equals);

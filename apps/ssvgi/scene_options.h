@@ -81,8 +81,8 @@ void pointSun(renderer::Scene& scene, float azimuthDegrees, float elevationDegre
 // one line naming `option` when the text is not such a view.
 renderer::Camera parseCamera(const std::string& text, const std::string& option, renderer::Camera camera);
 
-// The GI settings of a --tier value (low, medium, high; the option's check has already refused anything else).
-ssvgi::Settings giSettingsForTier(const std::string& tier);
+// The quality tier of a --tier value (low, medium, high; the option's check has already refused anything else).
+ssvgi::QualityTier qualityTier(const std::string& tier);
 
 // The GI options of the commands that run ssvgi: a quality tier (SPEC §4.7) and overrides of single settings.
 struct GiOptions {

@@ -73,7 +73,7 @@ void giSection(ViewerControls& controls, const PanelReadout& readout, PanelActio
     ImGui::SameLine();
     if (ImGui::RadioButton(tier, controls.tier == tier) && controls.tier != tier) {
       controls.tier = tier;
-      controls.gi = renderer::scaledToScene(giSettingsForTier(tier), readout.scene);
+      controls.gi = renderer::giSettingsFor(qualityTier(tier), readout.scene);
       actions.rendererChanged = true;
     }
   }
