@@ -172,16 +172,26 @@ bool insideBounds(glm::vec3 position, const renderer::Bounds& bounds) {
 
 }  // namespace
 
+ConvergedView::ConvergedView(gpu::OwnedDevice& device, const ScenarioRendering& rendering, const ScenarioView& view,
+                             const ConvergenceOptions& options)
+    : rendering_(rendering), view_(view), renderer_(device, view.scene, rendering) {
+  convergence_ = renderUntilConverged(renderer_, view.camera, options);
+}
+
 IndirectErrorResult measureIndirectError(gpu::OwnedDevice& device, const ScenarioRendering& rendering,
                                          const ScenarioView& view, const IndirectErrorOptions& options) {
+  ConvergedView converged(device, rendering, view, options.convergence);
+  return measureIndirectError(device, converged, options);
+}
+
+IndirectErrorResult measureIndirectError(gpu::OwnedDevice& device, ConvergedView& converged,
+                                         const IndirectErrorOptions& options) {
+  const ScenarioRendering& rendering = converged.rendering();
+  const ScenarioView& view = converged.view();
   IndirectErrorResult result;
-  FloatImage gi, viewDistance;
-  {
-    ScenarioRenderer renderer(device, view.scene, rendering);
-    result.convergence = renderUntilConverged(renderer, view.camera, options.convergence);
-    gi = renderer.renderer().indirectIrradiance();
-    viewDistance = renderer.renderer().viewDistance();
-  }
+  result.convergence = converged.convergence();
+  const FloatImage gi = converged.renderer().renderer().indirectIrradiance();
+  const FloatImage viewDistance = converged.renderer().renderer().viewDistance();
 
   const renderer::AnimatedState state = stillState(view);
   const uint32_t halfSamples = half(options.referenceSamples, "samples per pixel");
@@ -207,9 +217,17 @@ IndirectErrorResult measureIndirectError(gpu::OwnedDevice& device, const Scenari
 
 ProbeIrradianceResult measureProbeIrradiance(gpu::OwnedDevice& device, const ScenarioRendering& rendering,
                                              const ScenarioView& view, const ProbeIrradianceOptions& options) {
-  ScenarioRenderer renderer(device, view.scene, rendering);
+  ConvergedView converged(device, rendering, view, options.convergence);
+  return measureProbeIrradiance(device, converged, options);
+}
+
+ProbeIrradianceResult measureProbeIrradiance(gpu::OwnedDevice& device, ConvergedView& converged,
+                                             const ProbeIrradianceOptions& options) {
+  const ScenarioRendering& rendering = converged.rendering();
+  const ScenarioView& view = converged.view();
+  ScenarioRenderer& renderer = converged.renderer();
   ProbeIrradianceResult result;
-  result.convergence = renderUntilConverged(renderer, view.camera, options.convergence);
+  result.convergence = converged.convergence();
 
   const renderer::AnimatedState state = stillState(view);
   const gi::ProbeVolume& volume = gi::probeVolumeOf(*renderer.renderer().giContext());

@@ -6,6 +6,7 @@
 // Both report the reference's own noise, measured from two independent halves of it, as the floor under the figure.
 #include "gpu_host/owned_device.h"
 #include "image_compare.h"
+#include "scenario_rendering.h"
 #include "scenarios.h"
 
 #include <glm/glm.hpp>
@@ -35,6 +36,25 @@ struct Convergence {
   bool converged = false;   // lastChange < tolerance
 };
 
+// A view rendered with the GI until its indirect light has converged: what the measurements below start from. One
+// may serve both, so that a view is converged once (the Cornell tests'). `view` must outlive it.
+class ConvergedView {
+ public:
+  ConvergedView(gpu::OwnedDevice& device, const ScenarioRendering& rendering, const ScenarioView& view,
+                const ConvergenceOptions& options = {});
+
+  ScenarioRenderer& renderer() { return renderer_; }
+  const ScenarioRendering& rendering() const { return rendering_; }
+  const ScenarioView& view() const { return view_; }
+  const Convergence& convergence() const { return convergence_; }
+
+ private:
+  ScenarioRendering rendering_;
+  const ScenarioView& view_;
+  ScenarioRenderer renderer_;
+  Convergence convergence_;
+};
+
 // ---------------------------------------------------------------------------------------------------------------------
 // Error vs reference (SPEC §7): relative mean absolute error of E_indirect against the path-traced reference's, over
 // the pixels where the renderer drew a surface, after convergence, both images box-filtered in downsample² blocks.
@@ -59,6 +79,9 @@ struct IndirectErrorResult {
 // Renders the view with the GI until converged, path-traces the same view (animation time 0) and compares.
 IndirectErrorResult measureIndirectError(gpu::OwnedDevice& device, const ScenarioRendering& rendering,
                                          const ScenarioView& view, const IndirectErrorOptions& options = {});
+// The same of a view already converged (options.convergence is not used).
+IndirectErrorResult measureIndirectError(gpu::OwnedDevice& device, ConvergedView& converged,
+                                         const IndirectErrorOptions& options = {});
 
 // ---------------------------------------------------------------------------------------------------------------------
 // Probe irradiance vs reference (SPEC §4.5): what the level-0 probes hold against the path-traced radiance at the
@@ -102,6 +125,9 @@ struct ProbeIrradianceResult {
 // reference's own rays would start on it. Throws std::runtime_error when no probe qualifies.
 ProbeIrradianceResult measureProbeIrradiance(gpu::OwnedDevice& device, const ScenarioRendering& rendering,
                                              const ScenarioView& view, const ProbeIrradianceOptions& options = {});
+// The same of a view already converged (options.convergence is not used).
+ProbeIrradianceResult measureProbeIrradiance(gpu::OwnedDevice& device, ConvergedView& converged,
+                                             const ProbeIrradianceOptions& options = {});
 
 nlohmann::json toJson(const IndirectErrorResult& result);
 nlohmann::json toJson(const ProbeIrradianceResult& result);
