@@ -11,6 +11,7 @@
 #include "scenario_rendering.h"
 
 #include <algorithm>
+#include <functional>
 
 namespace ssvgi::bench {
 

@@ -158,7 +158,9 @@ ResolvedScene resolveScene(const SceneOptions& options) {
 }
 
 ssvgi::QualityTier qualityTier(const std::string& tier) {
-  return tier == "low" ? ssvgi::QualityTier::Low : tier == "medium" ? ssvgi::QualityTier::Medium : ssvgi::QualityTier::High;
+  return tier == "low"      ? ssvgi::QualityTier::Low
+         : tier == "medium" ? ssvgi::QualityTier::Medium
+                            : ssvgi::QualityTier::High;
 }
 
 namespace {
