@@ -900,8 +900,8 @@ DarkRoomProbes measureDarkRoomProbes(bool reservoirs, uint32_t warmUpdates, uint
   gi.probeGrid = {16, 8, 16};
   gi.probeReservoirs = reservoirs;
   settings.gi = gi;
-  // The camera alone: with the views beyond it the reservoirs' mean is off by a fifth here (docs/QUALITY.md, "Probe
-  // stability"), and the reservoirs stay off by default until that is understood.
+  // The camera alone: with the views beyond it the reservoirs' mean drifts from the plain estimate's here (docs/
+  // QUALITY.md, "The views on by default"), and the reservoirs stay off by default until that is understood.
   settings.extraViews = {.sunViewSize = 0, .surroundViewSize = 0, .overheadViewSize = 0};
   renderer::Renderer renderer(testing::gpuTestDevice(), *scene, settings);
   const renderer::AnimatedState view = renderer::evaluateAnimation(*scene, scene->cameras[0], 0.0f);
