@@ -49,6 +49,7 @@ FlickerResult measureFlicker(gpu::OwnedDevice& device, const ScenarioRendering& 
   if (pixels == 0) throw std::runtime_error("scenario flicker: the view shows no surface");
 
   std::vector<double> finalBefore = luminance(frame.finalRadiance());
+  const double firstMean = meanWhere(finalBefore, surface);
   std::vector<double> indirectBefore = luminance(frame.indirectIrradiance());
   RelativeChange finalChange, indirectChange;
   renderer.render(view.camera, options.measuredFrames, [&] {
@@ -59,12 +60,15 @@ FlickerResult measureFlicker(gpu::OwnedDevice& device, const ScenarioRendering& 
     finalBefore = std::move(finalNow);
     indirectBefore = std::move(indirectNow);
   });
-  return {finalChange.mean(), indirectChange.mean(), pixels};
+  const double lastMean = meanWhere(finalBefore, surface);
+  const double drift = (lastMean - firstMean) / std::max(0.5 * (firstMean + lastMean), 1e-30) / options.measuredFrames;
+  return {finalChange.mean(), indirectChange.mean(), drift, pixels};
 }
 
 nlohmann::json toJson(const FlickerResult& result) {
   return {{"flicker", result.finalImageFlicker},
           {"indirectFlicker", result.indirectFlicker},
+          {"driftPerFrame", result.driftPerFrame},
           {"pixels", result.pixels}};
 }
 

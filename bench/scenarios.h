@@ -64,6 +64,10 @@ struct FlickerOptions {
 struct FlickerResult {
   double finalImageFlicker = 0.0;  // SPEC's figure: mean relative change of the final image's luminance
   double indirectFlicker = 0.0;    // the same of E_indirect alone (the final image dilutes it with direct light)
+  // How far from converged the view still was: the change of the final image's mean luminance over the measured
+  // frames, per frame, relative to that mean (signed). Flicker includes it: a view still brightening by 0.1 % a frame
+  // flickers at least 0.1 %.
+  double driftPerFrame = 0.0;
   uint64_t pixels = 0;             // surface pixels averaged over
 };
 

@@ -13,12 +13,14 @@
 #include "scene_geometry.h"
 #include "shared/gather_interface.h"
 #include "shared/gi_frame.h"
+#include "shared/voxel_interface.h"
 #include "ssvgi/ssvgi.h"
 
 #include <glm/gtc/packing.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <functional>
@@ -43,6 +45,23 @@ TEST(GatherJitter, anySixteenConsecutiveFramesSampleEveryPixelOfATile) {
   }
 }
 
+TEST(HalfFloatStore, nearestHalfIsTheNearestHalfFloatWhateverTheConversionRounds) {
+  // TemporalFilter's running average is stored through nearestHalf; a value one step off would bias it.
+  for (float magnitude = 1e-9f; magnitude < 7e4f; magnitude *= 1.0137f)
+    for (float value : {magnitude, -magnitude}) {
+      const float finite = shader::finiteHalf(value);
+      const float nearest = shader::nearestHalf(finite);
+      const uint16_t bits = glm::packHalf1x16(nearest);
+      ASSERT_EQ(glm::unpackHalf1x16(bits), nearest) << value << " gave a value no half float holds";
+      for (int step : {-1, 1}) {
+        const float other = glm::unpackHalf1x16(uint16_t(bits + step));
+        if (std::isfinite(other)) {
+          ASSERT_LE(std::abs(nearest - finite), std::abs(other - finite)) << value;
+        }
+      }
+    }
+}
+
 // ---------------------------------------------------------------------------------------------------------------------
 // Upsample and TemporalFilter on their own: a camera at the origin looking along −Z at a near wall (x < 0, at z = −2)
 // in front of a far wall (z = −8).
@@ -55,6 +74,8 @@ constexpr float kNearWallZ = -2.0f, kFarWallZ = -8.0f;
 // relative); a bias or blur of any consequence is far larger.
 constexpr float kConstant = 0.75f, kNearValue = 0.5f, kFarValue = 1.5f;
 constexpr float kHalfStep = 1.0f / 1024.0f;
+// The probe blend of probes at the default history cap, 1/(32 + 1): settled.
+constexpr float kSettledProbeBlend = 1.0f / 33.0f;
 
 struct TestView {
   glm::mat4 viewProjection;
@@ -121,10 +142,10 @@ class GatherFilters : public testing::GpuTest {
     targets_.prepare(0, view.viewProjection, kSize, kSize, {});
   }
 
-  // The tile irradiance as FinalGather writes it: `irradiance` of each tile's sample pixel (whose geometry Upsample
-  // reads from the depth and normal).
+  // The tile images as FinalGather writes them: `irradiance` of each tile's sample pixel (whose geometry Upsample
+  // reads from the depth and normal), and the probe blend of every tile (r8: rounded to the nearest 1/255).
   template <typename Irradiance>
-  void writeTiles(Irradiance irradiance) {
+  void writeTiles(Irradiance irradiance, float probeBlend = kSettledProbeBlend) {
     const uint32_t tiles = kSize / shader::kGatherTileSize;
     std::vector<uint16_t> radiance;
     for (uint32_t y = 0; y < tiles; ++y)
@@ -133,6 +154,8 @@ class GatherFilters : public testing::GpuTest {
         for (float channel : {value, value, value, 1.0f}) radiance.push_back(glm::packHalf1x16(channel));
       }
     gpu::uploadImage(device(), targets_.tileIrradiance(), std::as_bytes(std::span(radiance)));
+    const std::vector<uint8_t> blend(size_t(tiles) * tiles, uint8_t(std::lround(probeBlend * 255.0f)));
+    gpu::uploadImage(device(), targets_.tileProbeBlend(), std::as_bytes(std::span(blend)));
   }
 
   void runUpsample() {
@@ -237,6 +260,27 @@ TEST_F(GatherFilters, upsampleAndTemporalFilterDoNotBlurAcrossADepthEdge) {
   for (size_t texel = 0; texel < filtered.size(); ++texel) {
     const float expected = halfTexelOnNearWall(next, texel) ? kNearValue : kFarValue;
     ASSERT_NEAR(filtered[texel], expected, expected * kHalfStep) << "texel " << texel;
+  }
+}
+
+TEST_F(GatherFilters, temporalFilterAveragesWhereTheProbesAreSettledAndFollowsProbesThatChange) {
+  // One still view, a constant field that steps from kNearValue to kFarValue between two frames. Where the probes are
+  // settled, the step is their noise: the history is kept and the step blended in by kTemporalBlend. Where every probe
+  // is new (blend 1), the output is the new frame.
+  const glm::vec3 position(0.0f);
+  const TestView view = viewFrom(position);
+  for (float probeBlend : {kSettledProbeBlend, 1.0f}) {
+    setFrame(view, position);
+    writeTiles([](size_t) { return kNearValue; }, probeBlend);
+    runUpsample();
+    runTemporalFilter();
+    setFrame(view, position);
+    writeTiles([](size_t) { return kFarValue; }, probeBlend);
+    runUpsample();
+    runTemporalFilter();
+    const float expected =
+        probeBlend < shader::kTemporalBlend ? glm::mix(kNearValue, kFarValue, shader::kTemporalBlend) : kFarValue;
+    for (float value : output()) ASSERT_NEAR(value, expected, expected * kHalfStep) << "probe blend " << probeBlend;
   }
 }
 
@@ -453,11 +497,11 @@ TEST_F(GatherMemory, theFinalGatherImagesAt1080pFitTheirTenMegabyteBudget) {
   for (const ResourceMemory& resource : created.value()->stats().memory)
     if (resource.name.rfind("ssvgi gather", 0) == 0 && resource.name != "ssvgi gather constants")
       gatherImageBytes += resource.bytes;
-  // The tile irradiance (480×270 rgba16f), the output and history (960×540 rgba16f each) and the confidence (960×540
-  // r8): 9,849,600 bytes of pixels (9.39 MiB), plus whatever alignment the driver adds.
+  // The tile irradiance (480×270 rgba16f) and probe blend (480×270 r8), the output and history (960×540 rgba16f each)
+  // and the confidence (960×540 r8): 9,979,200 bytes of pixels (9.52 MiB), plus whatever alignment the driver adds.
   std::printf("gather images at 1920x1080: %llu bytes\n", static_cast<unsigned long long>(gatherImageBytes));
   RecordProperty("gatherImageBytes", std::to_string(gatherImageBytes));
-  EXPECT_GE(gatherImageBytes, 480u * 270 * 8 + 2u * 960 * 540 * 8 + 960u * 540);
+  EXPECT_GE(gatherImageBytes, 480u * 270 * (8 + 1) + 2u * 960 * 540 * 8 + 960u * 540);
   EXPECT_LE(gatherImageBytes, 10u * 1024 * 1024);
 }
 

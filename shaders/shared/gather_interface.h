@@ -5,8 +5,8 @@
 // TemporalFilter work at half resolution. A half-resolution pixel p stands for full-resolution pixel 2p: it takes that
 // pixel's depth and normal, so every filter weight compares real G-buffer samples. A tile's geometry is likewise that
 // of the pixel it sampled, read from the host's depth and normal rather than stored (SPEC §5's 10 MB for the gather's
-// images: at 1920×1080 the tile irradiance, the two half-resolution images, output and history, and the
-// half-resolution confidence take 9.85 MB, 9.39 MiB).
+// images: at 1920×1080 the tile irradiance and probe blend, the two half-resolution images, output and history, and
+// the half-resolution confidence take 9.98 MB, 9.52 MiB).
 //
 // Confidence (SPEC §6.4): beside E, the gather carries how much the probes it used know of their surroundings — their
 // known fraction (probeKnownFraction), weighted exactly as their light is. FinalGather writes it into the tile
@@ -52,6 +52,7 @@ SSVGI_CONSTANT(uint, kBindGatherHistory, kBindFirstPassSlot + 5u);         // rg
 SSVGI_CONSTANT(uint, kBindGatherOutput, kBindFirstPassSlot + 6u);          // rgba16f, 1/2: rgb E; a: depth
 SSVGI_CONSTANT(uint, kBindGatherConfidence, kBindFirstPassSlot + 7u);      // r8, 1/2: confidence 0–1
 SSVGI_CONSTANT(uint, kBindGatherDebugTarget, kBindFirstPassSlot + 8u);     // rgba32f: ConfidenceDebugView's image
+SSVGI_CONSTANT(uint, kBindGatherTileProbeBlend, kBindFirstPassSlot + 9u);  // r8, 1/4: GatheredLight::probeBlend
 
 // Where a probe level lies this frame.
 struct GatherProbeLevel {

@@ -178,6 +178,22 @@ SSVGI_INLINE float finiteHalf(float value) {
 }
 SSVGI_INLINE vec3 finiteHalf(vec3 value) { return vec3(finiteHalf(value.x), finiteHalf(value.y), finiteHalf(value.z)); }
 
+// The half float nearest a finite value within the half range. A store to a half-float image or packHalf2x16 may round
+// toward zero (Vulkan allows it): a running average stored in half floats then loses up to a step every frame and
+// settles below its input, by as many steps as its history spans (16 steps, 0.8–1.6 %, at a 1/16 blend). Storing the
+// nearest half float leaves the conversion nothing to round.
+SSVGI_INLINE float nearestHalf(float value) {
+  uint bits = SSVGI_HALF_BITS(value);
+  float stored = SSVGI_HALF_FLOAT(bits);
+  if (abs(stored) == abs(value)) return stored;
+  // The next half float on the value's side of `stored` (bits order half floats of one sign by magnitude).
+  float neighbour = SSVGI_HALF_FLOAT(abs(value) > abs(stored) ? bits + 1u : bits - 1u);
+  return abs(neighbour - value) < abs(stored - value) ? neighbour : stored;
+}
+SSVGI_INLINE vec3 nearestHalf(vec3 value) {
+  return vec3(nearestHalf(value.x), nearestHalf(value.y), nearestHalf(value.z));
+}
+
 // Radiance in R11G11B10F (SPEC §4.1): each channel is a half float with the sign dropped and the mantissa cut to
 // 6 (R, G) or 5 (B) bits, rounded to nearest. Negative values and NaN become 0, values past the format's range (and
 // +∞) its maximum.

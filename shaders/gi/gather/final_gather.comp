@@ -13,6 +13,7 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = kBindGatherDepth) uniform sampler2D depthBuffer;
 layout(binding = kBindGatherNormal) uniform sampler2D normalBuffer;
 layout(binding = kBindGatherTileIrradiance, rgba16f) writeonly uniform image2D tileIrradiance;
+layout(binding = kBindGatherTileProbeBlend, r8) writeonly uniform image2D tileProbeBlend;
 
 void main() {
   uvec2 tile = gl_GlobalInvocationID.xy;
@@ -22,6 +23,7 @@ void main() {
   float depth = texelFetch(depthBuffer, pixel, 0).r;
   if (depth <= 0.0) {  // nothing drawn (Upsample skips the tile)
     imageStore(tileIrradiance, ivec2(tile), vec4(0.0));
+    imageStore(tileProbeBlend, ivec2(tile), vec4(1.0));
     return;
   }
   vec3 normal = normalize(texelFetch(normalBuffer, pixel, 0).xyz);
@@ -30,4 +32,5 @@ void main() {
   // A host pixel whose depth or normal is not finite gives no light rather than a NaN, and no confidence.
   float confidence = light.confidence >= 0.0 ? min(light.confidence, 1.0) : 0.0;  // a NaN fails the test
   imageStore(tileIrradiance, ivec2(tile), vec4(finiteHalf(light.irradiance), confidence));
+  imageStore(tileProbeBlend, ivec2(tile), vec4(light.probeBlend >= 0.0 ? light.probeBlend : 1.0));
 }

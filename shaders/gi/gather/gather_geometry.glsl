@@ -10,6 +10,7 @@ layout(binding = kBindGatherConstants) uniform GatherConstantsBlock { GatherCons
 layout(binding = kBindGatherDepth) uniform sampler2D depthBuffer;
 layout(binding = kBindGatherNormal) uniform sampler2D normalBuffer;
 layout(binding = kBindGatherTileIrradiance, rgba16f) readonly uniform image2D tileIrradiance;
+layout(binding = kBindGatherTileProbeBlend, r8) readonly uniform image2D tileProbeBlend;
 
 // A G-buffer sample as the filters compare it.
 struct Surface {
@@ -48,6 +49,7 @@ const float kSameSurfaceWeight = 0.5;
 struct TileNeighbourhood {
   vec3 blended;  // Upsample's result: bilinear in the sample grid × geometry weights (joint bilateral)
   float confidence;  // the tiles' confidence blended with the same weights (0 where no tile's sample is on the surface)
+  float probeBlend;  // the tiles' probe blend weight (GatheredLight::probeBlend) blended with the same weights (1: none)
   vec3 lowest;   // the range of the bilinear taps on the pixel's surface (none: lowest > highest)
   vec3 highest;
 };
@@ -57,7 +59,7 @@ TileNeighbourhood tileNeighbourhood(Surface surface, ivec2 pixel) {
   vec2 tileCoordinate = vec2(pixel - sampleOffset) / float(kGatherTileSize);
   ivec2 firstTile = ivec2(floor(tileCoordinate));
   ivec2 lastTile = ivec2(gather.tiles) - 1;
-  TileNeighbourhood result = TileNeighbourhood(vec3(0.0), 0.0, vec3(1e30), vec3(0.0));
+  TileNeighbourhood result = TileNeighbourhood(vec3(0.0), 0.0, 0.0, vec3(1e30), vec3(0.0));
   float totalWeight = 0.0;
   for (int y = -1; y <= 2; ++y)
     for (int x = -1; x <= 2; ++x) {
@@ -76,6 +78,7 @@ TileNeighbourhood tileNeighbourhood(Surface surface, ivec2 pixel) {
       vec2 tent = max(vec2(1.0) - abs(vec2(tile) - tileCoordinate), vec2(kOuterTapWeight));
       result.blended += tent.x * tent.y * geometry * irradiance;
       result.confidence += tent.x * tent.y * geometry * tileSample.a;
+      result.probeBlend += tent.x * tent.y * geometry * imageLoad(tileProbeBlend, tile).r;
       totalWeight += tent.x * tent.y * geometry;
       if (x >= 0 && x <= 1 && y >= 0 && y <= 1 && geometry >= kSameSurfaceWeight) {
         result.lowest = min(result.lowest, irradiance);
@@ -84,6 +87,7 @@ TileNeighbourhood tileNeighbourhood(Surface surface, ivec2 pixel) {
     }
   result.blended = totalWeight > 0.0 ? result.blended / totalWeight : vec3(0.0);
   result.confidence = totalWeight > 0.0 ? result.confidence / totalWeight : 0.0;
+  result.probeBlend = totalWeight > 0.0 ? result.probeBlend / totalWeight : 1.0;
   return result;
 }
 

@@ -34,6 +34,9 @@ uint chooseLevel(vec3 position, float noise) {
 struct GatheredLight {
   vec3 irradiance;   // E(n), W/m²
   float confidence;  // the probes' known fraction (SPEC §6.4), weighted as their light is; 0 when none contributed
+  // The weight their next updates give new light, 1/(m+1) for history count m, weighted as their light is: high
+  // while they follow a change (a new probe, or change detection cut m), 1/(historyCap+1) once they are settled.
+  float probeBlend;
   bool found;        // some probe contributed
 };
 
@@ -52,6 +55,7 @@ GatheredLight gatherLevel(uint level, vec3 position, vec3 normal, bool testVisib
   vec3 fraction = grid - vec3(cell);
   vec3 irradiance = vec3(0.0);
   float known = 0.0;
+  float blend = 0.0;
   float totalWeight = 0.0;
   for (int corner = 0; corner < kProbeCellCorners; ++corner) {
     ProbeCellCorner around = probeCellCorner(cell, fraction, corner);
@@ -89,17 +93,18 @@ GatheredLight gatherLevel(uint level, vec3 position, vec3 normal, bool testVisib
     irradiance += weight * max(sh2Irradiance(radiance, normal), vec3(0.0));
     // The same probes with the same weights: the confidence says how much of this E rests on observed space.
     known += weight * probeKnownFraction(stored);
+    blend += weight / float(probeHistoryCount(stored.state) + 1u);
     totalWeight += weight;
   }
-  if (totalWeight <= 0.0) return GatheredLight(vec3(0.0), 0.0, false);
-  return GatheredLight(irradiance / totalWeight, known / totalWeight, true);
+  if (totalWeight <= 0.0) return GatheredLight(vec3(0.0), 0.0, 1.0, false);
+  return GatheredLight(irradiance / totalWeight, known / totalWeight, blend / totalWeight, true);
 }
 
 // Irradiance and confidence at a surface point from the finest level that holds it (near a level's boundary, by
 // `noise` in [0, 1), the next coarser one); where a level's probes are stale or untraced, a coarser level (seeded
 // earlier, SPEC §4.5) answers.
 GatheredLight probeLight(vec3 position, vec3 normal, float noise, bool testVisibility) {
-  GatheredLight light = GatheredLight(vec3(0.0), 0.0, false);
+  GatheredLight light = GatheredLight(vec3(0.0), 0.0, 1.0, false);
   for (uint level = chooseLevel(position, noise); level < kProbeLevels && !light.found; ++level)
     light = gatherLevel(level, position, normal, testVisibility);
   return light;

@@ -1,9 +1,16 @@
 #version 450
 // TemporalFilter (SPEC §4.6; the talk's "Temporal Filter on the upsampled result"): each half-resolution pixel finds
-// its surface in the last output through the last dispatch's camera, keeps that history where its geometry matches,
-// clamps it to the range of this frame's tile samples on its surface (so moving light does not ghost) and blends the
-// upsampled frame in with kTemporalBlend. It filters the output image in place (each pixel reads only its own texel
-// of it); the result is ssvgi's output: rgb E(n), alpha the depth the history test needs next frame.
+// its surface in the last output through the last dispatch's camera, keeps that history where its geometry matches
+// and blends the upsampled frame in. It filters the output image in place (each pixel reads only its own texel of it);
+// the result is ssvgi's output: rgb E(n), alpha the depth the history test needs next frame.
+//
+// How much history to keep is the probes' call. Their change detection (probe_trace.comp) tells noise from a change
+// of light, which a screen filter cannot: a probe's update moves every tile around it alike, so this frame's tile
+// samples agree with each other however far the probes' noise moved them. The tiles carry the weight the probes'
+// next updates give new light (GatheredLight::probeBlend). Where it is above kTemporalBlend — the probes are new or
+// follow a change — the filter follows as fast, and clamps its history to the range of this frame's tile samples on
+// the pixel's surface, fully where the probes start afresh; where the probes are settled, the difference between
+// history and this frame is their noise, which the history is there to average, and nothing is clamped.
 //
 // The confidence (SPEC §6.4) is not filtered here; Upsample's is the output. What E gains from its history is the
 // average of noisy probe estimates and of the 16 jittered sample pixels; the confidence is made of the probes' known
@@ -11,7 +18,7 @@
 // the first noise and varies smoothly over a surface, where the second does not matter (near a probe level's
 // boundary, where the gather dithers between two levels that know different amounts, it stays noisy). A history would
 // also cost more than SPEC §5 leaves: 8 bits cannot hold a 1/16 blend (a change below 8/255 would never move the
-// stored value), and two R16 images would take the gather's images from 9.85 MB to 11.4 MB at 1920×1080 (10 allowed).
+// stored value), and two R16 images would take the gather's images from 9.98 MB to 11.5 MB at 1920×1080 (10 allowed).
 #include "gather_geometry.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -57,6 +64,10 @@ void main() {
   if (reprojected.a <= 0.0) return;
   TileNeighbourhood neighbourhood = tileNeighbourhood(surface, pixel);
   vec3 lowest = min(neighbourhood.lowest, current.rgb), highest = max(neighbourhood.highest, current.rgb);
-  vec3 filtered = mix(clamp(reprojected.rgb, lowest, highest), current.rgb, kTemporalBlend);
-  imageStore(outputIrradiance, halfPixel, vec4(finiteHalf(filtered), current.a));
+  float blend = max(kTemporalBlend, neighbourhood.probeBlend);
+  // 1 where the probes are settled, kTemporalBlend where they start afresh.
+  float unclamped = kTemporalBlend / blend;
+  vec3 history = mix(clamp(reprojected.rgb, lowest, highest), reprojected.rgb, unclamped);
+  vec3 filtered = mix(history, current.rgb, blend);
+  imageStore(outputIrradiance, halfPixel, vec4(nearestHalf(finiteHalf(filtered)), current.a));
 }

@@ -10,7 +10,8 @@ void FinalGather::record(gpu::CommandList& commands, const GatherInputs& inputs,
   auto scope = commands.scope("ssvgi: FinalGather");
   const gpu::Bindings bindings = inputs.bindings(targets, scene.bindings())
                                      .buffer(shader::kBindGatherProbes, probes)
-                                     .image(shader::kBindGatherTileIrradiance, targets.tileIrradiance());
+                                     .image(shader::kBindGatherTileIrradiance, targets.tileIrradiance())
+                                     .image(shader::kBindGatherTileProbeBlend, targets.tileProbeBlend());
   commands.dispatch(pipeline_, bindings, glm::uvec3(targets.tiles(), 1));  // one thread per tile
 }
 

@@ -15,10 +15,13 @@ gpu::Image storageImage(gpu::Device& device, const char* name, VkFormat format, 
 
 }  // namespace
 
-// The tile image is sampled-capable so that the library's tests can upload it (uploadImage leaves an image ready to be
-// sampled).
+// The tile images are sampled-capable so that the library's tests can upload them (uploadImage leaves an image ready
+// to be sampled).
 GatherTargets::GatherTargets(gpu::Device& device, uint32_t maxWidth, uint32_t maxHeight, uint32_t framesInFlight)
     : tileIrradiance_(storageImage(device, "ssvgi gather tile irradiance", VK_FORMAT_R16G16B16A16_SFLOAT,
+                                   divideRoundingUp(maxWidth, shader::kGatherTileSize),
+                                   divideRoundingUp(maxHeight, shader::kGatherTileSize), VK_IMAGE_USAGE_SAMPLED_BIT)),
+      tileProbeBlend_(storageImage(device, "ssvgi gather tile probe blend", VK_FORMAT_R8_UNORM,
                                    divideRoundingUp(maxWidth, shader::kGatherTileSize),
                                    divideRoundingUp(maxHeight, shader::kGatherTileSize), VK_IMAGE_USAGE_SAMPLED_BIT)),
       // The host samples the output (Context::output()); each alternates as the other's history.

@@ -28,6 +28,9 @@ class GatherTargets {
 
   const gpu::Buffer& constants() const { return constants_[currentFrame_]; }
   const gpu::Image& tileIrradiance() const { return tileIrradiance_; }  // rgba16f, 1/4: rgb E; a: confidence
+  // r8, 1/4: how fast the tile's probes are following a change (GatheredLight::probeBlend): TemporalFilter's history
+  // follows as fast.
+  const gpu::Image& tileProbeBlend() const { return tileProbeBlend_; }
   const gpu::Image& history() const { return outputs_[1 - currentOutput_]; }
   // rgba16f, 1/2: rgb E; a: depth. Upsample writes it, TemporalFilter filters it in place.
   const gpu::Image& output() const { return outputs_[currentOutput_]; }
@@ -39,6 +42,7 @@ class GatherTargets {
  private:
   std::vector<gpu::Buffer> constants_;
   gpu::Image tileIrradiance_;
+  gpu::Image tileProbeBlend_;
   std::array<gpu::Image, 2> outputs_;
   gpu::Image confidence_;
   size_t currentFrame_ = 0;

@@ -9,6 +9,7 @@ void TemporalFilter::record(gpu::CommandList& commands, const GatherInputs& inpu
   auto scope = commands.scope("ssvgi: TemporalFilter");
   const gpu::Bindings bindings = inputs.bindings(targets)
                                      .image(shader::kBindGatherTileIrradiance, targets.tileIrradiance())
+                                     .image(shader::kBindGatherTileProbeBlend, targets.tileProbeBlend())
                                      .image(shader::kBindGatherHistory, targets.history())
                                      .image(shader::kBindGatherOutput, targets.output());
   commands.dispatch(pipeline_, bindings, glm::uvec3(targets.halfSize(), 1));  // one thread per half-resolution pixel
