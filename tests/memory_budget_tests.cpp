@@ -90,7 +90,7 @@ class MemoryBudget : public testing::GpuTest {
   }
 };
 
-TEST_F(MemoryBudget, everyAllocationFitsTheBudgetAndTheSettingsShrinkPoolFirstThenProbesThenVolume) {
+TEST_F(MemoryBudget, everyAllocationFitsTheBudgetTheSettingsShrinkPoolFirstThenProbesThenVolumeAndThePoolTakesTheRest) {
   // 32, 24 and 16 MB at 1920×1080. 8 MB cannot hold 1080p's gather images alone (SPEC §5 allows them 10 MB), which
   // follow the host's frame size and never shrink: it is measured for frames of up to 1280×720.
   struct Case {
@@ -107,13 +107,13 @@ TEST_F(MemoryBudget, everyAllocationFitsTheBudgetAndTheSettingsShrinkPoolFirstTh
     Context& context = *created.value();
     dispatchOneFrame(context);
     const Stats stats = context.stats();
+    const Settings chosen = context.settings();
     EXPECT_LE(sumOfMemory(stats), budget);
     EXPECT_EQ(stats.totalBytes, sumOfMemory(stats));
     EXPECT_EQ(stats.memoryBudgetBytes, budget);
     EXPECT_TRUE(sameSettings(stats.settings, context.settings()));
     EXPECT_EQ(stats.brickPoolCapacity, context.settings().brickPoolCapacity);
 
-    const Settings& chosen = context.settings();
     std::printf("%2llu MB at %ux%u: pool %u bricks, probe grid %ux%ux%u, volume %ux%ux%u bricks, %llu bytes\n",
                 static_cast<unsigned long long>(test.budgetMebibytes), test.maxWidth, test.maxHeight,
                 chosen.brickPoolCapacity, chosen.probeGrid[0], chosen.probeGrid[1], chosen.probeGrid[2],
@@ -126,18 +126,26 @@ TEST_F(MemoryBudget, everyAllocationFitsTheBudgetAndTheSettingsShrinkPoolFirstTh
     if (cells(chosen.volumeBricks) < cells(set.volumeBricks)) {
       EXPECT_LT(cells(chosen.probeGrid), cells(set.probeGrid));
     }
-    // Nothing but those three changes, and a smaller budget never chooses more of any.
+    // Nothing but those three changes, and a smaller budget never chooses a larger probe grid or volume.
     Settings others = chosen;
     others.brickPoolCapacity = set.brickPoolCapacity;
     others.probeGrid = set.probeGrid;
     others.volumeBricks = set.volumeBricks;
     EXPECT_TRUE(sameSettings(others, set));
-    EXPECT_LE(chosen.brickPoolCapacity, larger.brickPoolCapacity);
     for (size_t axis = 0; axis < 3; ++axis) {
       EXPECT_LE(chosen.probeGrid[axis], larger.probeGrid[axis]);
       EXPECT_LE(chosen.volumeBricks[axis], larger.volumeBricks[axis]);
     }
     larger = chosen;
+    // What the probe grid and volume leave of the budget goes to the pool: one brick more would not fit.
+    ASSERT_LT(chosen.brickPoolCapacity, set.brickPoolCapacity);
+    ContextDesc oneBrickMore = highTier(test.maxWidth, test.maxHeight, 0);
+    oneBrickMore.settings = chosen;
+    ++oneBrickMore.settings.brickPoolCapacity;
+    created.value().reset();
+    auto unbudgeted = Context::create(oneBrickMore);
+    ASSERT_TRUE(unbudgeted.ok()) << unbudgeted.error().message;
+    EXPECT_GT(unbudgeted.value()->stats().totalBytes, budget);
   }
   // The smallest budget had to give up some of the voxel volume.
   EXPECT_LT(cells(larger.volumeBricks), cells(set.volumeBricks));

@@ -155,10 +155,11 @@ struct ContextDesc {
   // limit, `settings` as given. With a limit, create() shrinks `settings` until everything fits, least harmful first:
   // brickPoolCapacity (down to a quarter of the volume's X × Z footprint in bricks), then probeGrid (probes per
   // level, the spacing kept, down to the fewest with which the coarsest level covers the voxel volume), then
-  // volumeBricks (its proportions kept, with the pool and probe grid at the floors of the smaller volume). The
-  // gather's images and the Hi-Z pyramid, sized by maxWidth/maxHeight/maxExtraViewSize, never shrink. A budget even
-  // the smallest settings exceed is InvalidDescription, naming the minimum. Context::settings() and Stats::settings
-  // tell what was chosen (docs/INTEGRATION.md, "A memory budget").
+  // volumeBricks (its proportions kept, the probe grid at the floor of the smaller volume); what a step of those two
+  // leaves of the budget goes back to the pool. The gather's images and the Hi-Z pyramid, sized by
+  // maxWidth/maxHeight/maxExtraViewSize, never shrink. A budget even the smallest settings exceed is
+  // InvalidDescription, naming the minimum. Context::settings() and Stats::settings tell what was chosen
+  // (docs/INTEGRATION.md, "A memory budget").
   uint64_t memoryBudgetBytes = 0;
 };
 

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <string>
 
 namespace ssvgi::gi {
@@ -96,8 +97,9 @@ VkDeviceSize ContextBufferBytes::total(uint32_t framesInFlight) const {
 //   2. the probe grid (probes per level, the spacing kept: a smaller clipmap), down to probeGridFloor: the finest
 //      levels then reach less far and the gather takes coarser probes sooner, but every voxel keeps probes around it;
 //   3. the voxel volume (bricks per axis, its proportions kept, which also shrinks the brick lookup and the grids),
-//      with the pool and probe grid at the floors of the smaller volume: what lies beyond it no longer occludes or
-//      reflects, the harm a budget does last.
+//      with the probe grid at the floor of the smaller volume: what lies beyond it no longer occludes or reflects,
+//      the harm a budget does last.
+// Steps 2 and 3 shrink in steps; what a step leaves of the budget goes back to the pool, up to its set capacity.
 // The gather's images and the Hi-Z pyramid follow ContextDesc::maxWidth/maxHeight/maxExtraViewSize, the host's
 // choice, and never shrink: a budget they do not leave room for is refused.
 Result<Settings> settingsWithinBudget(gpu::Device& device, const ContextDesc& desc) {
@@ -110,42 +112,47 @@ Result<Settings> settingsWithinBudget(gpu::Device& device, const ContextDesc& de
            ContextBufferBytes::of(desc, settings).total(framesInFlight);
   };
   const auto fits = [&](const Settings& settings) { return bytesOf(settings) <= desc.memoryBudgetBytes; };
-  Settings fitted = set;
-  if (fits(fitted)) return fitted;
+  if (fits(set)) return set;
 
-  // 1. The largest pool capacity that fits, if any above the floor does (the bytes grow with the capacity).
-  uint32_t smallest = brickPoolFloor(fitted, set.brickPoolCapacity), largest = set.brickPoolCapacity;
-  fitted.brickPoolCapacity = smallest;
-  if (fits(fitted)) {
+  // `settings` with the largest pool capacity between its floor and the set capacity that fits, if any does (the
+  // bytes grow with the capacity).
+  const auto withLargestPoolThatFits = [&](Settings settings) -> std::optional<Settings> {
+    uint32_t smallest = brickPoolFloor(settings, set.brickPoolCapacity), largest = set.brickPoolCapacity;
+    settings.brickPoolCapacity = smallest;
+    if (!fits(settings)) return std::nullopt;
     while (smallest < largest) {
-      fitted.brickPoolCapacity = smallest + (largest - smallest + 1) / 2;
-      if (fits(fitted)) smallest = fitted.brickPoolCapacity;
-      else largest = fitted.brickPoolCapacity - 1;
+      settings.brickPoolCapacity = smallest + (largest - smallest + 1) / 2;
+      if (fits(settings)) smallest = settings.brickPoolCapacity;
+      else largest = settings.brickPoolCapacity - 1;
     }
-    fitted.brickPoolCapacity = smallest;
-    return fitted;
-  }
+    settings.brickPoolCapacity = smallest;
+    return settings;
+  };
+
+  // 1. The pool alone.
+  if (const std::optional<Settings> fitted = withLargestPoolThatFits(set)) return *fitted;
 
   // 2. The probe grid, a block of probes at a time on its longest axis.
-  const Axes gridFloor = probeGridFloor(fitted, set.probeGrid);
+  Settings smaller = set;
+  const Axes gridFloor = probeGridFloor(set, set.probeGrid);
   const uint32_t gridSteps = stepsOf(set.probeGrid, shader::kProbeBlockSize);
   for (uint32_t step = gridSteps; step-- > 0;) {
-    fitted.probeGrid = scaledDown(set.probeGrid, step, gridSteps, shader::kProbeBlockSize, gridFloor);
-    if (fits(fitted)) return fitted;
+    smaller.probeGrid = scaledDown(set.probeGrid, step, gridSteps, shader::kProbeBlockSize, gridFloor);
+    if (const std::optional<Settings> fitted = withLargestPoolThatFits(smaller)) return *fitted;
   }
 
-  // 3. The voxel volume, a scroll step on each side of its longest axis at a time, with the pool and probe grid at
-  //    the floors of the smaller volume.
+  // 3. The voxel volume, a scroll step on each side of its longest axis at a time, with the probe grid at the floor
+  //    of the smaller volume.
   const uint32_t volumeMultiple = 2 * uint32_t(shader::kScrollStepBricks);
   const Axes volumeFloor{volumeMultiple, volumeMultiple, volumeMultiple};
   const uint32_t volumeSteps = stepsOf(set.volumeBricks, volumeMultiple);
   for (uint32_t step = volumeSteps; step-- > 0;) {
-    fitted.volumeBricks = scaledDown(set.volumeBricks, step, volumeSteps, volumeMultiple, volumeFloor);
-    fitted.brickPoolCapacity = brickPoolFloor(fitted, set.brickPoolCapacity);
-    fitted.probeGrid = probeGridFloor(fitted, set.probeGrid);
-    if (fits(fitted)) return fitted;
+    smaller.volumeBricks = scaledDown(set.volumeBricks, step, volumeSteps, volumeMultiple, volumeFloor);
+    smaller.probeGrid = probeGridFloor(smaller, set.probeGrid);
+    if (const std::optional<Settings> fitted = withLargestPoolThatFits(smaller)) return *fitted;
   }
-  const VkDeviceSize minimum = bytesOf(fitted);
+  smaller.brickPoolCapacity = brickPoolFloor(smaller, set.brickPoolCapacity);
+  const VkDeviceSize minimum = bytesOf(smaller);
   return Error{Status::InvalidDescription,
                "ContextDesc::memoryBudgetBytes: " + std::to_string(desc.memoryBudgetBytes) + " bytes (" +
                    mebibytes(desc.memoryBudgetBytes) + ") is below the minimum of " + std::to_string(minimum) +
