@@ -24,7 +24,8 @@ uint32_t roundUp(uint32_t value, uint32_t multiple) { return (value + multiple -
 
 // What a voxel volume plausibly needs of the brick pool: a quarter of its footprint (X × Z) in bricks. At high tier
 // the courtyard's camera alone fills 2,363 bricks of the 16,384 cells of that footprint, with its extra views 8,137
-// (docs/ARCHITECTURE.md): below a quarter even the camera's own surfaces would soon find the pool full.
+// (docs/ARCHITECTURE.md): a quarter holds what the camera alone fills, with room to spare; a budget that would take
+// the pool lower shrinks the probes, then the volume.
 uint32_t brickPoolFloor(const Settings& settings, uint32_t setCapacity) {
   return std::clamp(settings.volumeBricks[0] * settings.volumeBricks[2] / 4, 1u, setCapacity);
 }
