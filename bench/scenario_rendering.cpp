@@ -19,6 +19,7 @@ renderer::RendererSettings rendererSettings(const ScenarioRendering& rendering) 
   settings.gi = rendering.gi;
   settings.extraViews = rendering.extraViews;
   settings.litFrameDirectOnly = rendering.litFrameDirectOnly;
+  settings.giMemoryBudgetBytes = rendering.giMemoryBudgetBytes;
   return settings;
 }
 

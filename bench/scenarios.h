@@ -25,6 +25,7 @@ struct ScenarioRendering {
   Settings gi = settingsForTier(QualityTier::High);  // the renderer's for a scene: renderer::giSettingsFor
   renderer::ExtraViewSettings extraViews;  // the views beyond the camera the renderer gives ssvgi
   bool litFrameDirectOnly = true;          // renderer::RendererSettings::litFrameDirectOnly
+  uint64_t giMemoryBudgetBytes = 0;        // renderer::RendererSettings::giMemoryBudgetBytes
 };
 
 // A scene and the still view a scenario watches it from.

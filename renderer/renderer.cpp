@@ -91,11 +91,15 @@ Renderer::Renderer(gpu::OwnedDevice& device, const Scene& scene, const RendererS
     desc.maxWidth = settings.width;
     desc.maxHeight = settings.height;
     desc.framesInFlight = 1;  // the renderer waits for every frame
+    desc.memoryBudgetBytes = settings.giMemoryBudgetBytes;
     extraViews_.emplace(device, scene, settings.extraViews, *settings.gi, bounds_);
     desc.maxExtraViewSize = extraViews_->maxViewSize();
     auto context = ssvgi::Context::create(desc);
     if (!context.ok()) throw gpu::GpuError("ssvgi: " + context.error().message);
     gi_ = std::move(context.value());
+    // The views cover the voxel volume: the one the memory budget left, if it shrank it (their sizes stay).
+    if (gi_->settings().volumeBricks != settings.gi->volumeBricks)
+      extraViews_.emplace(device, scene, settings.extraViews, gi_->settings(), bounds_);
   }
 }
 

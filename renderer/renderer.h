@@ -46,6 +46,7 @@ struct RendererSettings {
   float exposure = 1.0f;  // multiplies radiance before the tonemap curve
   ShadowSettings shadows;
   std::optional<ssvgi::Settings> gi;  // run the GI library with these settings (SPEC §3 integration)
+  uint64_t giMemoryBudgetBytes = 0;   // ssvgi::ContextDesc::memoryBudgetBytes: 0, none; else gi shrinks to fit it
   bool giLighting = true;  // composite its indirect light; false: it runs for its debug views only, no ambient at all
   // The lit frame ssvgi is given (SPEC §3): its direct and emitted light with its albedo (ssvgi keeps both in the
   // voxels and relights them from its probes, SPEC §6.1), or false: the final radiance, GI included, as a host that

@@ -129,6 +129,23 @@ TEST(Cli, renderAppliesTheTierTheScenesDetailScaleAndGiOverridesInThatOrder) {
   EXPECT_EQ(settings["volumeBricks"], nlohmann::json({24, 16, 24}));
 }
 
+TEST(Cli, renderWithAMemoryBudgetReportsItAndTheSettingsItChose) {
+  const fs::path out = freshDirectory("render-memory-budget");
+  const CliRun run = runCli("render --scene cornell --size 32x32 --frames 1 --memory-budget 0.3 --out " + out.string());
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  std::ifstream statsFile(out / "stats.json");
+  const auto stats = nlohmann::json::parse(statsFile);
+  const uint64_t budget = std::llround(0.3 * 1048576.0);  // MB of 2^20 bytes
+  EXPECT_EQ(stats["ssvgi"]["memoryBudgetBytes"].get<uint64_t>(), budget);
+  EXPECT_LE(stats["ssvgi"]["memoryBytes"]["total"].get<uint64_t>(), budget);
+  // The tier's settings do not fit: the pool shrank first, and the volume too, to fit so little.
+  const auto& asked = stats["giSettings"];
+  const auto& used = stats["ssvgi"]["settings"];
+  EXPECT_LT(used["brickPoolCapacity"].get<uint32_t>(), asked["brickPoolCapacity"].get<uint32_t>());
+  EXPECT_LT(used["volumeBricks"][0].get<uint32_t>(), asked["volumeBricks"][0].get<uint32_t>());
+  EXPECT_EQ(used["raysPerProbe"], asked["raysPerProbe"]);  // what the budget does not size stays
+}
+
 TEST(Cli, debugViewsAreSeenFromTheDebugCamera) {
   // The Cornell box's voxels from its own camera, and from a camera at the same place looking away from the box, out
   // of its open side into the empty volume: there every ray leaves the volume (black).
@@ -502,6 +519,9 @@ INSTANTIATE_TEST_SUITE_P(
                       BadInvocation{"giSettingRefusedByTheLibrary",
                                     "render --scene cornell --size 8x8 --frames 1 --gi-set probeGrid=16,10,16",
                                     "Settings::probeGrid must be a multiple of 4"},
+                      BadInvocation{"memoryBudgetBelowTheMinimum",
+                                    "render --scene cornell --size 8x8 --frames 1 --memory-budget 0.01",
+                                    "ContextDesc::memoryBudgetBytes: 10486 bytes (0.01 MiB) is below the minimum of"},
                       BadInvocation{"referenceMissingGltf", "reference --scene /nonexistent/missing.gltf --spp 1",
                                     "missing.gltf"},
                       BadInvocation{"referenceUnknownScene", "reference --scene no-such-scene --spp 1",

@@ -48,6 +48,7 @@ int runBench(const BenchOptions& options) {
   settings.gi = giSettings(options.giOptions, resolved.scene);
   settings.extraViews = options.giOptions.extraViews;
   settings.litFrameDirectOnly = options.giOptions.litFrame == "direct";
+  settings.giMemoryBudgetBytes = memoryBudgetBytes(options.giOptions);
   renderer::Renderer renderer(device, resolved.scene, settings);
   const std::string label = "bench " + resolved.scene.name;
   const renderer::AnimatedState state = renderer::evaluateAnimation(resolved.scene, resolved.camera, 0.0f);
@@ -71,6 +72,8 @@ int runBench(const BenchOptions& options) {
   report["frames"] = options.frames;
   report["tier"] = options.giOptions.tier;
   report["giSettings"] = giSettingsJson(*settings.gi);
+  report["giMemoryBudgetBytes"] = settings.giMemoryBudgetBytes;
+  report["giSettingsUsed"] = giSettingsJson(renderer.giContext()->settings());  // within the budget
   // SPEC §5: the median of each pass over the measured frames.
   nlohmann::json passes = nlohmann::json::object();
   double ssvgiMilliseconds = 0.0, rendererMilliseconds = 0.0;

@@ -31,6 +31,8 @@ nlohmann::json giStatsJson(const ssvgi::Stats& gi) {
   nlohmann::json memory = nlohmann::json::object();
   for (const auto& resource : gi.memory) memory[resource.name] = resource.bytes;
   return {{"memoryBytes", {{"resources", memory}, {"total", gi.totalBytes}}},
+          {"memoryBudgetBytes", gi.memoryBudgetBytes},
+          {"settings", giSettingsJson(gi.settings)},
           {"brickPoolCapacity", gi.brickPoolCapacity},
           {"bricksLive", gi.bricksLive},
           {"bricksFree", gi.bricksFree},

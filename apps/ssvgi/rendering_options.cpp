@@ -21,6 +21,7 @@ renderer::RendererSettings rendererSettings(const RenderingOptions& options, con
   settings.giLighting = options.gi == "on";
   settings.extraViews = options.giOptions.extraViews;
   settings.litFrameDirectOnly = options.giOptions.litFrame == "direct";
+  settings.giMemoryBudgetBytes = memoryBudgetBytes(options.giOptions);
   return settings;
 }
 

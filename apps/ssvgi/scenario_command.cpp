@@ -40,7 +40,8 @@ int runScenario(const std::string& name, const ScenarioOptions& options, const S
   const ResolvedScene resolved = resolveScene(options.scene);
   gpu::OwnedDevice device = openDevice(gpu::DeviceDesc{options.scene.device, options.scene.validation});
   const bench::ScenarioRendering rendering{resolved.width, resolved.height, giSettings(options.gi, resolved.scene),
-                                           options.gi.extraViews, options.gi.litFrame == "direct"};
+                                           options.gi.extraViews, options.gi.litFrame == "direct",
+                                           memoryBudgetBytes(options.gi)};
 
   const auto start = std::chrono::steady_clock::now();
   const nlohmann::json figures = measure(device, resolved, rendering);
@@ -53,6 +54,7 @@ int runScenario(const std::string& name, const ScenarioOptions& options, const S
                            {"height", resolved.height},
                            {"tier", options.gi.tier},
                            {"giSettings", giSettingsJson(rendering.gi)},
+                           {"memoryBudgetBytes", rendering.giMemoryBudgetBytes},
                            {"seconds", seconds.count()}};
   report.update(figures);
   const std::string json = report.dump(2);

@@ -236,6 +236,16 @@ void addGiOptions(CLI::App& command, GiOptions& options) {
                      "lit colour gives it)")
       ->capture_default_str()
       ->check(CLI::IsMember({"direct", "full"}));
+  command.add_option("--memory-budget", options.memoryBudgetMebibytes,
+                     "Limit all of ssvgi's GPU memory to this many MB (of 2^20 bytes, as SPEC §5's 30 MB), frame-size "
+                     "images included: the brick pool, then the probe grid, then the voxel volume shrink to fit (stats "
+                     "show what was chosen); 0: no limit")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+}
+
+uint64_t memoryBudgetBytes(const GiOptions& options) {
+  return uint64_t(std::llround(options.memoryBudgetMebibytes * double(1u << 20)));
 }
 
 ssvgi::Settings giSettings(const GiOptions& options, const renderer::Scene& scene) {

@@ -90,6 +90,7 @@ struct GiOptions {
   std::vector<std::string> overrides;  // NAME=VALUE, a field of ssvgi::Settings; X,Y,Z for the three-axis ones
   renderer::ExtraViewSettings extraViews;  // the views beyond the camera the renderer gives ssvgi (SPEC §6.3)
   std::string litFrame = "direct";  // what the renderer gives ssvgi as its lit frame (RendererSettings::litFrameDirectOnly)
+  double memoryBudgetMebibytes = 0.0;  // ssvgi::ContextDesc::memoryBudgetBytes in MB of 2^20 bytes; 0: none
 };
 
 void addGiOptions(CLI::App& command, GiOptions& options);
@@ -97,6 +98,9 @@ void addGiOptions(CLI::App& command, GiOptions& options);
 // The tier's settings with the scene's detail scale (renderer::Scene::giDetailScale) applied to the voxel size and
 // the probe spacing, then the overrides. Throws std::runtime_error with one line naming a bad override.
 ssvgi::Settings giSettings(const GiOptions& options, const renderer::Scene& scene);
+
+// ssvgi::ContextDesc::memoryBudgetBytes of the --memory-budget option (0: none).
+uint64_t memoryBudgetBytes(const GiOptions& options);
 
 // The settings as JSON, for the stats a command writes.
 nlohmann::json giSettingsJson(const ssvgi::Settings& settings);

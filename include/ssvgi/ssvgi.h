@@ -151,6 +151,16 @@ struct ContextDesc {
   uint32_t maxExtraViewSize = 1024;  // the largest side of an extra view (FrameDesc::extraViews), pixels, ≤ 16384;
                                      // the Hi-Z pyramid is sized for the larger of this square and the frame
   uint32_t framesInFlight = 2;  // dispatches the host may have in flight; ssvgi recycles its descriptors after these
+  // A hard limit on every byte of GPU memory the context allocates (all that Stats::memory lists; SPEC §6.5), or 0: no
+  // limit, `settings` as given. With a limit, create() shrinks `settings` until everything fits, least harmful first:
+  // brickPoolCapacity (down to a quarter of the volume's X × Z footprint in bricks), then probeGrid (probes per
+  // level, the spacing kept, down to the fewest with which the coarsest level covers the voxel volume), then
+  // volumeBricks (its proportions kept, the probe grid at the floor of the smaller volume); what a step of those two
+  // leaves of the budget goes back to the pool. The gather's images and the Hi-Z pyramid, sized by
+  // maxWidth/maxHeight/maxExtraViewSize, never shrink. A budget even the smallest settings exceed is
+  // InvalidDescription, naming the minimum. Context::settings() and Stats::settings tell what was chosen
+  // (docs/INTEGRATION.md, "A memory budget").
+  uint64_t memoryBudgetBytes = 0;
 };
 
 // A column-major 4×4 matrix (glm's and GLSL's layout).
@@ -232,6 +242,8 @@ struct PassTime {
 struct Stats {
   std::vector<ResourceMemory> memory;  // every GPU allocation of the context
   uint64_t totalBytes = 0;
+  uint64_t memoryBudgetBytes = 0;      // ContextDesc::memoryBudgetBytes (0: none); totalBytes never exceeds it
+  Settings settings;                   // what the context runs with: ContextDesc::settings within the budget
   uint32_t brickPoolCapacity = 0;
   uint32_t bricksLive = 0;             // allocated and holding voxels
   uint32_t bricksFree = 0;             // on the free list
@@ -281,6 +293,9 @@ class Context {
  public:
   static Result<std::unique_ptr<Context>> create(const ContextDesc& desc);
   virtual ~Context() = default;
+
+  // The settings the context runs with: ContextDesc::settings, shrunk to fit ContextDesc::memoryBudgetBytes if set.
+  virtual const Settings& settings() const = 0;
 
   // Records the GI of one frame into `commandBuffer` (SPEC §4 order).
   virtual Error dispatch(const FrameDesc& frame, VkCommandBuffer commandBuffer) = 0;

@@ -12,6 +12,7 @@
 #include "voxels/voxel_passes.h"
 #include "voxels/voxel_scene.h"
 #include "context_internals.h"
+#include "memory_budget.h"
 
 #include <glm/gtc/type_ptr.hpp>
 
@@ -43,18 +44,6 @@ void frustumPlanes(const glm::mat4& viewProjection, glm::vec4 planes[6]) {
   for (glm::vec4* plane = planes; plane != planes + 6; ++plane) {
     const float length = glm::length(glm::vec3(*plane));
     *plane = length > 0.0f ? *plane / length : glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
-  }
-}
-
-// Levels of the Hi-Z pyramid for a depth of `width` × `height`: level 0 is half size, down to 1×1.
-uint32_t hizLayout(uint32_t width, uint32_t height, shader::HiZLevel levels[shader::kMaxHiZLevels]) {
-  uint32_t count = 0, offset = 0;
-  glm::uvec2 size((width + 1) / 2, (height + 1) / 2);
-  for (;;) {
-    levels[count++] = {size, offset, 0};
-    offset += size.x * size.y;
-    if ((size.x == 1 && size.y == 1) || count == shader::kMaxHiZLevels) return count;
-    size = (size + 1u) / 2u;
   }
 }
 
@@ -185,16 +174,17 @@ Error validateFrameView(const View& view, const std::string& name, const Context
 
 class ContextImplementation final : public Context {
  public:
+  // `desc` with the settings the memory budget leaves (settingsWithinBudget).
   explicit ContextImplementation(const ContextDesc& desc)
       : desc_(desc),
+        bufferBytes_(gi::ContextBufferBytes::of(desc, desc.settings)),
         device_(externalDevice(desc)),
         scene_(device_, desc.settings, desc.framesInFlight),
         probes_(device_, desc.settings, desc.framesInFlight),
         gather_(device_, desc.maxWidth, desc.maxHeight, desc.framesInFlight),
         pointSampler_(device_, pointSamplerInfo(), "ssvgi point sampler"),
-        hiz_(device_, "ssvgi hi-z pyramid", hizBytes(desc), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT),
-        visibleBricks_(device_, "ssvgi visible bricks",
-                       sizeof(shader::IndirectList) + VkDeviceSize(desc.settings.brickPoolCapacity) * 4,
+        hiz_(device_, "ssvgi hi-z pyramid", bufferBytes_.hiz, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT),
+        visibleBricks_(device_, "ssvgi visible bricks", bufferBytes_.visibleBricks,
                        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT),
         hizBuild_(device_),
         volumeScroll_(device_),
@@ -215,7 +205,7 @@ class ContextImplementation final : public Context {
         probeDebugView_(device_),
         confidenceDebugView_(device_) {
     for (uint32_t i = 0; i < desc.framesInFlight; ++i) {
-      perFrame_.push_back(std::make_unique<PerFrame>(device_));
+      perFrame_.push_back(std::make_unique<PerFrame>(device_, bufferBytes_));
     }
   }
 
@@ -240,6 +230,7 @@ class ContextImplementation final : public Context {
     });
   }
 
+  const Settings& settings() const override { return desc_.settings; }
   OutputImage output() const override { return outputImage(gather_.output()); }
   OutputImage confidence() const override { return outputImage(gather_.confidence()); }
 
@@ -253,6 +244,8 @@ class ContextImplementation final : public Context {
       stats.memory.push_back({name, bytes});
       stats.totalBytes += bytes;
     }
+    stats.memoryBudgetBytes = desc_.memoryBudgetBytes;
+    stats.settings = desc_.settings;
     stats.brickPoolCapacity = desc_.settings.brickPoolCapacity;
     if (!dispatched_) return stats;
     PerFrame& slot = *perFrame_[lastSlot_];
@@ -278,17 +271,17 @@ class ContextImplementation final : public Context {
  private:
   // What a frame in flight owns until the host has finished with it.
   struct PerFrame {
-    explicit PerFrame(gpu::Device& device)
+    PerFrame(gpu::Device& device, const gi::ContextBufferBytes& bytes)
         : descriptors(device),
           profiler(device),
-          frameConstants(device, "ssvgi frame constants", sizeof(shader::GiFrame), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+          frameConstants(device, "ssvgi frame constants", bytes.viewConstants, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                          gpu::MemoryUsage::HostUpload),
-          statsReadback(device, "ssvgi stats readback", sizeof(shader::BrickPoolState),
-                        VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::MemoryUsage::HostReadback),
-          probeListReadback(device, "ssvgi probe list readback", sizeof(shader::IndirectList),
+          statsReadback(device, "ssvgi stats readback", bytes.statsReadback, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                        gpu::MemoryUsage::HostReadback),
+          probeListReadback(device, "ssvgi probe list readback", bytes.probeListReadback,
                             VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::MemoryUsage::HostReadback) {
       for (uint32_t i = 0; i < kMaxExtraViews; ++i)
-        extraViewConstants.emplace_back(device, "ssvgi extra view constants", sizeof(shader::GiFrame),
+        extraViewConstants.emplace_back(device, "ssvgi extra view constants", bytes.viewConstants,
                                         VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryUsage::HostUpload);
     }
     gpu::DescriptorArena descriptors;
@@ -312,14 +305,6 @@ class ContextImplementation final : public Context {
     if (!dispatched_) return {};
     return {image.handle(), image.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, image.desc().format,
             gather_.halfSize().x, gather_.halfSize().y};
-  }
-
-  // The pyramid of the largest view: the camera's frame or an extra view.
-  static VkDeviceSize hizBytes(const ContextDesc& desc) {
-    shader::HiZLevel levels[shader::kMaxHiZLevels];
-    const uint32_t count = hizLayout(std::max(desc.maxWidth, desc.maxExtraViewSize),
-                                     std::max(desc.maxHeight, desc.maxExtraViewSize), levels);
-    return VkDeviceSize(levels[count - 1].firstTexel + 1) * sizeof(float);
   }
 
   template <typename Record>
@@ -370,7 +355,7 @@ class ContextImplementation final : public Context {
     frame.litInverseViewProjection = glm::inverse(frame.litViewProjection);
     frame.size = glm::uvec2(current.width, current.height);
     frame.litSize = glm::uvec2(lit.width, lit.height);
-    hizLevels = hizLayout(current.width, current.height, frame.hizLevels);
+    hizLevels = gi::hizLayout(current.width, current.height, frame.hizLevels);
     frame.frameIndex = frameIndex;
     frame.allocationPixelStride = desc_.settings.allocationPixelStride;
     frame.hizLevelCount = hizLevels;
@@ -519,6 +504,7 @@ class ContextImplementation final : public Context {
   }
 
   ContextDesc desc_;
+  gi::ContextBufferBytes bufferBytes_;
   gpu::Device device_;
   gi::VoxelScene scene_;
   gi::ProbeVolume probes_;
@@ -557,7 +543,12 @@ Result<std::unique_ptr<Context>> Context::create(const ContextDesc& desc) {
   if (Error error = validateSettings(desc)) return error;
   try {
     if (Error error = checkDevice(desc)) return error;
-    return std::unique_ptr<Context>(std::make_unique<ContextImplementation>(desc));
+    gpu::Device device(externalDevice(desc));
+    Result<Settings> settings = gi::settingsWithinBudget(device, desc);
+    if (!settings.ok()) return settings.error();
+    ContextDesc budgeted = desc;
+    budgeted.settings = settings.value();
+    return std::unique_ptr<Context>(std::make_unique<ContextImplementation>(budgeted));
   } catch (const gpu::GpuError& error) {
     return toError(error);
   }

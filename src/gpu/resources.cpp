@@ -36,7 +36,31 @@ VkImageView createView(Device& device, const Image& image, VkImageViewType type,
   return view;
 }
 
+VkImageCreateInfo imageCreateInfo(const ImageDesc& desc) {
+  VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+  info.imageType = VK_IMAGE_TYPE_2D;
+  info.format = desc.format;
+  info.extent = {desc.width, desc.height, 1};
+  info.mipLevels = desc.mipLevels;
+  info.arrayLayers = desc.layers;
+  info.samples = VK_SAMPLE_COUNT_1_BIT;
+  info.tiling = VK_IMAGE_TILING_OPTIMAL;
+  info.usage = desc.usage | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+  info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  return info;
+}
+
 }  // namespace
+
+VkDeviceSize imageMemoryBytes(Device& device, const ImageDesc& desc) {
+  const VkImageCreateInfo info = imageCreateInfo(desc);
+  VkImage image = VK_NULL_HANDLE;
+  VK_CHECK(device.vk().vkCreateImage(device.device(), &info, nullptr, &image));
+  VkMemoryRequirements requirements{};
+  device.vk().vkGetImageMemoryRequirements(device.device(), image, &requirements);
+  device.vk().vkDestroyImage(device.device(), image, nullptr);
+  return requirements.size;
+}
 
 Buffer::Buffer(Device& device, const std::string& name, VkDeviceSize size, VkBufferUsageFlags usage, MemoryUsage memory)
     : device_(&device), size_(size), name_(name) {
@@ -82,16 +106,7 @@ void Buffer::release() {
 }
 
 Image::Image(Device& device, const ImageDesc& desc) : device_(&device), desc_(desc) {
-  VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
-  info.imageType = VK_IMAGE_TYPE_2D;
-  info.format = desc.format;
-  info.extent = {desc.width, desc.height, 1};
-  info.mipLevels = desc.mipLevels;
-  info.arrayLayers = desc.layers;
-  info.samples = VK_SAMPLE_COUNT_1_BIT;
-  info.tiling = VK_IMAGE_TILING_OPTIMAL;
-  info.usage = desc.usage | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
-  info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  const VkImageCreateInfo info = imageCreateInfo(desc);
   VK_CHECK(device.vk().vkCreateImage(device.device(), &info, nullptr, &image_));
   VkMemoryRequirements requirements{};
   device.vk().vkGetImageMemoryRequirements(device.device(), image_, &requirements);

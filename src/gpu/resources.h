@@ -78,6 +78,10 @@ struct ImageDesc {
   bool arrayView = false;  // view() is a 2D array even with one layer (for shaders that declare an array)
 };
 
+// The bytes an Image of `desc` holds (Stats::memory counts its memory requirements), found without allocating any:
+// the driver decides its alignment and padding.
+VkDeviceSize imageMemoryBytes(Device& device, const ImageDesc& desc);
+
 class Image {
  public:
   Image() = default;

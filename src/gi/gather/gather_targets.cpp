@@ -8,34 +8,48 @@ namespace {
 
 uint32_t divideRoundingUp(uint32_t value, uint32_t divisor) { return (value + divisor - 1) / divisor; }
 
-gpu::Image storageImage(gpu::Device& device, const char* name, VkFormat format, uint32_t width, uint32_t height,
-                        VkImageUsageFlags extraUsage = 0) {
-  return gpu::Image(device, {name, format, width, height, 1, 1, VK_IMAGE_USAGE_STORAGE_BIT | extraUsage});
+// The images of frames up to maxWidth × maxHeight and the bytes of a frame's constants: what the constructor allocates
+// and bytes() counts.
+struct Resources {
+  gpu::ImageDesc tileIrradiance, tileProbeBlend, output, confidence;
+  VkDeviceSize constants;  // per frame in flight
+};
+
+// The tile images are sampled-capable so that the library's tests can upload them (uploadImage leaves an image ready
+// to be sampled). The host samples the output (Context::output()); two alternate, each the other's history. The host samples
+// the confidence too (Context::confidence()): R8, a storage format of Vulkan's extended set, since every format all
+// devices can store takes 4 bytes a texel, and 2 MB more would break SPEC §5's 10 MB (ARCHITECTURE.md).
+Resources resources(uint32_t maxWidth, uint32_t maxHeight) {
+  const VkImageUsageFlags usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+  const uint32_t halfWidth = divideRoundingUp(maxWidth, 2), halfHeight = divideRoundingUp(maxHeight, 2);
+  return {{"ssvgi gather tile irradiance", VK_FORMAT_R16G16B16A16_SFLOAT,
+           divideRoundingUp(maxWidth, shader::kGatherTileSize), divideRoundingUp(maxHeight, shader::kGatherTileSize), 1,
+           1, usage},
+          {"ssvgi gather tile probe blend", VK_FORMAT_R8_UNORM, divideRoundingUp(maxWidth, shader::kGatherTileSize),
+           divideRoundingUp(maxHeight, shader::kGatherTileSize), 1, 1, usage},
+          {"ssvgi gather output", VK_FORMAT_R16G16B16A16_SFLOAT, halfWidth, halfHeight, 1, 1, usage},
+          {"ssvgi gather confidence", VK_FORMAT_R8_UNORM, halfWidth, halfHeight, 1, 1, usage},
+          sizeof(shader::GatherConstants)};
 }
 
 }  // namespace
 
-// The tile images are sampled-capable so that the library's tests can upload them (uploadImage leaves an image ready
-// to be sampled).
-GatherTargets::GatherTargets(gpu::Device& device, uint32_t maxWidth, uint32_t maxHeight, uint32_t framesInFlight)
-    : tileIrradiance_(storageImage(device, "ssvgi gather tile irradiance", VK_FORMAT_R16G16B16A16_SFLOAT,
-                                   divideRoundingUp(maxWidth, shader::kGatherTileSize),
-                                   divideRoundingUp(maxHeight, shader::kGatherTileSize), VK_IMAGE_USAGE_SAMPLED_BIT)),
-      tileProbeBlend_(storageImage(device, "ssvgi gather tile probe blend", VK_FORMAT_R8_UNORM,
-                                   divideRoundingUp(maxWidth, shader::kGatherTileSize),
-                                   divideRoundingUp(maxHeight, shader::kGatherTileSize), VK_IMAGE_USAGE_SAMPLED_BIT)),
-      // The host samples the output (Context::output()); each alternates as the other's history.
-      outputs_{storageImage(device, "ssvgi gather output", VK_FORMAT_R16G16B16A16_SFLOAT, divideRoundingUp(maxWidth, 2),
-                            divideRoundingUp(maxHeight, 2), VK_IMAGE_USAGE_SAMPLED_BIT),
-               storageImage(device, "ssvgi gather output", VK_FORMAT_R16G16B16A16_SFLOAT, divideRoundingUp(maxWidth, 2),
-                            divideRoundingUp(maxHeight, 2), VK_IMAGE_USAGE_SAMPLED_BIT)},
-      // The host samples it too (Context::confidence()). R8, a storage format of Vulkan's extended set: every format
-      // all devices can store takes 4 bytes a texel, and 2 MB more would break SPEC §5's 10 MB (ARCHITECTURE.md).
-      confidence_(storageImage(device, "ssvgi gather confidence", VK_FORMAT_R8_UNORM, divideRoundingUp(maxWidth, 2),
-                               divideRoundingUp(maxHeight, 2), VK_IMAGE_USAGE_SAMPLED_BIT)) {
+GatherTargets::GatherTargets(gpu::Device& device, uint32_t maxWidth, uint32_t maxHeight, uint32_t framesInFlight) {
+  const Resources sizes = resources(maxWidth, maxHeight);
+  tileIrradiance_ = gpu::Image(device, sizes.tileIrradiance);
+  tileProbeBlend_ = gpu::Image(device, sizes.tileProbeBlend);
+  for (gpu::Image& output : outputs_) output = gpu::Image(device, sizes.output);
+  confidence_ = gpu::Image(device, sizes.confidence);
   for (uint32_t i = 0; i < framesInFlight; ++i)
-    constants_.emplace_back(device, "ssvgi gather constants", sizeof(shader::GatherConstants),
-                            VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryUsage::HostUpload);
+    constants_.emplace_back(device, "ssvgi gather constants", sizes.constants, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                            gpu::MemoryUsage::HostUpload);
+}
+
+VkDeviceSize GatherTargets::bytes(gpu::Device& device, uint32_t maxWidth, uint32_t maxHeight, uint32_t framesInFlight) {
+  const Resources sizes = resources(maxWidth, maxHeight);
+  return gpu::imageMemoryBytes(device, sizes.tileIrradiance) + gpu::imageMemoryBytes(device, sizes.tileProbeBlend) +
+         kOutputs * gpu::imageMemoryBytes(device, sizes.output) + gpu::imageMemoryBytes(device, sizes.confidence) +
+         framesInFlight * sizes.constants;
 }
 
 void GatherTargets::prepare(uint32_t frameIndex, const glm::mat4& viewProjection, uint32_t width, uint32_t height,

@@ -14,6 +14,8 @@ namespace ssvgi::gi {
 class GatherTargets {
  public:
   GatherTargets(gpu::Device& device, uint32_t maxWidth, uint32_t maxHeight, uint32_t framesInFlight);
+  // The bytes the constructor allocates for these arguments, without allocating them (the memory budget's count).
+  static VkDeviceSize bytes(gpu::Device& device, uint32_t maxWidth, uint32_t maxHeight, uint32_t framesInFlight);
 
   // The placement of the probe levels this frame, as the gather reads them.
   struct ProbeLevels {
@@ -43,7 +45,8 @@ class GatherTargets {
   std::vector<gpu::Buffer> constants_;
   gpu::Image tileIrradiance_;
   gpu::Image tileProbeBlend_;
-  std::array<gpu::Image, 2> outputs_;
+  static constexpr size_t kOutputs = 2;  // the output and its history, alternating
+  std::array<gpu::Image, kOutputs> outputs_;
   gpu::Image confidence_;
   size_t currentFrame_ = 0;
   uint32_t currentOutput_ = 0;

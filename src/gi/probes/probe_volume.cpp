@@ -16,31 +16,46 @@ glm::uvec3 gridOf(const Settings& settings) {
 
 }  // namespace
 
-ProbeVolume::ProbeVolume(gpu::Device& device, const Settings& settings, uint32_t framesInFlight)
-    : settings_(settings),
-      probes_(device, "ssvgi probe volume",
-              VkDeviceSize(shader::kProbeLevels) * settings.probeGrid[0] * settings.probeGrid[1] *
-                  settings.probeGrid[2] * sizeof(shader::Probe),
-              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT),
-      list_(device, "ssvgi probe list", sizeof(shader::IndirectList) + VkDeviceSize(settings.probeBudget) * 4,
-            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT),
-      // Level 0 only: its probes come first in the probe buffer, so a probe's index is its reservoirs' too.
-      reservoirs_(device, "ssvgi probe reservoirs",
-                  settings.probeReservoirs ? VkDeviceSize(settings.probeGrid[0]) * settings.probeGrid[1] *
-                                                 settings.probeGrid[2] * shader::kProbeStrata * sizeof(uint32_t)
-                                           : sizeof(uint32_t),
-                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT),
-      changes_(device, "ssvgi probe change statistics",
-               VkDeviceSize(shader::kProbeLevels) * settings.probeGrid[0] * settings.probeGrid[1] * settings.probeGrid[2] *
-                   sizeof(uint32_t),
-               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT) {
+// The bytes of each buffer of a volume of `settings`: what the constructor allocates and bytes() counts.
+struct ProbeVolume::BufferBytes {
+  VkDeviceSize probes, list, reservoirs, changes, update, offeredBlocks;
+};
+
+ProbeVolume::BufferBytes ProbeVolume::bufferBytes(const Settings& settings) {
+  const VkDeviceSize perLevel = VkDeviceSize(settings.probeGrid[0]) * settings.probeGrid[1] * settings.probeGrid[2];
   const glm::uvec3 blocks = gridOf(settings) / shader::kProbeBlockSize;
+  return {shader::kProbeLevels * perLevel * sizeof(shader::Probe),
+          sizeof(shader::IndirectList) + VkDeviceSize(settings.probeBudget) * 4,
+          // Level 0 only: its probes come first in the probe buffer, so a probe's index is its reservoirs' too.
+          settings.probeReservoirs ? perLevel * shader::kProbeStrata * sizeof(uint32_t) : sizeof(uint32_t),
+          shader::kProbeLevels * perLevel * sizeof(uint32_t),
+          sizeof(shader::ProbeUpdate),
+          VkDeviceSize(blocks.x) * blocks.y * blocks.z * 4};
+}
+
+ProbeVolume::ProbeVolume(gpu::Device& device, const Settings& settings, uint32_t framesInFlight)
+    : ProbeVolume(device, settings, framesInFlight, bufferBytes(settings)) {}
+
+ProbeVolume::ProbeVolume(gpu::Device& device, const Settings& settings, uint32_t framesInFlight,
+                         const BufferBytes& bytes)
+    : settings_(settings),
+      probes_(device, "ssvgi probe volume", bytes.probes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT),
+      list_(device, "ssvgi probe list", bytes.list,
+            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT),
+      reservoirs_(device, "ssvgi probe reservoirs", bytes.reservoirs, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT),
+      changes_(device, "ssvgi probe change statistics", bytes.changes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT) {
   for (uint32_t i = 0; i < framesInFlight; ++i) {
-    updates_.emplace_back(device, "ssvgi probe update", sizeof(shader::ProbeUpdate), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+    updates_.emplace_back(device, "ssvgi probe update", bytes.update, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                           gpu::MemoryUsage::HostUpload);
-    blocks_.emplace_back(device, "ssvgi probe blocks offered", VkDeviceSize(blocks.x) * blocks.y * blocks.z * 4,
-                         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::HostUpload);
+    blocks_.emplace_back(device, "ssvgi probe blocks offered", bytes.offeredBlocks, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                         gpu::MemoryUsage::HostUpload);
   }
+}
+
+VkDeviceSize ProbeVolume::bytes(const Settings& settings, uint32_t framesInFlight) {
+  const BufferBytes bytes = bufferBytes(settings);
+  return bytes.probes + bytes.list + bytes.reservoirs + bytes.changes +
+         framesInFlight * (bytes.update + bytes.offeredBlocks);
 }
 
 uint32_t ProbeVolume::probesPerLevel() const {

@@ -22,6 +22,8 @@ struct OfferedProbeBlocks {
 class ProbeVolume {
  public:
   ProbeVolume(gpu::Device& device, const Settings& settings, uint32_t framesInFlight);
+  // The bytes the constructor allocates for these arguments, without allocating them (the memory budget's count).
+  static VkDeviceSize bytes(const Settings& settings, uint32_t framesInFlight);
 
   // Prepares this frame's update and uploads its ProbeUpdate and block list: level frameIndex % kProbeLevels, centred
   // on the camera, its blocks of kProbeBlockSize³ probes whose ranges reach into the frustum (planes pointing inwards,
@@ -51,6 +53,9 @@ class ProbeVolume {
   glm::ivec3 levelOrigin(uint32_t level, glm::vec3 cameraPosition) const;  // world probe coordinate of its min corner
 
  private:
+  struct BufferBytes;
+  static BufferBytes bufferBytes(const Settings& settings);
+  ProbeVolume(gpu::Device& device, const Settings& settings, uint32_t framesInFlight, const BufferBytes& bytes);
   Settings settings_;
   gpu::Buffer probes_;
   gpu::Buffer list_;

@@ -19,24 +19,38 @@ VkDeviceSize gridBytes(const Settings& settings) {
 
 }  // namespace
 
+// The bytes of each buffer of a scene of `settings`: what the constructor allocates and bytes() counts.
+struct VoxelScene::BufferBytes {
+  VkDeviceSize brickLookup, brickHeaders, voxels, grid, poolState, changedCells, volume;
+};
+
+VoxelScene::BufferBytes VoxelScene::bufferBytes(const Settings& settings) {
+  const VkDeviceSize capacity = settings.brickPoolCapacity;
+  return {VkDeviceSize(settings.volumeBricks[0]) * settings.volumeBricks[1] * settings.volumeBricks[2] * 4,
+          capacity * sizeof(shader::Brick),
+          capacity * shader::kVoxelsPerBrick * sizeof(shader::Voxel),
+          gridBytes(settings),
+          sizeof(shader::BrickPoolState) + capacity * 4,
+          sizeof(shader::IndirectList) + capacity * 2 * 4,
+          sizeof(shader::VoxelVolume)};
+}
+
 VoxelScene::VoxelScene(gpu::Device& device, const Settings& settings, uint32_t framesInFlight)
+    : VoxelScene(device, settings, framesInFlight, bufferBytes(settings)) {}
+
+VoxelScene::VoxelScene(gpu::Device& device, const Settings& settings, uint32_t framesInFlight,
+                       const BufferBytes& bytes)
     : settings_(settings),
-      brickLookup_(device, "ssvgi brick lookup",
-                   VkDeviceSize(settings.volumeBricks[0]) * settings.volumeBricks[1] * settings.volumeBricks[2] * 4,
-                   kStorage),
-      bricks_(device, "ssvgi brick pool headers", VkDeviceSize(settings.brickPoolCapacity) * sizeof(shader::Brick),
-              kStorage),
-      voxels_(device, "ssvgi brick pool voxels",
-              VkDeviceSize(settings.brickPoolCapacity) * shader::kVoxelsPerBrick * sizeof(shader::Voxel), kStorage),
-      occupancyGrid_(device, "ssvgi occupancy grid", gridBytes(settings), kStorage),
-      observedSpace_(device, "ssvgi observed space", gridBytes(settings), kStorage),
-      poolState_(device, "ssvgi brick pool state and free list",
-                 sizeof(shader::BrickPoolState) + VkDeviceSize(settings.brickPoolCapacity) * 4, kStorage),
-      changedCells_(device, "ssvgi changed brick cells",
-                    sizeof(shader::IndirectList) + VkDeviceSize(settings.brickPoolCapacity) * 2 * 4,
+      brickLookup_(device, "ssvgi brick lookup", bytes.brickLookup, kStorage),
+      bricks_(device, "ssvgi brick pool headers", bytes.brickHeaders, kStorage),
+      voxels_(device, "ssvgi brick pool voxels", bytes.voxels, kStorage),
+      occupancyGrid_(device, "ssvgi occupancy grid", bytes.grid, kStorage),
+      observedSpace_(device, "ssvgi observed space", bytes.grid, kStorage),
+      poolState_(device, "ssvgi brick pool state and free list", bytes.poolState, kStorage),
+      changedCells_(device, "ssvgi changed brick cells", bytes.changedCells,
                     kStorage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT) {
   for (uint32_t i = 0; i < framesInFlight; ++i)
-    volumes_.emplace_back(device, "ssvgi voxel volume", sizeof(shader::VoxelVolume), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+    volumes_.emplace_back(device, "ssvgi voxel volume", bytes.volume, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                           gpu::MemoryUsage::HostUpload);
   const glm::uvec3 dimensions(settings.volumeBricks[0], settings.volumeBricks[1], settings.volumeBricks[2]);
   current_.dimensionsBricks = glm::ivec3(dimensions);
@@ -50,6 +64,12 @@ VoxelScene::VoxelScene(gpu::Device& device, const Settings& settings, uint32_t f
   current_.invalidFramesToClear = settings.invalidFramesToClear;
   current_.emptyFramesToRelease = settings.emptyFramesToRelease;
   current_.skyOnlyThroughObservedSpace = settings.skyOnlyThroughObservedSpace ? 1u : 0u;
+}
+
+VkDeviceSize VoxelScene::bytes(const Settings& settings, uint32_t framesInFlight) {
+  const BufferBytes bytes = bufferBytes(settings);
+  return bytes.brickLookup + bytes.brickHeaders + bytes.voxels + 2 * bytes.grid + bytes.poolState +
+         bytes.changedCells + framesInFlight * bytes.volume;
 }
 
 gpu::Bindings VoxelScene::bindings() const {

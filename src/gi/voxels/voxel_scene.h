@@ -13,6 +13,8 @@ namespace ssvgi::gi {
 class VoxelScene {
  public:
   VoxelScene(gpu::Device& device, const Settings& settings, uint32_t framesInFlight);
+  // The bytes the constructor allocates for these arguments, without allocating them (the memory budget's count).
+  static VkDeviceSize bytes(const Settings& settings, uint32_t framesInFlight);
 
   // Where the volume stands this frame: centred on the camera, its origin moving in kScrollStepBricks steps.
   // Returns the volume description to upload; `scrolled` tells whether the origin moved since the last call.
@@ -35,6 +37,9 @@ class VoxelScene {
   const shader::VoxelVolume& current() const { return current_; }
 
  private:
+  struct BufferBytes;
+  static BufferBytes bufferBytes(const Settings& settings);
+  VoxelScene(gpu::Device& device, const Settings& settings, uint32_t framesInFlight, const BufferBytes& bytes);
   Settings settings_;
   std::vector<gpu::Buffer> volumes_;
   size_t currentVolume_ = 0;
