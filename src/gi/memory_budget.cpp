@@ -22,9 +22,9 @@ using Axes = std::array<uint32_t, 3>;
 
 uint32_t roundUp(uint32_t value, uint32_t multiple) { return (value + multiple - 1) / multiple * multiple; }
 
-// What a voxel volume plausibly needs of the brick pool: a quarter of its footprint (X × Z) in bricks. At high tier
-// the courtyard's camera alone fills 2,363 bricks of the 16,384 cells of that footprint, with its extra views 8,137
-// (docs/ARCHITECTURE.md): a quarter holds what the camera alone fills, with room to spare; a budget that would take
+// What a voxel volume plausibly needs of the brick pool: a quarter of its footprint (X × Z) in bricks. Surfaces fill
+// about one layer of bricks over the footprint at most, and a view sees a fraction of it: a quarter holds what the
+// courtyard's camera alone fills, with room to spare (docs/QUALITY.md, "A memory budget"); a budget that would take
 // the pool lower shrinks the probes, then the volume.
 uint32_t brickPoolFloor(const Settings& settings, uint32_t setCapacity) {
   return std::clamp(settings.volumeBricks[0] * settings.volumeBricks[2] / 4, 1u, setCapacity);
