@@ -49,9 +49,12 @@ const float kSameSurfaceWeight = 0.5;
 struct TileNeighbourhood {
   vec3 blended;  // Upsample's result: bilinear in the sample grid × geometry weights (joint bilateral)
   float confidence;  // the tiles' confidence blended with the same weights (0 where no tile's sample is on the surface)
-  float probeBlend;  // the tiles' probe blend weight (GatheredLight::probeBlend) blended with the same weights (1: none)
   vec3 lowest;   // the range of the bilinear taps on the pixel's surface (none: lowest > highest)
   vec3 highest;
+  // Their probe blend (GatheredLight::probeBlend), weighted as `blended` weighs them; 1 (start afresh) when none is on
+  // the surface. Only TemporalFilter reads it, and with the range: the outer taps, which count only where the bilinear
+  // four miss the surface, are left out of both, and their loads with them.
+  float probeBlend;
 };
 
 TileNeighbourhood tileNeighbourhood(Surface surface, ivec2 pixel) {
@@ -59,7 +62,8 @@ TileNeighbourhood tileNeighbourhood(Surface surface, ivec2 pixel) {
   vec2 tileCoordinate = vec2(pixel - sampleOffset) / float(kGatherTileSize);
   ivec2 firstTile = ivec2(floor(tileCoordinate));
   ivec2 lastTile = ivec2(gather.tiles) - 1;
-  TileNeighbourhood result = TileNeighbourhood(vec3(0.0), 0.0, 0.0, vec3(1e30), vec3(0.0));
+  TileNeighbourhood result = TileNeighbourhood(vec3(0.0), 0.0, vec3(1e30), vec3(0.0), 0.0);
+  float sameSurfaceWeight = 0.0;
   float totalWeight = 0.0;
   for (int y = -1; y <= 2; ++y)
     for (int x = -1; x <= 2; ++x) {
@@ -78,16 +82,17 @@ TileNeighbourhood tileNeighbourhood(Surface surface, ivec2 pixel) {
       vec2 tent = max(vec2(1.0) - abs(vec2(tile) - tileCoordinate), vec2(kOuterTapWeight));
       result.blended += tent.x * tent.y * geometry * irradiance;
       result.confidence += tent.x * tent.y * geometry * tileSample.a;
-      result.probeBlend += tent.x * tent.y * geometry * imageLoad(tileProbeBlend, tile).r;
       totalWeight += tent.x * tent.y * geometry;
       if (x >= 0 && x <= 1 && y >= 0 && y <= 1 && geometry >= kSameSurfaceWeight) {
         result.lowest = min(result.lowest, irradiance);
         result.highest = max(result.highest, irradiance);
+        result.probeBlend += tent.x * tent.y * geometry * imageLoad(tileProbeBlend, tile).r;
+        sameSurfaceWeight += tent.x * tent.y * geometry;
       }
     }
   result.blended = totalWeight > 0.0 ? result.blended / totalWeight : vec3(0.0);
   result.confidence = totalWeight > 0.0 ? result.confidence / totalWeight : 0.0;
-  result.probeBlend = totalWeight > 0.0 ? result.probeBlend / totalWeight : 1.0;
+  result.probeBlend = sameSurfaceWeight > 0.0 ? result.probeBlend / sameSurfaceWeight : 1.0;
   return result;
 }
 
