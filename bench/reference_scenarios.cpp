@@ -230,9 +230,12 @@ ProbeIrradianceResult measureProbeIrradiance(gpu::OwnedDevice& device, Converged
   result.convergence = converged.convergence();
 
   const renderer::AnimatedState state = stillState(view);
-  const gi::ProbeVolume& volume = gi::probeVolumeOf(*renderer.renderer().giContext());
+  const Context& context = *renderer.renderer().giContext();
+  const gi::ProbeVolume& volume = gi::probeVolumeOf(context);
   const std::vector<shader::Probe> probes = gpu::readBufferAs<shader::Probe>(device, volume.probes());
-  const glm::ivec3 dimensions(rendering.gi.probeGrid[0], rendering.gi.probeGrid[1], rendering.gi.probeGrid[2]);
+  // The grid the context runs with: a memory budget may have chosen a smaller one than the rendering asked for.
+  const Settings& settings = context.settings();
+  const glm::ivec3 dimensions(settings.probeGrid[0], settings.probeGrid[1], settings.probeGrid[2]);
   const glm::ivec3 origin = volume.levelOrigin(0, view.camera.position);
   const float spacing = volume.levelSpacing(0);
   const shader::FrameConstants frame =
@@ -249,7 +252,7 @@ ProbeIrradianceResult measureProbeIrradiance(gpu::OwnedDevice& device, Converged
     ++result.usableProbes;
     const glm::vec3 position = shader::probeWorldPosition(coordinate, spacing, probe.state);
     if (!insideBounds(position, bounds) || !inSpaceSeenByCamera(position, frame, view.camera.position, viewDistance) ||
-        distanceToScene(position, view.scene) < rendering.gi.voxelSize)
+        distanceToScene(position, view.scene) < settings.voxelSize)
       continue;
     result.probes.push_back({.probe = coordinate, .position = position});
     positions.push_back(position);
