@@ -87,12 +87,11 @@ glm::vec3 axisNormal(uint32_t index) {
 
 using AxisIrradiance = std::array<glm::vec3, kAxisNormals>;
 
-// E(n) for the six axis normals; negative irradiance (SH2 rings opposite bright light) is not light, and the gather
-// clamps it to 0 (shaders/gi/gather/final_gather.comp), so both sides are compared clamped.
+// E(n) for the six axis normals, read from the SH2 as the gather reads a probe's (shared/sh.h), on both sides.
 AxisIrradiance axisIrradiance(const shader::Sh2Rgb& radiance) {
   AxisIrradiance irradiance;
   for (uint32_t i = 0; i < kAxisNormals; ++i)
-    irradiance[i] = glm::max(shader::sh2Irradiance(radiance, axisNormal(i)), glm::vec3(0.0f));
+    irradiance[i] = shader::sh2IrradianceWithoutRinging(radiance, axisNormal(i));
   return irradiance;
 }
 

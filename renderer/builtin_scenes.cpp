@@ -542,6 +542,41 @@ Scene makeHall(const BuiltinSceneOptions& options) {
   return std::move(assembly).finish();
 }
 
+// A closed room lit only by two emissive panels (SPEC §6.7): interior x∈[−2.5,2.5], y∈[0,3], z∈[−2.5,2.5], walls,
+// floor and ceiling 0.25 m thick; a warm 1×2 m panel on the ceiling (radiance 20) and a cyan 0.5×1.5 m panel on the
+// back wall (radiance 15), both 2 cm thick and reflecting nothing, as a luminaire's diffuser does; a yellow block in
+// the back corner and a white one beside the camera. No sun, no sky, no delta light: the renderer's direct light is
+// zero everywhere and every watt on screen comes through the GI. The camera looks at the cyan panel's wall with the
+// ceiling panel above its view.
+Scene makePanelRoom(const BuiltinSceneOptions& options) {
+  SceneAssembly assembly("panel-room");
+  MeshBuilder& white = assembly.material("white", {0.75f, 0.75f, 0.73f});
+  MeshBuilder& yellow = assembly.material("yellow", {0.8f, 0.65f, 0.15f});
+  MeshBuilder& ceilingPanel = assembly.material("ceiling panel", glm::vec3(0.0f), glm::vec3(1.0f, 0.85f, 0.62f) * 20.0f);
+  MeshBuilder& wallPanel = assembly.material("wall panel", glm::vec3(0.0f), glm::vec3(0.1f, 0.85f, 1.0f) * 15.0f);
+
+  constexpr float wall = 0.25f;
+  constexpr float half = 2.5f;
+  constexpr float height = 3.0f;
+  white.addBox({-half - wall, -wall, -half - wall}, {half + wall, 0.0f, half + wall});            // floor
+  white.addBox({-half - wall, height, -half - wall}, {half + wall, height + wall, half + wall});  // ceiling
+  white.addBox({-half - wall, 0.0f, -half - wall}, {-half, height, half + wall});                 // left wall
+  white.addBox({half, 0.0f, -half - wall}, {half + wall, height, half + wall});                   // right wall
+  white.addBox({-half, 0.0f, -half - wall}, {half, height, -half});                               // back wall
+  white.addBox({-half, 0.0f, half}, {half, height, half + wall});                                 // front wall
+  yellow.addBox({1.6f, 0.0f, -half}, {half, 0.9f, -1.6f});
+  white.addBox({-2.0f, 0.0f, 0.8f}, {-1.2f, 1.2f, 1.6f});
+  ceilingPanel.addBox({-0.5f, height - 0.02f, -1.5f}, {0.5f, height, 0.5f});
+  wallPanel.addBox({-1.5f, 0.8f, -half}, {-1.0f, 2.3f, -half + 0.02f});
+
+  assembly.addCamera("room", {0.3f, 1.5f, 2.2f}, {-0.4f, 1.2f, -2.5f}, 60.0f);
+  if (options.movingObject) {
+    // Passes in front of the wall panel.
+    assembly.setMovingObject(sphereShape(0.3f), {0.8f, 0.8f, 0.8f}, {-2.0f, 1.0f, -1.5f}, {2.5f, 0.0f, 0.0f}, 5.0f);
+  }
+  return std::move(assembly).finish();
+}
+
 // The analytic test case. Tests compute direct light from this geometry, so it is exact:
 //   plane     a box x∈[−10,10], y∈[−0.1,0], z∈[−10,10] (top face at y = 0), albedo 0.8 ("plane");
 //   occluder  a 0.5 m cube centred at (3, 1, 0): x∈[2.75,3.25], y∈[0.75,1.25], z∈[−0.25,0.25], albedo 0.8 ("occluder");
@@ -567,13 +602,14 @@ struct BuiltinScene {
   Scene (*make)(const BuiltinSceneOptions&);
 };
 
-constexpr std::array<BuiltinScene, 7> kBuiltinScenes = {{
+constexpr std::array<BuiltinScene, 8> kBuiltinScenes = {{
     {"cornell", makeCornell},
     {"two-rooms", makeTwoRooms},
     {"dark-room", makeDarkRoom},
     {"courtyard", makeCourtyard},
     {"gallery", makeGallery},
     {"hall", makeHall},
+    {"panel-room", makePanelRoom},
     {"plane-point-light", makePlanePointLight},
 }};
 

@@ -10,7 +10,8 @@ namespace ssvgi::renderer {
 
 // The scenes generated in code (SPEC §7): "cornell", "two-rooms", "dark-room", "courtyard", "gallery" (a shaded
 // gallery lit by a sunlit wall behind the camera), "hall" (a closed hall lit by the sky through roof openings the
-// camera does not see) and "plane-point-light" (a point light over a plane, the analytic test case).
+// camera does not see), "panel-room" (a closed room lit only by emissive panels) and "plane-point-light" (a point
+// light over a plane, the analytic test case).
 std::vector<std::string> builtinSceneNames();
 
 struct BuiltinSceneOptions {

@@ -254,10 +254,10 @@ TEST(SceneGeometry, cylinderAndSphereFacesPointOutward) {
 
 // ---- Every built-in scene, with and without its options ----
 
-TEST(BuiltinScenes, listsTheSevenScenesAndNothingElse) {
+TEST(BuiltinScenes, listsTheEightScenesAndNothingElse) {
   EXPECT_EQ(builtinSceneNames(),
             (std::vector<std::string>{"cornell", "two-rooms", "dark-room", "courtyard", "gallery", "hall",
-                                      "plane-point-light"}));
+                                      "panel-room", "plane-point-light"}));
   EXPECT_FALSE(makeBuiltinScene("sponza").has_value());
 }
 

@@ -168,6 +168,113 @@ TEST(Sh2Test, irradianceMatchesNumericalCosineIntegral) {
   }
 }
 
+// ---- The gather's reading of SH2 (shared/sh.h: sh2HazelIrradiance, sh2IrradianceWithoutRinging) ----
+
+// The SH2 of a single distant source: radiance `intensity` (W/m² at normal incidence) from one direction, as a delta:
+// L_lm = I·Y_lm(d).
+glm::vec4 deltaSourceCoefficients(float intensity, glm::vec3 direction) {
+  return intensity * shader::sh2Basis(direction);
+}
+
+std::vector<glm::vec3> sphereOfNormals() {
+  std::vector<glm::vec3> normals;
+  for (int row = 0; row < 24; ++row) {
+    const float cosAngle = -1.0f + 2.0f * (row + 0.5f) / 24.0f;
+    const float sinAngle = std::sqrt(1.0f - cosAngle * cosAngle);
+    for (int column = 0; column < 48; ++column) {
+      const float phi = 2.0f * shader::kPi * (column + 0.5f) / 48.0f;
+      normals.emplace_back(sinAngle * std::cos(phi), cosAngle, sinAngle * std::sin(phi));
+    }
+  }
+  return normals;  // equal-area cells: their mean is the mean over the sphere
+}
+
+TEST(Sh2ReadingTest, hazelGivesUniformLightPiTimesItsRadiance) {
+  const glm::vec4 uniform(2.0f * shader::kSh2Band0Basis * 4.0f * shader::kPi, 0.0f, 0.0f, 0.0f);  // L = 2
+  for (const glm::vec3& normal : testNormals())
+    EXPECT_NEAR(shader::sh2HazelIrradiance(uniform, normal), 2.0 * kPi, kBasisConstantTolerance * 2.0 * kPi);
+}
+
+TEST(Sh2ReadingTest, hazelGivesASmallSourceAllItsLightOnItsAxisNoneOppositeAndKeepsTheMean) {
+  const glm::vec3 toSource = glm::normalize(glm::vec3(0.3f, 1.0f, -0.4f));
+  const glm::vec4 source = deltaSourceCoefficients(10.0f, toSource);
+  // The linear formula: 3/4 of the light facing the source, −1/4 of it facing away (the ringing the reading removes).
+  EXPECT_NEAR(shader::sh2Irradiance(source, toSource), 7.5f, 1e-3f);
+  EXPECT_NEAR(shader::sh2Irradiance(source, -toSource), -2.5f, 1e-3f);
+  EXPECT_NEAR(shader::sh2HazelIrradiance(source, toSource), 10.0f, 1e-3f);
+  EXPECT_NEAR(shader::sh2HazelIrradiance(source, -toSource), 0.0f, 1e-3f);
+  // Over all normals E averages I/4 (the mean of I·max(0, cos)); the reading keeps it (midpoint rule: 1e-3).
+  double sum = 0.0;
+  const std::vector<glm::vec3> normals = sphereOfNormals();
+  for (const glm::vec3& normal : normals) {
+    const float irradiance = shader::sh2HazelIrradiance(source, normal);
+    ASSERT_GE(irradiance, 0.0f);
+    sum += irradiance;
+  }
+  EXPECT_NEAR(sum / normals.size(), 2.5, 2.5e-3);
+}
+
+// White ambient light and a small cyan source, both of which a white wall reflects unchanged: the light at every
+// normal is a·white + b·cyan with a, b ≥ 0, so E has no hue outside that cone. The coefficients of E in the
+// (white, cyan) basis, by least squares over the three channels, and the part of E outside their plane.
+struct TwoColourSplit {
+  double white;
+  double cyan;
+  double outside;
+};
+
+TwoColourSplit splitIntoWhiteAndCyan(glm::dvec3 irradiance, glm::dvec3 cyan) {
+  const glm::dvec3 white(1.0);
+  const double ww = glm::dot(white, white), wc = glm::dot(white, cyan), cc = glm::dot(cyan, cyan);
+  const double we = glm::dot(white, irradiance), ce = glm::dot(cyan, irradiance);
+  const double determinant = ww * cc - wc * wc;
+  const double a = (we * cc - ce * wc) / determinant;
+  const double b = (ce * ww - we * wc) / determinant;
+  return {a, b, glm::length(irradiance - a * white - b * cyan)};
+}
+
+TEST(Sh2ReadingTest, aSmallColouredSourceBesideWhiteLightGivesNoHueOfItsOwn) {
+  const glm::vec3 cyan(0.1f, 0.85f, 1.0f);
+  const glm::vec3 toSource = glm::normalize(glm::vec3(0.0f, 0.2f, -1.0f));
+  const float ambient = 0.5f;     // white radiance from everywhere: E = π/2 ≈ 1.6 W/m²
+  const float intensity = 12.0f;  // the source: E up to 12 W/m² facing it, 3× the ambient's ringing margin
+  const glm::vec4 ambientCoefficients(ambient * shader::kSh2Band0Basis * 4.0f * shader::kPi, 0.0f, 0.0f, 0.0f);
+  const glm::vec4 sourceCoefficients = deltaSourceCoefficients(intensity, toSource);
+  const shader::Sh2Rgb radiance{ambientCoefficients + cyan.r * sourceCoefficients,
+                                ambientCoefficients + cyan.g * sourceCoefficients,
+                                ambientCoefficients + cyan.b * sourceCoefficients};
+  // The per-channel clamp of the linear formula leaves red where cyan rings below zero (the halo of issue 20): this
+  // is what the test would catch.
+  const TwoColourSplit clamped =
+      splitIntoWhiteAndCyan(glm::max(shader::sh2Irradiance(radiance, -toSource), glm::vec3(0.0f)), cyan);
+  EXPECT_LT(clamped.cyan, -0.1);
+  double lowestCyan = 1e9, lowestWhite = 1e9, largestOutside = 0.0;
+  for (const glm::vec3& normal : sphereOfNormals()) {
+    const glm::dvec3 irradiance = shader::sh2IrradianceWithoutRinging(radiance, normal);
+    ASSERT_TRUE(glm::all(glm::greaterThanEqual(irradiance, glm::dvec3(0.0))));
+    const TwoColourSplit split = splitIntoWhiteAndCyan(irradiance, cyan);
+    lowestCyan = std::min(lowestCyan, split.cyan / glm::length(irradiance));
+    lowestWhite = std::min(lowestWhite, split.white / glm::length(irradiance));
+    largestOutside = std::max(largestOutside, split.outside / glm::length(irradiance));
+  }
+  // Hazel's channels alone give a cyan part of −25 % of |E| opposite the source; the guard must bring every normal's
+  // cyan part to at least −2 % of |E|, a hue shift below what a viewer sees next to the white.
+  EXPECT_GT(lowestCyan, -0.02);
+  EXPECT_GT(lowestWhite, -0.02);
+  EXPECT_LT(largestOutside, 0.02);
+}
+
+TEST(Sh2ReadingTest, lightWithoutAChannelKeepsItAtZero) {
+  // Pure cyan light with no red at all: red stays 0 everywhere, and green and blue keep their ratio.
+  const glm::vec4 source = deltaSourceCoefficients(5.0f, glm::vec3(0.0f, 1.0f, 0.0f));
+  const shader::Sh2Rgb radiance{glm::vec4(0.0f), 0.5f * source, source};
+  for (const glm::vec3& normal : sphereOfNormals()) {
+    const glm::vec3 irradiance = shader::sh2IrradianceWithoutRinging(radiance, normal);
+    ASSERT_EQ(irradiance.r, 0.0f);
+    ASSERT_NEAR(irradiance.g, 0.5f * irradiance.b, 1e-5f * (1.0f + irradiance.b));
+  }
+}
+
 TEST(SamplingTest, radicalInverseMirrorsDigitsAboutTheRadixPoint) {
   EXPECT_EQ(shader::radicalInverse(0u, 2u), 0.0f);
   EXPECT_EQ(shader::radicalInverse(1u, 2u), 0.5f);

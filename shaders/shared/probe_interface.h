@@ -335,7 +335,7 @@ SSVGI_INLINE uint probeReservoirSample(uint reservoir) { return (reservoir >> 16
 SSVGI_INLINE uint probeReservoirCount(uint reservoir) { return reservoir >> 24u; }
 
 // The reservoirs' target p̂: luminance (Rec. 709), the talk's "p(x) = sample luminance".
-SSVGI_INLINE float probeSampleLuminance(vec3 radiance) { return dot(radiance, vec3(0.2126f, 0.7152f, 0.0722f)); }
+SSVGI_INLINE float probeSampleLuminance(vec3 radiance) { return rec709Luminance(radiance); }
 
 // ---------------------------------------------------------------------------------------------------------------------
 // Less lag (SPEC §6.2): each probe keeps, beside its SH, in its word of the change buffer (packProbeChange): the mean

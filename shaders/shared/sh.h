@@ -45,6 +45,58 @@ SSVGI_INLINE vec3 sh2Irradiance(Sh2Rgb radiance, vec3 normal) {
   return vec3(sh2Irradiance(radiance.r, normal), sh2Irradiance(radiance.g, normal), sh2Irradiance(radiance.b, normal));
 }
 
+
+// Irradiance from one channel's radiance coefficients by Hazel's non-linear reconstruction ("Reconstructing Diffuse
+// Lighting from Spherical Harmonic Data", Geomerics 2017): the light read as uniform light plus light from one
+// direction, E = mean · (a + (1 − a)(p + 1)·qᵖ) with q = (1 + n·d)/2, where mean is E averaged over all normals, d
+// the direction of band 1 and r = |band 1's gradient| / (2·mean) its directionality, p = 1 + 2r, a = (1 − r)/(1 + r).
+// It keeps the mean and is never negative. For a small source alone it gives the surface facing the source all of its
+// light and the surface facing away none, where the linear formula gives 3/4 of it and rings to −1/4 of it: a wall
+// beside an emissive panel, facing away from it as the probes in front of the panel see it, went dark.
+SSVGI_INLINE float sh2HazelIrradiance(vec4 radianceCoefficients, vec3 normal) {
+  float mean = kSh2Band0CosineConvolution * kSh2Band0Basis * radianceCoefficients.x;
+  if (!(mean > 0.0f)) return 0.0f;
+  // The linear formula's E(n) = mean + dot(gradient, n).
+  vec3 gradient = (kSh2Band1CosineConvolution * kSh2Band1Basis) *
+                  vec3(radianceCoefficients.w, radianceCoefficients.y, radianceCoefficients.z);
+  float gradientLength = length(gradient);
+  if (!(gradientLength > 1e-6f * mean)) return mean;
+  float directionality = min(0.5f * gradientLength / mean, 1.0f);
+  float q = clamp(0.5f * (1.0f + dot(gradient, normal) / gradientLength), 0.0f, 1.0f);
+  float p = 1.0f + 2.0f * directionality;
+  float a = (1.0f - directionality) / (1.0f + directionality);
+  return mean * (a + (1.0f - a) * (p + 1.0f) * pow(q, p));
+}
+
+// How bright linear RGB looks: Rec. 709 luminance.
+SSVGI_INLINE float rec709Luminance(vec3 rgb) { return dot(rgb, vec3(0.2126f, 0.7152f, 0.0722f)); }
+
+// Below this fraction of its mean a channel's irradiance is taken for ringing, and the hue moves toward the mean's.
+SSVGI_CONSTANT(float, kSh2HueGuardFraction, 0.5f);
+
+// The irradiance the gather reads from a probe's RGB SH2 (SPEC §6.7): never negative, and never a hue the probe's
+// light could not give. Each channel alone is Hazel's reconstruction. Where one channel falls far below its mean
+// while another does not — light from a small coloured source, read opposite it — the channels disagree only because
+// each rings on its own: next to a cyan panel under warm light, cyan's deficit left red, a halo the scene does not
+// have. There the hue moves toward the mean light's hue (a mix of the light the probe sees, so a hue it can give),
+// fully once some channel reaches zero, and the luminance stays Hazel's.
+SSVGI_INLINE vec3 sh2IrradianceWithoutRinging(Sh2Rgb radiance, vec3 normal) {
+  vec3 hazel = vec3(sh2HazelIrradiance(radiance.r, normal), sh2HazelIrradiance(radiance.g, normal),
+                    sh2HazelIrradiance(radiance.b, normal));
+  vec3 mean = (kSh2Band0CosineConvolution * kSh2Band0Basis) * vec3(radiance.r.x, radiance.g.x, radiance.b.x);
+  float meanLuminance = rec709Luminance(mean);
+  if (!(meanLuminance > 0.0f)) return vec3(0.0f);
+  // The lowest channel as a fraction of its mean, over the channels that carry light (a channel the light has none
+  // of, as red in pure cyan, cannot ring).
+  float lowestFraction = 1.0f;
+  for (int channel = 0; channel < 3; ++channel) {
+    if (mean[channel] > 1e-3f * meanLuminance) lowestFraction = min(lowestFraction, hazel[channel] / mean[channel]);
+  }
+  float towardMeanHue = clamp(1.0f - lowestFraction / kSh2HueGuardFraction, 0.0f, 1.0f);
+  vec3 meanHue = mean * (rec709Luminance(hazel) / meanLuminance);
+  return max(mix(hazel, meanHue, towardMeanHue), vec3(0.0f));
+}
+
 // Arithmetic on RGB SH2, channel by channel: what sums, means, blends and projections of radiance SH are made of.
 SSVGI_INLINE Sh2Rgb sh2Zero() { return Sh2Rgb(vec4(0.0f), vec4(0.0f), vec4(0.0f)); }
 SSVGI_INLINE Sh2Rgb sh2Add(Sh2Rgb a, Sh2Rgb b) { return Sh2Rgb(a.r + b.r, a.g + b.g, a.b + b.b); }

@@ -89,8 +89,7 @@ GatheredLight gatherLevel(uint level, vec3 position, vec3 normal, bool testVisib
       }
     }
     Sh2Rgb radiance = probeRadianceSh(stored);
-    // SH2 rings below zero opposite bright light; negative irradiance is not light.
-    irradiance += weight * max(sh2Irradiance(radiance, normal), vec3(0.0));
+    irradiance += weight * sh2IrradianceWithoutRinging(radiance, normal);
     // The same probes with the same weights: the confidence says how much of this E rests on observed space.
     known += weight * probeKnownFraction(stored);
     blend += weight / float(probeHistoryCount(stored.state) + 1u);

@@ -32,7 +32,7 @@ vec3 probeColour(Probe probe, vec3 normal) {
   if (probePlacement(state) == kProbeStateInvalid) return vec3(1.0, 0.0, 1.0);
   if (probeHistoryCount(state) == 0u) return vec3(1.0, 0.85, 0.0);
   Sh2Rgb radiance = probeRadianceSh(probe);
-  return max(sh2Irradiance(radiance, normal), vec3(0.0)) / kPi;
+  return sh2IrradianceWithoutRinging(radiance, normal) / kPi;  // as the gather reads it
 }
 
 void main() {
