@@ -284,6 +284,42 @@ TEST_F(GatherFilters, temporalFilterAveragesWhereTheProbesAreSettledAndFollowsPr
   }
 }
 
+TEST_F(GatherFilters, temporalFilterKeepsTheHistoryOfASurfaceNoSampleOfTheFrameLiesOn) {
+  // A first frame sees the far wall everywhere the near one is not, and its tiles give it kFarValue. In the second
+  // frame, from the same camera, every tile's sample pixel (frame index 0: the tile's top-left) lies 1 m in front of
+  // the far wall and the pixels between them still on it — a surface seen only between the samples, as the top of a
+  // block seen edge-on is. Upsample finds no sample on those pixels' surface; their light is unknown this frame, and
+  // the history must stay, not turn black.
+  const glm::vec3 position(0.0f);
+  const TestView view = viewFrom(position);
+  setFrame(view, position);
+  writeTiles([](size_t) { return kFarValue; });
+  runUpsample();
+  runTemporalFilter();
+  TestView samplesInFront = view;
+  for (uint32_t y = 0; y < kSize; y += shader::kGatherTileSize)
+    for (uint32_t x = 0; x < kSize; x += shader::kGatherTileSize) {
+      const size_t pixel = size_t(y) * kSize + x;
+      if (!view.onNearWall[pixel]) samplesInFront.depth[pixel] = kNear / (-kFarWallZ - 1.0f);
+    }
+  setFrame(samplesInFront, position);
+  writeTiles([](size_t) { return kNearValue; });
+  runUpsample();
+  runTemporalFilter();
+  const std::vector<float> filtered = output();
+  uint32_t between = 0;
+  for (size_t texel = 0; texel < filtered.size(); ++texel) {
+    const size_t x = texel % (kSize / 2), y = texel / (kSize / 2);
+    const size_t pixel = 2 * y * kSize + 2 * x;
+    if (view.onNearWall[pixel] || samplesInFront.depth[pixel] != view.depth[pixel]) continue;
+    // Only the pixels whose whole 4×4-tile neighbourhood of samples lies in front: away from the near wall's edge.
+    if (x < 4 || y < 2 || x > kSize / 2 - 3 || y > kSize / 2 - 3) continue;
+    ++between;
+    ASSERT_NEAR(filtered[texel], kFarValue, kFarValue * kHalfStep) << "texel " << texel;
+  }
+  ASSERT_GT(between, 0u);
+}
+
 // ---------------------------------------------------------------------------------------------------------------------
 // FinalGather through the public API: every probe of every level active, with the same radiance and distance SH.
 

@@ -55,6 +55,9 @@ struct TileNeighbourhood {
   // the surface. Only TemporalFilter reads it, and with the range: the outer taps, which count only where the bilinear
   // four miss the surface, are left out of both, and their loads with them.
   float probeBlend;
+  // Some tap's sample lies on the pixel's surface. A sliver a few pixels wide (the top of a block seen edge-on) can
+  // miss all sixteen samples of a frame; its light is then unknown this frame, not zero.
+  bool sampled;
 };
 
 TileNeighbourhood tileNeighbourhood(Surface surface, ivec2 pixel) {
@@ -62,7 +65,7 @@ TileNeighbourhood tileNeighbourhood(Surface surface, ivec2 pixel) {
   vec2 tileCoordinate = vec2(pixel - sampleOffset) / float(kGatherTileSize);
   ivec2 firstTile = ivec2(floor(tileCoordinate));
   ivec2 lastTile = ivec2(gather.tiles) - 1;
-  TileNeighbourhood result = TileNeighbourhood(vec3(0.0), 0.0, vec3(1e30), vec3(0.0), 0.0);
+  TileNeighbourhood result = TileNeighbourhood(vec3(0.0), 0.0, vec3(1e30), vec3(0.0), 0.0, false);
   float sameSurfaceWeight = 0.0;
   float totalWeight = 0.0;
   for (int y = -1; y <= 2; ++y)
@@ -90,6 +93,7 @@ TileNeighbourhood tileNeighbourhood(Surface surface, ivec2 pixel) {
         sameSurfaceWeight += tent.x * tent.y * geometry;
       }
     }
+  result.sampled = totalWeight > 0.0;
   result.blended = totalWeight > 0.0 ? result.blended / totalWeight : vec3(0.0);
   result.confidence = totalWeight > 0.0 ? result.confidence / totalWeight : 0.0;
   result.probeBlend = sameSurfaceWeight > 0.0 ? result.probeBlend / sameSurfaceWeight : 1.0;

@@ -63,6 +63,11 @@ void main() {
   vec4 reprojected = reprojectHistory(surface, vec2(frame.size));
   if (reprojected.a <= 0.0) return;
   TileNeighbourhood neighbourhood = tileNeighbourhood(surface, pixel);
+  if (!neighbourhood.sampled) {
+    // No sample of this frame lies on the surface: Upsample's 0 is not light, and the history stays as it is.
+    imageStore(outputIrradiance, halfPixel, vec4(nearestHalf(reprojected.rgb), current.a));
+    return;
+  }
   vec3 lowest = min(neighbourhood.lowest, current.rgb), highest = max(neighbourhood.highest, current.rgb);
   float blend = max(kTemporalBlend, neighbourhood.probeBlend);
   // 1 where the probes are settled, kTemporalBlend where they start afresh.

@@ -16,7 +16,7 @@ void main() {
   if (any(greaterThanEqual(halfPixel, ivec2(gather.halfSize)))) return;
   ivec2 pixel = 2 * halfPixel;
   float depth = texelFetch(depthBuffer, pixel, 0).r;
-  TileNeighbourhood tiles = TileNeighbourhood(vec3(0.0), 0.0, vec3(1e30), vec3(0.0), 1.0);
+  TileNeighbourhood tiles = TileNeighbourhood(vec3(0.0), 0.0, vec3(1e30), vec3(0.0), 1.0, false);
   if (depth > 0.0) tiles = tileNeighbourhood(currentSurface(pixel, depth), pixel);
   imageStore(outputIrradiance, halfPixel, vec4(finiteHalf(tiles.blended), depth > 0.0 ? finiteHalf(depth) : 0.0));
   imageStore(confidence, halfPixel, vec4(tiles.confidence));
