@@ -97,6 +97,37 @@ PackedTextures packTextures(const renderer::Scene& scene) {
   return packed;
 }
 
+// The table the paths sample emitters from (shader::EmissiveTriangle), over triangles and shading in BVH order. A
+// triangle is chosen in proportion to its power: π × area × the luminance (Rec. 709) of its emission, the π common to
+// all. A triangle without power adds nothing where a path hits it, so NEE need not sample it either.
+std::vector<shader::EmissiveTriangle> emissiveTriangles(const std::vector<shader::TraceTriangle>& triangles,
+                                                        const std::vector<shader::TriangleShading>& shading,
+                                                        const std::vector<shader::GpuMaterial>& materials) {
+  std::vector<shader::EmissiveTriangle> table;
+  std::vector<double> powers;
+  double totalPower = 0.0;
+  for (uint32_t index = 0; index < triangles.size(); ++index) {
+    const uint32_t material = std::bit_cast<uint32_t>(shading[index].texcoordVAndMaterial.w);
+    const glm::vec3 emission(materials.at(material).emission);
+    const double luminance = glm::dot(glm::dvec3(emission), glm::dvec3(0.2126, 0.7152, 0.0722));
+    const double area = 0.5 * glm::length(glm::cross(glm::dvec3(triangles[index].edge1), glm::dvec3(triangles[index].edge2)));
+    const double power = area * luminance;
+    if (!(power > 0.0)) continue;
+    table.push_back({.triangle = index});
+    powers.push_back(power);
+    totalPower += power;
+  }
+  double cumulativePower = 0.0;
+  for (size_t entry = 0; entry < table.size(); ++entry) {
+    cumulativePower += powers[entry];
+    table[entry].selectionProbability = static_cast<float>(powers[entry] / totalPower);
+    table[entry].cumulativeProbability = static_cast<float>(cumulativePower / totalPower);
+  }
+  // Rounding must not leave a uniform number just below 1 past the end of the table.
+  if (!table.empty()) table.back().cumulativeProbability = 1.0f;
+  return table;
+}
+
 std::vector<shader::GpuLight> lightsOf(const renderer::Scene& scene) {
   std::vector<shader::GpuLight> lights;
   for (const renderer::LocalLight& light : scene.lights) {
@@ -119,10 +150,16 @@ TracedScene::TracedScene(gpu::OwnedDevice& device, const renderer::Scene& scene,
   triangleCount_ = static_cast<uint32_t>(flat.triangles.size());
   bvhNodeCount_ = static_cast<uint32_t>(bvh.nodes.size());
   bvhDepth_ = bvh.depth;
+  const std::vector<shader::TraceTriangle> orderedTriangles = inOrder(flat.triangles, bvh.triangleOrder);
+  const std::vector<shader::TriangleShading> orderedShading = inOrder(flat.shading, bvh.triangleOrder);
+  const std::vector<shader::GpuMaterial> materials = materialsOf(scene);
+  std::vector<shader::EmissiveTriangle> emitters = emissiveTriangles(orderedTriangles, orderedShading, materials);
+  emitterCount_ = static_cast<uint32_t>(emitters.size());
   nodes_ = storageBuffer(device, "reference bvh nodes", bvh.nodes);
-  triangles_ = storageBuffer(device, "reference triangles", inOrder(flat.triangles, bvh.triangleOrder));
-  shading_ = storageBuffer(device, "reference triangle shading", inOrder(flat.shading, bvh.triangleOrder));
-  materials_ = storageBuffer(device, "reference materials", materialsOf(scene));
+  triangles_ = storageBuffer(device, "reference triangles", orderedTriangles);
+  shading_ = storageBuffer(device, "reference triangle shading", orderedShading);
+  materials_ = storageBuffer(device, "reference materials", materials);
+  emitters_ = storageBuffer(device, "reference emissive triangles", std::move(emitters));
   PackedTextures packed = packTextures(scene);
   textures_ = storageBuffer(device, "reference textures", std::move(packed.textures));
   texels_ = storageBuffer(device, "reference texels", std::move(packed.texels));
@@ -151,7 +188,8 @@ gpu::Bindings TracedScene::bindings() const {
       .buffer(shader::kBindTraceMaterials, materials_)
       .buffer(shader::kBindTraceTextures, textures_)
       .buffer(shader::kBindTraceTexels, texels_)
-      .buffer(shader::kBindTraceLights, lights_);
+      .buffer(shader::kBindTraceLights, lights_)
+      .buffer(shader::kBindTraceEmitters, emitters_);
 }
 
 }  // namespace ssvgi::reference
