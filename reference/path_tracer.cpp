@@ -90,7 +90,8 @@ void PathTracer::trace(uint32_t samples, const std::function<void(uint32_t sampl
                                      .sampleCount = pacer_.nextUnits(target - samplesPerPixel_),
                                      .seed = settings_.seed,
                                      .maxBounces = settings_.maxBounces,
-                                     .emitterCount = settings_.sampleEmitters ? scene_.emitterCount() : 0u};
+                                     .emitterCount = settings_.sampleEmitters ? scene_.emitterCount() : 0u,
+                                     .emittedPower = scene_.emittedPower()};
     const auto start = std::chrono::steady_clock::now();
     submit([&](gpu::CommandList& commands) {
       {

@@ -48,7 +48,8 @@ void PointRadianceTracer::trace(uint32_t directions) {
                                          .roundCount = pacer_.nextUnits(target - rounds_),
                                          .seed = settings_.seed,
                                          .maxBounces = settings_.maxBounces,
-                                         .emitterCount = settings_.sampleEmitters ? scene_.emitterCount() : 0u};
+                                         .emitterCount = settings_.sampleEmitters ? scene_.emitterCount() : 0u,
+                                         .emittedPower = scene_.emittedPower()};
     const auto start = std::chrono::steady_clock::now();
     descriptors_.reset();
     device_.submitAndWait([&](VkCommandBuffer commandBuffer) {

@@ -97,34 +97,38 @@ PackedTextures packTextures(const renderer::Scene& scene) {
   return packed;
 }
 
-// The table the paths sample emitters from (shader::EmissiveTriangle), over triangles and shading in BVH order. A
-// triangle is chosen in proportion to its power: π × area × the luminance (Rec. 709) of its emission, the π common to
-// all. A triangle without power adds nothing where a path hits it, so NEE need not sample it either.
-std::vector<shader::EmissiveTriangle> emissiveTriangles(const std::vector<shader::TraceTriangle>& triangles,
-                                                        const std::vector<shader::TriangleShading>& shading,
-                                                        const std::vector<shader::GpuMaterial>& materials) {
-  std::vector<shader::EmissiveTriangle> table;
-  std::vector<double> powers;
+// The table the paths sample emitters from (shader::EmissiveTriangle), over triangles and shading in BVH order, and
+// its total power. A triangle is chosen in proportion to its power: area × shader::emissionLuminance of its emission
+// (the shader's own definition, with which a path finds the density of a point it hits). A triangle without power adds
+// nothing where a path hits it, so NEE need not sample it either.
+struct EmitterTable {
+  std::vector<shader::EmissiveTriangle> entries;
   double totalPower = 0.0;
+};
+
+EmitterTable emissiveTriangles(const std::vector<shader::TraceTriangle>& triangles,
+                               const std::vector<shader::TriangleShading>& shading,
+                               const std::vector<shader::GpuMaterial>& materials) {
+  EmitterTable table;
+  std::vector<double> powers;
   for (uint32_t index = 0; index < triangles.size(); ++index) {
     const uint32_t material = std::bit_cast<uint32_t>(shading[index].texcoordVAndMaterial.w);
-    const glm::vec3 emission(materials.at(material).emission);
-    const double luminance = glm::dot(glm::dvec3(emission), glm::dvec3(0.2126, 0.7152, 0.0722));
+    const double luminance = shader::emissionLuminance(glm::vec3(materials.at(material).emission));
     const double area = 0.5 * glm::length(glm::cross(glm::dvec3(triangles[index].edge1), glm::dvec3(triangles[index].edge2)));
     const double power = area * luminance;
     if (!(power > 0.0)) continue;
-    table.push_back({.triangle = index});
+    table.entries.push_back({.triangle = index});
     powers.push_back(power);
-    totalPower += power;
+    table.totalPower += power;
   }
   double cumulativePower = 0.0;
-  for (size_t entry = 0; entry < table.size(); ++entry) {
+  for (size_t entry = 0; entry < table.entries.size(); ++entry) {
     cumulativePower += powers[entry];
-    table[entry].selectionProbability = static_cast<float>(powers[entry] / totalPower);
-    table[entry].cumulativeProbability = static_cast<float>(cumulativePower / totalPower);
+    table.entries[entry].selectionProbability = static_cast<float>(powers[entry] / table.totalPower);
+    table.entries[entry].cumulativeProbability = static_cast<float>(cumulativePower / table.totalPower);
   }
   // Rounding must not leave a uniform number just below 1 past the end of the table.
-  if (!table.empty()) table.back().cumulativeProbability = 1.0f;
+  if (!table.entries.empty()) table.entries.back().cumulativeProbability = 1.0f;
   return table;
 }
 
@@ -153,13 +157,14 @@ TracedScene::TracedScene(gpu::OwnedDevice& device, const renderer::Scene& scene,
   const std::vector<shader::TraceTriangle> orderedTriangles = inOrder(flat.triangles, bvh.triangleOrder);
   const std::vector<shader::TriangleShading> orderedShading = inOrder(flat.shading, bvh.triangleOrder);
   const std::vector<shader::GpuMaterial> materials = materialsOf(scene);
-  std::vector<shader::EmissiveTriangle> emitters = emissiveTriangles(orderedTriangles, orderedShading, materials);
-  emitterCount_ = static_cast<uint32_t>(emitters.size());
+  EmitterTable emitters = emissiveTriangles(orderedTriangles, orderedShading, materials);
+  emitterCount_ = static_cast<uint32_t>(emitters.entries.size());
+  emittedPower_ = static_cast<float>(emitters.totalPower);
   nodes_ = storageBuffer(device, "reference bvh nodes", bvh.nodes);
   triangles_ = storageBuffer(device, "reference triangles", orderedTriangles);
   shading_ = storageBuffer(device, "reference triangle shading", orderedShading);
   materials_ = storageBuffer(device, "reference materials", materials);
-  emitters_ = storageBuffer(device, "reference emissive triangles", std::move(emitters));
+  emitters_ = storageBuffer(device, "reference emissive triangles", std::move(emitters.entries));
   PackedTextures packed = packTextures(scene);
   textures_ = storageBuffer(device, "reference textures", std::move(packed.textures));
   texels_ = storageBuffer(device, "reference texels", std::move(packed.texels));

@@ -44,6 +44,8 @@ class TracedScene {
   uint32_t bvhDepth() const { return bvhDepth_; }
   // Entries of the emissive-triangle table (shader::EmissiveTriangle): triangles of positive area whose material emits.
   uint32_t emitterCount() const { return emitterCount_; }
+  // Σ area × shader::emissionLuminance over that table: the push constants' emittedPower.
+  float emittedPower() const { return emittedPower_; }
 
  private:
   gpu::Buffer frameConstants_;
@@ -59,6 +61,7 @@ class TracedScene {
   uint32_t bvhNodeCount_ = 0;
   uint32_t bvhDepth_ = 0;
   uint32_t emitterCount_ = 0;
+  float emittedPower_ = 0.0f;
 };
 
 }  // namespace ssvgi::reference

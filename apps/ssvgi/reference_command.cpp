@@ -102,8 +102,9 @@ CommandRunner addReferenceCommand(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::Range(0u, 1024u));
   command->add_option("--emitter-sampling", options->emitterSampling,
-                      "Next-event estimation of emissive triangles: on, or off (paths find emitters only by hitting "
-                      "them: the same mean, more noise)")
+                      "Next-event estimation of emissive triangles, weighted against the paths' own hits by multiple "
+                      "importance sampling: on, or off (paths find emitters only by hitting them: the same mean, more "
+                      "noise)")
       ->capture_default_str()
       ->check(CLI::IsMember({"on", "off"}));
   command->add_option("--seed", options->seed, "Random seed: the same seed gives bit-identical images")

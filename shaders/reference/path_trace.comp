@@ -4,8 +4,9 @@
 // counts as indirect, because in ssvgi it comes through the GI), emissive surfaces and all light reflected on the way.
 // One sample is the emitters' irradiance estimated from one point on them (next-event estimation at the primary hit,
 // reference/path_radiance.glsl) plus π × the radiance arriving along a cosine-distributed direction (pdf cos θ/π, so
-// the estimate of E = ∫ L cos θ dω is π·L), that radiance being found by a path that then leaves out the emission it
-// hits first, already counted. With emitter sampling off, the path alone finds the emitters, as everything else.
+// the estimate of E = ∫ L cos θ dω is π·L), that radiance being found by a path. The emitters seen directly from the
+// primary hit are thus found twice, and the two are weighted by multiple importance sampling (the power heuristic),
+// as at every later vertex. With emitter sampling off, the path alone finds the emitters, as everything else.
 #include "reference/path_radiance.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -34,9 +35,11 @@ IndirectSample startSample(vec3 origin, vec3 normal, uint random) {
   IndirectSample indirectSample;
   bool sampleEmitters = push.emitterCount > 0u;
   indirectSample.emitterIrradiance =
-      sampleEmitters ? emitterIrradiance(origin, normal, origin, push.emitterCount, random) : vec3(0.0);
-  vec2 square = nextRandom2(random);
-  indirectSample.path = startPath(origin, cosineSampleHemisphere(square, normal), !sampleEmitters, random);
+      sampleEmitters ? emitterIrradiance(origin, normal, origin, push.emitterCount, push.emittedPower, random)
+                     : vec3(0.0);
+  vec3 direction = cosineSampleHemisphere(nextRandom2(random), normal);
+  indirectSample.path =
+      startPath(origin, direction, sampleEmitters, cosineDirectionDensity(normal, direction), random);
   return indirectSample;
 }
 
@@ -58,7 +61,7 @@ void main() {
     uint sampleEnd = push.firstSample + push.sampleCount;
     IndirectSample current = startSample(origin.xyz, normal, sampleRandomState(pixelIndex, sampleIndex, push.seed));
     while (true) {
-      if (extendPath(current.path, push.maxBounces, push.emitterCount)) continue;
+      if (extendPath(current.path, push.maxBounces, push.emitterCount, push.emittedPower)) continue;
       // E = π × the radiance along a direction of density cos θ/π, and what NEE found at the primary hit.
       sum += current.emitterIrradiance + kPi * current.path.radiance;
       if (++sampleIndex == sampleEnd) break;
