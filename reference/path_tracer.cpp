@@ -89,7 +89,9 @@ void PathTracer::trace(uint32_t samples, const std::function<void(uint32_t sampl
     const shader::PathTracePush push{.firstSample = samplesPerPixel_,
                                      .sampleCount = pacer_.nextUnits(target - samplesPerPixel_),
                                      .seed = settings_.seed,
-                                     .maxBounces = settings_.maxBounces};
+                                     .maxBounces = settings_.maxBounces,
+                                     .emitterCount = settings_.sampleEmitters ? scene_.emitterCount() : 0u,
+                                     .emittedPower = scene_.emittedPower()};
     const auto start = std::chrono::steady_clock::now();
     submit([&](gpu::CommandList& commands) {
       {

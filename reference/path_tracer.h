@@ -25,6 +25,12 @@ struct PathTracerSettings {
   uint32_t height = 256;
   uint32_t maxBounces = kDefaultMaxBounces;  // 0: only the sky and emitters seen directly from the primary hit
   uint32_t seed = 0;      // the images are a function of (scene, view, settings, seed, samples per pixel) only
+  // Next-event estimation of the emissive triangles: every path vertex (and the primary hit) samples a point on them
+  // with a shadow ray, combined with the emission the paths hit by multiple importance sampling (power heuristic).
+  // Much less noise from small bright emitters, and none of the emitter sample's 1/d² fireflies where an emitter
+  // touches a surface; off, paths find emitters only by hitting them (the estimator without it, e.g. noise-free in a
+  // furnace).
+  bool sampleEmitters = true;
   float exposure = 1.0f;  // multiplies radiance before the tonemap (PNG only)
   // Wall time to aim at per dispatch: a dispatch holds the GPU (or lavapipe's threads) until it is done. The number
   // of samples per dispatch adapts to reach it; the images do not depend on it.
@@ -51,6 +57,7 @@ class PathTracer {
   uint32_t triangleCount() const { return scene_.triangleCount(); }
   uint32_t bvhNodeCount() const { return scene_.bvhNodeCount(); }
   uint32_t bvhDepth() const { return scene_.bvhDepth(); }
+  uint32_t emissiveTriangleCount() const { return scene_.emitterCount(); }
   // GPU time per pass, summed over every dispatch so far.
   const std::vector<gpu::PassTiming>& passTimings() const { return timings_; }
 

@@ -47,7 +47,9 @@ void PointRadianceTracer::trace(uint32_t directions) {
     const shader::PointRadiancePush push{.firstRound = rounds_,
                                          .roundCount = pacer_.nextUnits(target - rounds_),
                                          .seed = settings_.seed,
-                                         .maxBounces = settings_.maxBounces};
+                                         .maxBounces = settings_.maxBounces,
+                                         .emitterCount = settings_.sampleEmitters ? scene_.emitterCount() : 0u,
+                                         .emittedPower = scene_.emittedPower()};
     const auto start = std::chrono::steady_clock::now();
     descriptors_.reset();
     device_.submitAndWait([&](VkCommandBuffer commandBuffer) {

@@ -17,6 +17,7 @@ namespace ssvgi::reference {
 struct PointRadianceSettings {
   uint32_t maxBounces = kDefaultMaxBounces;  // reflections of light from its source to the point
   uint32_t seed = 0;  // the result is a function of (scene, points, settings, seed, directions) only
+  bool sampleEmitters = true;  // as PathTracerSettings::sampleEmitters, from each path's first vertex on
   double secondsPerDispatch = 0.25;  // as PathTracerSettings::secondsPerDispatch
 };
 

@@ -97,6 +97,41 @@ PackedTextures packTextures(const renderer::Scene& scene) {
   return packed;
 }
 
+// The table the paths sample emitters from (shader::EmissiveTriangle), over triangles and shading in BVH order, and
+// its total power. A triangle is chosen in proportion to its power: area × shader::emissionLuminance of its emission
+// (the shader's own definition, with which a path finds the density of a point it hits). A triangle without power adds
+// nothing where a path hits it, so NEE need not sample it either.
+struct EmitterTable {
+  std::vector<shader::EmissiveTriangle> entries;
+  double totalPower = 0.0;
+};
+
+EmitterTable emissiveTriangles(const std::vector<shader::TraceTriangle>& triangles,
+                               const std::vector<shader::TriangleShading>& shading,
+                               const std::vector<shader::GpuMaterial>& materials) {
+  EmitterTable table;
+  std::vector<double> powers;
+  for (uint32_t index = 0; index < triangles.size(); ++index) {
+    const uint32_t material = std::bit_cast<uint32_t>(shading[index].texcoordVAndMaterial.w);
+    const double luminance = shader::emissionLuminance(glm::vec3(materials.at(material).emission));
+    const double area = 0.5 * glm::length(glm::cross(glm::dvec3(triangles[index].edge1), glm::dvec3(triangles[index].edge2)));
+    const double power = area * luminance;
+    if (!(power > 0.0)) continue;
+    table.entries.push_back({.triangle = index});
+    powers.push_back(power);
+    table.totalPower += power;
+  }
+  double cumulativePower = 0.0;
+  for (size_t entry = 0; entry < table.entries.size(); ++entry) {
+    cumulativePower += powers[entry];
+    table.entries[entry].selectionProbability = static_cast<float>(powers[entry] / table.totalPower);
+    table.entries[entry].cumulativeProbability = static_cast<float>(cumulativePower / table.totalPower);
+  }
+  // Rounding must not leave a uniform number just below 1 past the end of the table.
+  if (!table.entries.empty()) table.entries.back().cumulativeProbability = 1.0f;
+  return table;
+}
+
 std::vector<shader::GpuLight> lightsOf(const renderer::Scene& scene) {
   std::vector<shader::GpuLight> lights;
   for (const renderer::LocalLight& light : scene.lights) {
@@ -119,10 +154,17 @@ TracedScene::TracedScene(gpu::OwnedDevice& device, const renderer::Scene& scene,
   triangleCount_ = static_cast<uint32_t>(flat.triangles.size());
   bvhNodeCount_ = static_cast<uint32_t>(bvh.nodes.size());
   bvhDepth_ = bvh.depth;
+  const std::vector<shader::TraceTriangle> orderedTriangles = inOrder(flat.triangles, bvh.triangleOrder);
+  const std::vector<shader::TriangleShading> orderedShading = inOrder(flat.shading, bvh.triangleOrder);
+  const std::vector<shader::GpuMaterial> materials = materialsOf(scene);
+  EmitterTable emitters = emissiveTriangles(orderedTriangles, orderedShading, materials);
+  emitterCount_ = static_cast<uint32_t>(emitters.entries.size());
+  emittedPower_ = static_cast<float>(emitters.totalPower);
   nodes_ = storageBuffer(device, "reference bvh nodes", bvh.nodes);
-  triangles_ = storageBuffer(device, "reference triangles", inOrder(flat.triangles, bvh.triangleOrder));
-  shading_ = storageBuffer(device, "reference triangle shading", inOrder(flat.shading, bvh.triangleOrder));
-  materials_ = storageBuffer(device, "reference materials", materialsOf(scene));
+  triangles_ = storageBuffer(device, "reference triangles", orderedTriangles);
+  shading_ = storageBuffer(device, "reference triangle shading", orderedShading);
+  materials_ = storageBuffer(device, "reference materials", materials);
+  emitters_ = storageBuffer(device, "reference emissive triangles", std::move(emitters.entries));
   PackedTextures packed = packTextures(scene);
   textures_ = storageBuffer(device, "reference textures", std::move(packed.textures));
   texels_ = storageBuffer(device, "reference texels", std::move(packed.texels));
@@ -151,7 +193,8 @@ gpu::Bindings TracedScene::bindings() const {
       .buffer(shader::kBindTraceMaterials, materials_)
       .buffer(shader::kBindTraceTextures, textures_)
       .buffer(shader::kBindTraceTexels, texels_)
-      .buffer(shader::kBindTraceLights, lights_);
+      .buffer(shader::kBindTraceLights, lights_)
+      .buffer(shader::kBindTraceEmitters, emitters_);
 }
 
 }  // namespace ssvgi::reference

@@ -1,6 +1,6 @@
 #pragma once
 // The reference's GPU copy of a scene as it is at one moment: the world-space triangles in a BVH, their shading, the
-// materials and textures, the delta lights and the frame constants (sun, sky, camera). Every pass of the reference
+// materials and textures, the delta lights, the table of emissive triangles and the frame constants (sun, sky, camera). Every pass of the reference
 // (PrimaryHits, PathTrace, PointRadiance) traces it through shaders/reference/scene_tracing.glsl.
 #include "gpu/command_list.h"
 #include "gpu/resources.h"
@@ -42,6 +42,10 @@ class TracedScene {
   uint32_t triangleCount() const { return triangleCount_; }
   uint32_t bvhNodeCount() const { return bvhNodeCount_; }
   uint32_t bvhDepth() const { return bvhDepth_; }
+  // Entries of the emissive-triangle table (shader::EmissiveTriangle): triangles of positive area whose material emits.
+  uint32_t emitterCount() const { return emitterCount_; }
+  // Σ area × shader::emissionLuminance over that table: the push constants' emittedPower.
+  float emittedPower() const { return emittedPower_; }
 
  private:
   gpu::Buffer frameConstants_;
@@ -52,9 +56,12 @@ class TracedScene {
   gpu::Buffer textures_;
   gpu::Buffer texels_;
   gpu::Buffer lights_;
+  gpu::Buffer emitters_;
   uint32_t triangleCount_ = 0;
   uint32_t bvhNodeCount_ = 0;
   uint32_t bvhDepth_ = 0;
+  uint32_t emitterCount_ = 0;
+  float emittedPower_ = 0.0f;
 };
 
 }  // namespace ssvgi::reference

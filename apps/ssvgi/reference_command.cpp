@@ -20,6 +20,7 @@ struct ReferenceOptions {
   uint32_t samplesPerPixel = 256;
   uint32_t bounces = reference::kDefaultMaxBounces;
   uint32_t seed = 0;
+  std::string emitterSampling = "on";
   float animationSeconds = 0.0f;  // the time of the scene's animation shown
   float exposure = 1.0f;
   std::string out = "out-reference";
@@ -41,6 +42,7 @@ int runReference(const ReferenceOptions& options) {
   settings.height = resolved.height;
   settings.maxBounces = options.bounces;
   settings.seed = options.seed;
+  settings.sampleEmitters = options.emitterSampling == "on";
   settings.exposure = options.exposure;
   const renderer::AnimatedState state =
       renderer::evaluateAnimation(resolved.scene, resolved.camera, options.animationSeconds);
@@ -57,6 +59,8 @@ int runReference(const ReferenceOptions& options) {
   stats["samplesPerPixel"] = tracer.samplesPerPixel();
   stats["bounces"] = options.bounces;
   stats["seed"] = options.seed;
+  stats["emitterSampling"] = settings.sampleEmitters;
+  stats["emissiveTriangles"] = tracer.emissiveTriangleCount();
   stats["time"] = options.animationSeconds;
   stats["bvh"] = {{"triangles", tracer.triangleCount()}, {"nodes", tracer.bvhNodeCount()}, {"depth", tracer.bvhDepth()}};
   stats["setupSeconds"] = setupSeconds;  // BVH build, uploads, primary hits
@@ -97,6 +101,12 @@ CommandRunner addReferenceCommand(CLI::App& app) {
                       "only); Russian roulette ends most paths sooner without bias")
       ->capture_default_str()
       ->check(CLI::Range(0u, 1024u));
+  command->add_option("--emitter-sampling", options->emitterSampling,
+                      "Next-event estimation of emissive triangles, weighted against the paths' own hits by multiple "
+                      "importance sampling: on, or off (paths find emitters only by hitting them: the same mean, more "
+                      "noise)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"on", "off"}));
   command->add_option("--seed", options->seed, "Random seed: the same seed gives bit-identical images")
       ->capture_default_str();
   command->add_option("--time", options->animationSeconds,

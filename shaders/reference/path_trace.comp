@@ -2,8 +2,11 @@
 // PathTrace: adds a batch of E_indirect samples to each pixel's sum and writes the running results. E_indirect at the
 // primary hit is everything but the delta lights' direct light: the sky (sky light reaching the surface directly
 // counts as indirect, because in ssvgi it comes through the GI), emissive surfaces and all light reflected on the way.
-// One sample is π × the radiance arriving along a cosine-distributed direction (pdf cos θ/π, so the estimate of
-// E = ∫ L cos θ dω is π·L), that radiance being found by a path (reference/path_radiance.glsl).
+// One sample is the emitters' irradiance estimated from one point on them (next-event estimation at the primary hit,
+// reference/path_radiance.glsl) plus π × the radiance arriving along a cosine-distributed direction (pdf cos θ/π, so
+// the estimate of E = ∫ L cos θ dω is π·L), that radiance being found by a path. The emitters seen directly from the
+// primary hit are thus found twice, and the two are weighted by multiple importance sampling (the power heuristic),
+// as at every later vertex. With emitter sampling off, the path alone finds the emitters, as everything else.
 #include "reference/path_radiance.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -19,10 +22,25 @@ layout(binding = kBindTraceIndirectSum, rgba32f) uniform image2D indirectSums;
 layout(binding = kBindTraceIndirect, rgba32f) writeonly uniform image2D indirectIrradiances;
 layout(binding = kBindTraceFinal, rgba32f) writeonly uniform image2D finalRadiance;
 
-// A path from the primary hit along a cosine-distributed direction around its normal.
-Path startCosinePath(vec3 origin, vec3 normal, uint random) {
-  vec2 square = nextRandom2(random);
-  return startPath(origin, cosineSampleHemisphere(square, normal), random);
+// One E_indirect sample in flight: the emitters' light reaching the primary hit directly, estimated at the start, and
+// the path that finds the rest.
+struct IndirectSample {
+  vec3 emitterIrradiance;
+  Path path;
+};
+
+// A sample at the primary hit: NEE of the emitters there (from its ray origin, which stands in for the surface point:
+// 10⁻⁴ m off it, more for coordinates beyond 1 m), then a path along a cosine-distributed direction around its normal.
+IndirectSample startSample(vec3 origin, vec3 normal, uint random) {
+  IndirectSample indirectSample;
+  bool sampleEmitters = push.emitterCount > 0u;
+  indirectSample.emitterIrradiance =
+      sampleEmitters ? emitterIrradiance(origin, normal, origin, push.emitterCount, push.emittedPower, random)
+                     : vec3(0.0);
+  vec3 direction = cosineSampleHemisphere(nextRandom2(random), normal);
+  indirectSample.path =
+      startPath(origin, direction, sampleEmitters, cosineDirectionDensity(normal, direction), random);
+  return indirectSample;
 }
 
 void main() {
@@ -41,12 +59,13 @@ void main() {
     vec3 sum = imageLoad(indirectSums, pixel).rgb;
     uint sampleIndex = push.firstSample;
     uint sampleEnd = push.firstSample + push.sampleCount;
-    Path path = startCosinePath(origin.xyz, normal, sampleRandomState(pixelIndex, sampleIndex, push.seed));
+    IndirectSample current = startSample(origin.xyz, normal, sampleRandomState(pixelIndex, sampleIndex, push.seed));
     while (true) {
-      if (extendPath(path, push.maxBounces)) continue;
-      sum += kPi * path.radiance;  // E = π × the radiance along a direction of density cos θ/π
+      if (extendPath(current.path, push.maxBounces, push.emitterCount, push.emittedPower)) continue;
+      // E = π × the radiance along a direction of density cos θ/π, and what NEE found at the primary hit.
+      sum += current.emitterIrradiance + kPi * current.path.radiance;
       if (++sampleIndex == sampleEnd) break;
-      path = startCosinePath(origin.xyz, normal, sampleRandomState(pixelIndex, sampleIndex, push.seed));
+      current = startSample(origin.xyz, normal, sampleRandomState(pixelIndex, sampleIndex, push.seed));
     }
     imageStore(indirectSums, pixel, vec4(sum, 0.0));
     indirect = sum / float(push.firstSample + push.sampleCount);

@@ -3,7 +3,10 @@
 // (SPEC §2: L_lm = (4π/N) Σ L(ω_i) Y_lm(ω_i) over N uniform directions) — the ground truth of what a probe of the GI
 // should hold there. Each direction's radiance is a whole path (reference/path_radiance.glsl): emission, the sky, and
 // light reflected any number of times, as PathTrace finds it for a pixel; the delta lights themselves are never seen
-// (a ray cannot hit a point), only their light reflected by surfaces.
+// (a ray cannot hit a point), only their light reflected by surfaces. The emission a direction sees first counts
+// fully: a free point has no surface from which to sample the emitters. From the path's first vertex on, the emitters
+// are sampled directly (next-event estimation, weighted against the paths' own hits by multiple importance sampling)
+// unless that is off.
 //
 // One workgroup per point; a round gives every lane one antithetic pair of uniform directions (ω, -ω). The group sums
 // its lanes' L·Y and adds the total to the point's sums, in lane order, so the sums are a function of (scene, points,
@@ -23,8 +26,8 @@ shared Sh2Rgb laneSums[kPointRadianceLanes];
 
 // The radiance arriving at `origin` from `direction` (the path runs the other way, from the point outwards).
 vec3 arrivingRadiance(vec3 origin, vec3 direction, uint random) {
-  Path path = startPath(origin, direction, random);
-  while (extendPath(path, push.maxBounces)) {
+  Path path = startPath(origin, direction, false, 0.0, random);
+  while (extendPath(path, push.maxBounces, push.emitterCount, push.emittedPower)) {
   }
   return path.radiance;
 }

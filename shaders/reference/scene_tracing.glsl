@@ -1,6 +1,7 @@
-// The reference path tracer's view of the scene, included by its passes: the scene's buffers, BVH traversal, the
-// surface at a hit (two-sided, textured, as the G-buffer shades it) and the direct light from the delta lights with
-// shadow rays. Exact visibility replaces the renderer's shadow maps; everything else is the renderer's own light model.
+// The reference path tracer's view of the scene, included by its passes: the scene's buffers (with the table of its
+// emissive triangles, which reference/path_radiance.glsl samples), BVH traversal, the surface at a hit (two-sided,
+// textured, as the G-buffer shades it) and the direct light from the delta lights with shadow rays. Exact visibility
+// replaces the renderer's shadow maps; everything else is the renderer's own light model.
 #include "shared/path_tracer_interface.h"
 #include "shared/renderer_interface.h"
 
@@ -12,6 +13,7 @@ layout(binding = kBindTraceMaterials) readonly buffer Materials { GpuMaterial ma
 layout(binding = kBindTraceTextures) readonly buffer Textures { PackedTexture textures[]; };
 layout(binding = kBindTraceTexels) readonly buffer Texels { uint texels[]; };
 layout(binding = kBindTraceLights) readonly buffer Lights { GpuLight lights[]; };
+layout(binding = kBindTraceEmitters) readonly buffer Emitters { EmissiveTriangle emitters[]; };
 
 const float kInfiniteDistance = 3.0e38;
 

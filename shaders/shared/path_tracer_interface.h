@@ -49,14 +49,46 @@ struct PackedTexture {
 };
 SSVGI_CHECK_SIZE(PackedTexture, 16);
 
+// One entry of the table of the scene's emissive triangles, from which the paths sample emitters directly
+// (next-event estimation). The table lists every triangle of positive area whose material emits, in BVH triangle
+// order, each chosen with probability proportional to its power: area × emissionLuminance of its emission.
+struct EmissiveTriangle {
+  uint triangle;                // index into TraceTriangle[] and TriangleShading[]
+  float selectionProbability;   // its share of the emitted power
+  float cumulativeProbability;  // selectionProbability summed over the table up to this entry; exactly 1 for the last
+  uint padding;
+};
+SSVGI_CHECK_SIZE(EmissiveTriangle, 16);
+
+// The luminance (Rec. 709) of an emission: a triangle's power is π × area × this (π, common to all, is left out), the
+// measure by which next-event estimation chooses emitters. The table's builder (reference/traced_scene.cpp) and the
+// paths, which need the density of a point on an emitter they hit (shaders/reference/path_radiance.glsl), both use it.
+SSVGI_INLINE float emissionLuminance(vec3 emission) { return dot(emission, vec3(0.2126f, 0.7152f, 0.0722f)); }
+
+// The power heuristic with exponent 2 (Veach 1997, §9.2.4): the weight of a sample drawn with density `chosen` by one
+// technique that another would draw with density `other` (both in the same measure), chosen² / (chosen² + other²).
+// The weights of one sample under the two techniques sum to 1. Written as a ratio so that neither square overflows;
+// 0 where `chosen` is 0 (the technique cannot draw that sample).
+SSVGI_INLINE float powerHeuristic(float chosen, float other) {
+  if (!(chosen > 0.0f)) return 0.0f;
+  float ratio = other / chosen;
+  return 1.0f / (1.0f + ratio * ratio);
+}
+
 // PathTrace's push constants: which samples this dispatch adds to each pixel.
 struct PathTracePush {
   uint firstSample;  // samples [firstSample, firstSample + sampleCount) of every pixel; the sums hold the earlier ones
   uint sampleCount;
   uint seed;
   uint maxBounces;   // reflections of light after it leaves its source and before it reaches the primary hit
+  // Entries of the EmissiveTriangle table the paths sample directly; 0 with emitter sampling off (or no emitter in
+  // the scene): then emission is found only where a path hits it.
+  uint emitterCount;
+  // Σ area × emissionLuminance over the table (m² · W/(m²·sr)): a point on an emitter of luminance Y is sampled with
+  // density Y / emittedPower per m². Unused when emitterCount is 0.
+  float emittedPower;
 };
-SSVGI_CHECK_SIZE(PathTracePush, 16);
+SSVGI_CHECK_SIZE(PathTracePush, 24);
 
 // PointRadiance: incoming radiance over the whole sphere at free points (not on a surface), projected onto SH2. Each
 // point has a workgroup of kPointRadianceLanes lanes; in every round each lane traces one antithetic pair of uniform
@@ -70,8 +102,10 @@ struct PointRadiancePush {
   uint roundCount;
   uint seed;
   uint maxBounces;  // reflections of light after it leaves its source and before it reaches the point
+  uint emitterCount;   // as PathTracePush::emitterCount
+  float emittedPower;  // as PathTracePush::emittedPower
 };
-SSVGI_CHECK_SIZE(PointRadiancePush, 16);
+SSVGI_CHECK_SIZE(PointRadiancePush, 24);
 
 // Binding slots (descriptor set 0). The scene, read by every pass:
 SSVGI_CONSTANT(uint, kBindTraceFrame, 0u);         // FrameConstants (uniform): camera, sun, sky, light count
@@ -82,6 +116,7 @@ SSVGI_CONSTANT(uint, kBindTraceMaterials, 4u);     // GpuMaterial[]
 SSVGI_CONSTANT(uint, kBindTraceTextures, 5u);      // PackedTexture[]
 SSVGI_CONSTANT(uint, kBindTraceTexels, 6u);        // uint[]: RGBA8 texels
 SSVGI_CONSTANT(uint, kBindTraceLights, 7u);        // GpuLight[]; intensityAndShadow.w is kNoShadow for unshadowed lights
+SSVGI_CONSTANT(uint, kBindTraceEmitters, 19u);     // EmissiveTriangle[]; at least one entry even when the scene has none
 // The primary hit of each pixel, written by PrimaryHits and read by PathTrace (rgba32f unless noted):
 SSVGI_CONSTANT(uint, kBindPrimaryRayOrigin, 8u);   // xyz: where the pixel's secondary rays start; w: 1 on a surface, 0 sky
 SSVGI_CONSTANT(uint, kBindPrimaryNormal, 9u);      // xyz: shading normal facing the camera
