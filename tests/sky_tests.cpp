@@ -168,7 +168,7 @@ TEST(Sh2Test, irradianceMatchesNumericalCosineIntegral) {
   }
 }
 
-// ---- The gather's reading of SH2 (shared/sh.h: sh2HazelIrradiance, sh2IrradianceWithoutRinging) ----
+// ---- The gather's reading of SH2 (shared/sh.h: sh2ConeIrradiance, sh2IrradianceWithoutRinging) ----
 
 // The SH2 of a single distant source: radiance `intensity` (W/m² at normal incidence) from one direction, as a delta:
 // L_lm = I·Y_lm(d).
@@ -189,29 +189,84 @@ std::vector<glm::vec3> sphereOfNormals() {
   return normals;  // equal-area cells: their mean is the mean over the sphere
 }
 
-TEST(Sh2ReadingTest, hazelGivesUniformLightPiTimesItsRadiance) {
-  const glm::vec4 uniform(2.0f * shader::kSh2Band0Basis * 4.0f * shader::kPi, 0.0f, 0.0f, 0.0f);  // L = 2
-  for (const glm::vec3& normal : testNormals())
-    EXPECT_NEAR(shader::sh2HazelIrradiance(uniform, normal), 2.0 * kPi, kBasisConstantTolerance * 2.0 * kPi);
+// A uniform cone of radiance L and half-angle α about an axis, and its exact SH2 coefficients: L00 = L·Y00·Ω with
+// Ω = 2π(1 − cos α), and band 1 L·Y1·∫ω dω = L·Y1·π·sin²α·axis. Its exact irradiance on the surface facing the axis
+// is π·L·sin²α.
+struct UniformCone {
+  float radiance = 1.0f;
+  float halfAngle = 0.5f;
+  glm::vec3 axis = glm::normalize(glm::vec3(0.4f, 1.0f, -0.3f));
+
+  glm::vec3 operator()(glm::vec3 direction) const {
+    return glm::vec3(glm::dot(direction, axis) >= std::cos(halfAngle) ? radiance : 0.0f);
+  }
+  glm::vec4 coefficients() const {
+    const float solidAngle = 2.0f * shader::kPi * (1.0f - std::cos(halfAngle));
+    const glm::vec3 band1 = radiance * shader::kSh2Band1Basis * shader::kPi * std::sin(halfAngle) *
+                            std::sin(halfAngle) * axis;
+    return {radiance * shader::kSh2Band0Basis * solidAngle, band1.y, band1.z, band1.x};
+  }
+};
+
+TEST(Sh2ReadingTest, aUniformConeIsExactOnItsAxisWhateverItsWidth) {
+  for (float degrees : {2.0f, 10.0f, 30.0f, 60.0f, 89.0f}) {
+    const UniformCone cone{.halfAngle = glm::radians(degrees)};
+    const double exact = kPi * cone.radiance * std::sin(cone.halfAngle) * std::sin(cone.halfAngle);
+    EXPECT_NEAR(shader::sh2ConeIrradiance(cone.coefficients(), cone.axis), exact, 1e-4 * exact)
+        << "half-angle " << degrees << "°";
+  }
 }
 
-TEST(Sh2ReadingTest, hazelGivesASmallSourceAllItsLightOnItsAxisNoneOppositeAndKeepsTheMean) {
-  const glm::vec3 toSource = glm::normalize(glm::vec3(0.3f, 1.0f, -0.4f));
-  const glm::vec4 source = deltaSourceCoefficients(10.0f, toSource);
-  // The linear formula: 3/4 of the light facing the source, −1/4 of it facing away (the ringing the reading removes).
-  EXPECT_NEAR(shader::sh2Irradiance(source, toSource), 7.5f, 1e-3f);
-  EXPECT_NEAR(shader::sh2Irradiance(source, -toSource), -2.5f, 1e-3f);
-  EXPECT_NEAR(shader::sh2HazelIrradiance(source, toSource), 10.0f, 1e-3f);
-  EXPECT_NEAR(shader::sh2HazelIrradiance(source, -toSource), 0.0f, 1e-3f);
-  // Over all normals E averages I/4 (the mean of I·max(0, cos)); the reading keeps it (midpoint rule: 1e-3).
-  double sum = 0.0;
-  const std::vector<glm::vec3> normals = sphereOfNormals();
-  for (const glm::vec3& normal : normals) {
-    const float irradiance = shader::sh2HazelIrradiance(source, normal);
-    ASSERT_GE(irradiance, 0.0f);
-    sum += irradiance;
+// Off the axis the reading is not exact, but nearer the truth than the linear formula, which flattens a small cone's
+// light (3/4 of it facing it, 1/4 at 90° to it) — and facing away from it, where there is none, it gives none.
+TEST(Sh2ReadingTest, aSmallConeIsNearerTheTruthThanTheLinearFormulaAndGivesNothingFacingAway) {
+  const UniformCone cone{.halfAngle = glm::radians(10.0f)};
+  const glm::vec3 helper = glm::normalize(glm::cross(cone.axis, glm::vec3(1.0f, 0.0f, 0.0f)));
+  for (float degrees : {20.0f, 45.0f, 70.0f}) {
+    const float angle = glm::radians(degrees);
+    const glm::vec3 normal = std::cos(angle) * cone.axis + std::sin(angle) * helper;
+    const double exact = bruteForceIrradiance(cone, normal).x;
+    const double read = shader::sh2ConeIrradiance(cone.coefficients(), normal);
+    const double linear = shader::sh2Irradiance(cone.coefficients(), normal);
+    EXPECT_LT(std::abs(read - exact), std::abs(linear - exact)) << degrees << "° off the axis";
   }
-  EXPECT_NEAR(sum / normals.size(), 2.5, 2.5e-3);
+  EXPECT_LT(shader::sh2Irradiance(cone.coefficients(), -cone.axis), 0.0f);  // the ringing the reading removes
+  EXPECT_EQ(shader::sh2ConeIrradiance(cone.coefficients(), -cone.axis), 0.0f);
+}
+
+// Uniform light plus light from one hemisphere is exactly bands 0 and 1 in E, so the linear formula is exact there,
+// and the reading must be the linear formula: a floor under the sky gets π·L, not Hazel's 7/6 of it.
+TEST(Sh2ReadingTest, uniformPlusHemisphereLightIsTheLinearFormula) {
+  for (float background : {0.0f, 0.3f, 2.0f}) {
+    const UniformCone hemisphere{.radiance = 1.5f, .halfAngle = 0.5f * shader::kPi};
+    const glm::vec4 coefficients =
+        hemisphere.coefficients() + glm::vec4(background * shader::kSh2Band0Basis * 4.0f * shader::kPi, 0, 0, 0);
+    for (const glm::vec3& normal : testNormals()) {
+      const float linear = shader::sh2Irradiance(coefficients, normal);
+      EXPECT_NEAR(shader::sh2ConeIrradiance(coefficients, normal), linear, 1e-4f * (linear + 1.0f))
+          << "background " << background;
+    }
+  }
+}
+
+// Over all normals its mean is the linear formula's (π·L00·Y00: band 1 averages to nothing), and it is never negative.
+TEST(Sh2ReadingTest, theMeanOverNormalsIsKeptAndNothingIsNegative) {
+  constexpr uint32_t kNormals = 16384;
+  for (float degrees : {5.0f, 40.0f, 90.0f}) {
+    const glm::vec4 coefficients = UniformCone{.halfAngle = glm::radians(degrees)}.coefficients() +
+                                   glm::vec4(0.1f * shader::kSh2Band0Basis * 4.0f * shader::kPi, 0, 0, 0);
+    double sum = 0.0;
+    float smallest = 1.0f;
+    for (uint32_t index = 0; index < kNormals; ++index) {
+      const float irradiance = shader::sh2ConeIrradiance(coefficients, shader::haltonSphereDirection(index));
+      sum += irradiance;
+      smallest = std::min(smallest, irradiance);
+    }
+    const double mean = shader::kSh2Band0CosineConvolution * shader::kSh2Band0Basis * coefficients.x;
+    // Quasi-Monte Carlo over 16384 normals of a function with a sharp lobe: 0.5 % is a few times its error.
+    EXPECT_NEAR(sum / kNormals, mean, 5e-3 * mean) << "half-angle " << degrees << "°";
+    EXPECT_GE(smallest, 0.0f);
+  }
 }
 
 // White ambient light and a small cyan source, both of which a white wall reflects unchanged: the light at every
@@ -257,8 +312,8 @@ TEST(Sh2ReadingTest, aSmallColouredSourceBesideWhiteLightGivesNoHueOfItsOwn) {
     lowestWhite = std::min(lowestWhite, split.white / glm::length(irradiance));
     largestOutside = std::max(largestOutside, split.outside / glm::length(irradiance));
   }
-  // Hazel's channels alone give a cyan part of −25 % of |E| opposite the source; the guard must bring every normal's
-  // cyan part to at least −2 % of |E|, a hue shift below what a viewer sees next to the white.
+  // The channels read alone give a cyan part of −118 % of |E| opposite the source; the guard must bring every
+  // normal's cyan part to at least −2 % of |E|, a hue shift below what a viewer sees next to the white.
   EXPECT_GT(lowestCyan, -0.02);
   EXPECT_GT(lowestWhite, -0.02);
   EXPECT_LT(largestOutside, 0.02);

@@ -46,15 +46,18 @@ SSVGI_INLINE vec3 sh2Irradiance(Sh2Rgb radiance, vec3 normal) {
 }
 
 
-// Irradiance from one channel's radiance coefficients by Hazel's non-linear reconstruction ("Reconstructing Diffuse
-// Lighting from Spherical Harmonic Data", Geomerics 2017): the light read as uniform light plus light from one
-// direction, E = mean · (a + (1 − a)(p + 1)·qᵖ) with q = (1 + n·d)/2, where mean is E averaged over all normals, d
-// the direction of band 1 and r = |band 1's gradient| / (2·mean) its directionality, p = 1 + 2r, a = (1 − r)/(1 + r).
-// It keeps the mean and is never negative. For a small source alone it gives the surface facing the source all of its
-// light and the surface facing away none, where the linear formula gives 3/4 of it and rings to −1/4 of it: a wall
-// beside an emissive panel, facing away from it as the probes in front of the panel see it, went dark.
-SSVGI_INLINE float sh2HazelIrradiance(vec4 radianceCoefficients, vec3 normal) {
-  float mean = kSh2Band0CosineConvolution * kSh2Band0Basis * radianceCoefficients.x;
+// Irradiance E(n) from one channel's radiance coefficients, read as the light of a cone: the form of Hazel's
+// non-linear reconstruction (Geomerics 2017), E = mean · (a + (1 − a)(p + 1) qᵖ) with q = (1 + n·d) / 2, fitted so
+// that it is exact where it can be. With r = |band 1's gradient| / (2 · mean) the light's directionality,
+//   r ≤ 1/2  a = 1 − 2r, p = 1: the linear formula itself, exact for uniform light plus light from one hemisphere;
+//   r > 1/2  a = 0, p = 4r − 1: a uniform cone of half-angle α has r = (1 + cos α) / 2, and this gives the surface
+//            facing it exactly πL·sin²α, and the surface facing away none, where the linear formula gives a small
+//            source 3/4 of its light facing it and rings to −1/4 of it facing away.
+// It keeps the mean over all normals and is never negative. Hazel's own fit (p = 1 + 2r, a = (1 − r)/(1 + r)) errs
+// for broad light: a surface facing a lit hemisphere gets 7/6 of its light, one facing away 1/6 (QUALITY.md,
+// "Emitters": it failed the tests of a floor under the sky and of a sunlit wall by 3–6 %).
+SSVGI_INLINE float sh2ConeIrradiance(vec4 radianceCoefficients, vec3 normal) {
+  float mean = kSh2Band0CosineConvolution * kSh2Band0Basis * radianceCoefficients.x;  // E averaged over all normals
   if (!(mean > 0.0f)) return 0.0f;
   // The linear formula's E(n) = mean + dot(gradient, n).
   vec3 gradient = (kSh2Band1CosineConvolution * kSh2Band1Basis) *
@@ -63,8 +66,8 @@ SSVGI_INLINE float sh2HazelIrradiance(vec4 radianceCoefficients, vec3 normal) {
   if (!(gradientLength > 1e-6f * mean)) return mean;
   float directionality = min(0.5f * gradientLength / mean, 1.0f);
   float q = clamp(0.5f * (1.0f + dot(gradient, normal) / gradientLength), 0.0f, 1.0f);
-  float p = 1.0f + 2.0f * directionality;
-  float a = (1.0f - directionality) / (1.0f + directionality);
+  float a = max(1.0f - 2.0f * directionality, 0.0f);
+  float p = max(4.0f * directionality - 1.0f, 1.0f);
   return mean * (a + (1.0f - a) * (p + 1.0f) * pow(q, p));
 }
 
@@ -75,14 +78,15 @@ SSVGI_INLINE float rec709Luminance(vec3 rgb) { return dot(rgb, vec3(0.2126f, 0.7
 SSVGI_CONSTANT(float, kSh2HueGuardFraction, 0.5f);
 
 // The irradiance the gather reads from a probe's RGB SH2 (SPEC §6.7): never negative, and never a hue the probe's
-// light could not give. Each channel alone is Hazel's reconstruction. Where one channel falls far below its mean
-// while another does not — light from a small coloured source, read opposite it — the channels disagree only because
-// each rings on its own: next to a cyan panel under warm light, cyan's deficit left red, a halo the scene does not
-// have. There the hue moves toward the mean light's hue (a mix of the light the probe sees, so a hue it can give),
-// fully once some channel reaches zero, and the luminance stays Hazel's.
+// light could not give. Each channel alone is read as a cone (sh2ConeIrradiance). Where one channel falls far below its
+// mean while another does not — light from a small coloured source, read opposite it — the channels disagree only
+// because each is read on its own: next to a cyan panel under warm light, the per-channel clamp of the linear formula
+// left red where cyan rang below zero, a halo the scene does not have. There the hue moves toward the mean light's
+// hue (a mix of the light the probe sees, so a hue it can give), fully once some channel reaches zero, and the
+// luminance stays the channels' own.
 SSVGI_INLINE vec3 sh2IrradianceWithoutRinging(Sh2Rgb radiance, vec3 normal) {
-  vec3 hazel = vec3(sh2HazelIrradiance(radiance.r, normal), sh2HazelIrradiance(radiance.g, normal),
-                    sh2HazelIrradiance(radiance.b, normal));
+  vec3 perChannel = vec3(sh2ConeIrradiance(radiance.r, normal), sh2ConeIrradiance(radiance.g, normal),
+                         sh2ConeIrradiance(radiance.b, normal));
   vec3 mean = (kSh2Band0CosineConvolution * kSh2Band0Basis) * vec3(radiance.r.x, radiance.g.x, radiance.b.x);
   float meanLuminance = rec709Luminance(mean);
   if (!(meanLuminance > 0.0f)) return vec3(0.0f);
@@ -90,11 +94,11 @@ SSVGI_INLINE vec3 sh2IrradianceWithoutRinging(Sh2Rgb radiance, vec3 normal) {
   // of, as red in pure cyan, cannot ring).
   float lowestFraction = 1.0f;
   for (int channel = 0; channel < 3; ++channel) {
-    if (mean[channel] > 1e-3f * meanLuminance) lowestFraction = min(lowestFraction, hazel[channel] / mean[channel]);
+    if (mean[channel] > 1e-3f * meanLuminance) lowestFraction = min(lowestFraction, perChannel[channel] / mean[channel]);
   }
   float towardMeanHue = clamp(1.0f - lowestFraction / kSh2HueGuardFraction, 0.0f, 1.0f);
-  vec3 meanHue = mean * (rec709Luminance(hazel) / meanLuminance);
-  return max(mix(hazel, meanHue, towardMeanHue), vec3(0.0f));
+  vec3 meanHue = mean * (rec709Luminance(perChannel) / meanLuminance);
+  return max(mix(perChannel, meanHue, towardMeanHue), vec3(0.0f));
 }
 
 // Arithmetic on RGB SH2, channel by channel: what sums, means, blends and projections of radiance SH are made of.
