@@ -63,15 +63,12 @@ void main() {
   vec4 reprojected = reprojectHistory(surface, vec2(frame.size));
   if (reprojected.a <= 0.0) return;
   TileNeighbourhood neighbourhood = tileNeighbourhood(surface, pixel);
-  if (!neighbourhood.sampled) {
-    // No sample of this frame lies on the surface: Upsample's 0 is not light, and the history stays as it is.
-    imageStore(outputIrradiance, halfPixel, vec4(nearestHalf(reprojected.rgb), current.a));
-    return;
-  }
   vec3 lowest = min(neighbourhood.lowest, current.rgb), highest = max(neighbourhood.highest, current.rgb);
-  float blend = max(kTemporalBlend, neighbourhood.probeBlend);
+  // Where no sample of this frame lies on the surface, Upsample's 0 is not light: the history stays as it is (blend 0,
+  // unclamped).
+  float blend = neighbourhood.sampled ? max(kTemporalBlend, neighbourhood.probeBlend) : 0.0;
   // 1 where the probes are settled, kTemporalBlend where they start afresh.
-  float unclamped = kTemporalBlend / blend;
+  float unclamped = neighbourhood.sampled ? kTemporalBlend / blend : 1.0;
   vec3 history = mix(clamp(reprojected.rgb, lowest, highest), reprojected.rgb, unclamped);
   vec3 filtered = mix(history, current.rgb, blend);
   imageStore(outputIrradiance, halfPixel, vec4(nearestHalf(finiteHalf(filtered)), current.a));
