@@ -15,6 +15,7 @@
 #include "shared/gi_frame.h"
 #include "shared/voxel_interface.h"
 #include "ssvgi/ssvgi.h"
+#include "white_and_colour.h"
 
 #include <glm/gtc/packing.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -622,22 +623,6 @@ TEST_F(GatherCornell, theFloorBesideTheRedWallGetsRedderIndirectLightLikeInTheRe
 // ---------------------------------------------------------------------------------------------------------------------
 // Emitters (SPEC §6.7): a small coloured panel beside white light gives the GI no hue of its own.
 
-// Unit colours of the two lights, and the part of an irradiance outside what they can make: E = a·white + b·cyan by
-// least squares over the three channels; a room of grey walls (equal albedo in every channel) reflects each light in
-// its own hue, so the true E of every pixel has a, b ≥ 0.
-struct WhiteAndCyan {
-  double white;
-  double cyan;
-};
-
-WhiteAndCyan splitIntoWhiteAndCyan(glm::dvec3 irradiance, glm::dvec3 cyan) {
-  const glm::dvec3 white(1.0);
-  const double ww = glm::dot(white, white), wc = glm::dot(white, cyan), cc = glm::dot(cyan, cyan);
-  const double we = glm::dot(white, irradiance), ce = glm::dot(cyan, irradiance);
-  const double determinant = ww * cc - wc * wc;
-  return {(we * cc - ce * wc) / determinant, (ce * ww - we * wc) / determinant};
-}
-
 TEST(GatherEmitters, aCyanPanelOnAGreyWallUnderWhiteLightGivesNoPixelAHueOfItsOwn) {
   // A closed 5×3×5 m grey room, a white 1×1 m ceiling panel (radiance 3) and a bright cyan 0.5×1.5 m panel on the back
   // wall (radiance 15), the camera facing that wall: the probes in front of the cyan panel see it as a small bright
@@ -690,8 +675,8 @@ TEST(GatherEmitters, aCyanPanelOnAGreyWallUnderWhiteLightGivesNoPixelAHueOfItsOw
     ASSERT_TRUE(glm::all(glm::greaterThanEqual(irradiance, glm::dvec3(0.0)))) << "pixel " << pixel;
     if (glm::length(irradiance) <= 0.0) continue;
     ++lit;
-    const WhiteAndCyan split = splitIntoWhiteAndCyan(irradiance, glm::dvec3(cyan));
-    lowestCyan = std::min(lowestCyan, split.cyan / glm::length(irradiance));
+    const testing::WhiteAndColour split = testing::splitIntoWhiteAnd(glm::dvec3(cyan), irradiance);
+    lowestCyan = std::min(lowestCyan, split.colour / glm::length(irradiance));
     lowestWhite = std::min(lowestWhite, split.white / glm::length(irradiance));
   }
   std::printf("grey room, cyan panel: lowest cyan part %.3f, lowest white part %.3f of |E|, %u lit pixels\n",

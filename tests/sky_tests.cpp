@@ -1,6 +1,7 @@
 // SH2 (shaders/shared/sh.h), the Halton direction set (shaders/shared/sampling.h) and the sky (shaders/shared/sky.h,
 // renderer/sky.h), checked against analytic values and brute-force integration (SPEC §2).
 #include "sky.h"
+#include "white_and_colour.h"
 
 #include "shared/sampling.h"
 
@@ -270,24 +271,7 @@ TEST(Sh2ReadingTest, theMeanOverNormalsIsKeptAndNothingIsNegative) {
 }
 
 // White ambient light and a small cyan source, both of which a white wall reflects unchanged: the light at every
-// normal is a·white + b·cyan with a, b ≥ 0, so E has no hue outside that cone. The coefficients of E in the
-// (white, cyan) basis, by least squares over the three channels, and the part of E outside their plane.
-struct TwoColourSplit {
-  double white;
-  double cyan;
-  double outside;
-};
-
-TwoColourSplit splitIntoWhiteAndCyan(glm::dvec3 irradiance, glm::dvec3 cyan) {
-  const glm::dvec3 white(1.0);
-  const double ww = glm::dot(white, white), wc = glm::dot(white, cyan), cc = glm::dot(cyan, cyan);
-  const double we = glm::dot(white, irradiance), ce = glm::dot(cyan, irradiance);
-  const double determinant = ww * cc - wc * wc;
-  const double a = (we * cc - ce * wc) / determinant;
-  const double b = (ce * ww - we * wc) / determinant;
-  return {a, b, glm::length(irradiance - a * white - b * cyan)};
-}
-
+// normal is a·white + b·cyan with a, b ≥ 0, so E has no hue outside that cone (testing::splitIntoWhiteAnd).
 TEST(Sh2ReadingTest, aSmallColouredSourceBesideWhiteLightGivesNoHueOfItsOwn) {
   const glm::vec3 cyan(0.1f, 0.85f, 1.0f);
   const glm::vec3 toSource = glm::normalize(glm::vec3(0.0f, 0.2f, -1.0f));
@@ -300,15 +284,15 @@ TEST(Sh2ReadingTest, aSmallColouredSourceBesideWhiteLightGivesNoHueOfItsOwn) {
                                 ambientCoefficients + cyan.b * sourceCoefficients};
   // The per-channel clamp of the linear formula leaves red where cyan rings below zero (the halo of issue 20): this
   // is what the test would catch.
-  const TwoColourSplit clamped =
-      splitIntoWhiteAndCyan(glm::max(shader::sh2Irradiance(radiance, -toSource), glm::vec3(0.0f)), cyan);
-  EXPECT_LT(clamped.cyan, -0.1);
+  const testing::WhiteAndColour clamped = testing::splitIntoWhiteAnd(
+      cyan, glm::max(shader::sh2Irradiance(radiance, -toSource), glm::vec3(0.0f)));
+  EXPECT_LT(clamped.colour, -0.1);
   double lowestCyan = 1e9, lowestWhite = 1e9, largestOutside = 0.0;
   for (const glm::vec3& normal : sphereOfNormals()) {
     const glm::dvec3 irradiance = shader::sh2IrradianceWithoutRinging(radiance, normal);
     ASSERT_TRUE(glm::all(glm::greaterThanEqual(irradiance, glm::dvec3(0.0))));
-    const TwoColourSplit split = splitIntoWhiteAndCyan(irradiance, cyan);
-    lowestCyan = std::min(lowestCyan, split.cyan / glm::length(irradiance));
+    const testing::WhiteAndColour split = testing::splitIntoWhiteAnd(cyan, irradiance);
+    lowestCyan = std::min(lowestCyan, split.colour / glm::length(irradiance));
     lowestWhite = std::min(lowestWhite, split.white / glm::length(irradiance));
     largestOutside = std::max(largestOutside, split.outside / glm::length(irradiance));
   }
