@@ -321,6 +321,37 @@ TEST_F(GatherFilters, temporalFilterKeepsTheHistoryOfASurfaceNoSampleOfTheFrameL
   ASSERT_GT(between, 0u);
 }
 
+TEST_F(GatherFilters, upsampleReadsTheTilesAroundTheBilinearFourWhereNoneOfThemLiesOnThePixelsSurface) {
+  // The far wall's tile samples (frame index 0: each tile's top-left pixel) lie 1 m in front of it, except in every
+  // third column of tiles. A pixel between two such columns finds none of its bilinear four on its surface; it must
+  // take its light from its own surface one tile further out, not from the samples in front and not nothing.
+  const glm::vec3 position(0.0f);
+  TestView view = viewFrom(position);
+  std::vector<bool> sampleOnWall(view.depth.size(), true);
+  for (uint32_t y = 0; y < kSize; y += shader::kGatherTileSize)
+    for (uint32_t x = 0; x < kSize; x += shader::kGatherTileSize) {
+      const size_t pixel = size_t(y) * kSize + x;
+      if (view.onNearWall[pixel] || (x / shader::kGatherTileSize) % 3 == 0) continue;
+      view.depth[pixel] = kNear / (-kFarWallZ - 1.0f);
+      sampleOnWall[pixel] = false;
+    }
+  setFrame(view, position);
+  writeTiles([&](size_t pixel) { return sampleOnWall[pixel] ? kFarValue : kNearValue; });
+  runUpsample();
+  const std::vector<float> values = output();
+  uint32_t fromOuterTiles = 0;
+  for (size_t texel = 0; texel < values.size(); ++texel) {
+    const size_t x = texel % (kSize / 2), y = texel / (kSize / 2);
+    const size_t pixel = 2 * y * kSize + 2 * x;
+    if (view.onNearWall[pixel] || !sampleOnWall[pixel]) continue;
+    const uint32_t firstTileColumn = uint32_t(2 * x) / shader::kGatherTileSize;
+    const bool bilinearFourInFront = firstTileColumn % 3 == 1;
+    fromOuterTiles += bilinearFourInFront ? 1u : 0u;
+    ASSERT_NEAR(values[texel], kFarValue, kFarValue * kHalfStep) << "texel " << texel;
+  }
+  ASSERT_GT(fromOuterTiles, 0u);
+}
+
 // ---------------------------------------------------------------------------------------------------------------------
 // FinalGather through the public API: every probe of every level active, with the same radiance and distance SH.
 

@@ -39,8 +39,9 @@ float planeWeight(Surface pixel, vec3 neighbourPosition) {
 
 float normalWeight(Surface pixel, vec3 neighbourNormal) { return ssvgiNormalWeight(pixel.normal, neighbourNormal); }
 
-// Taps beyond the bilinear 2×2 keep this spatial weight: they count only where the 2×2 are all on other surfaces (a
-// thin object, a silhouette), so such a pixel borrows from its own surface a tile further away instead of going dark.
+// The floor of a tap's tent weight, which the taps beyond the bilinear 2×2 weigh by. They are read only where the 2×2
+// all lie on other surfaces (a thin object, a silhouette), so that such a pixel borrows from its own surface a tile
+// further away instead of going dark; everywhere else a pixel reads four tiles, not sixteen.
 const float kOuterTapWeight = 1e-3;
 // A tap whose geometry weight reaches this lies on the pixel's surface for TemporalFilter's neighbourhood clamp.
 const float kSameSurfaceWeight = 0.5;
@@ -52,50 +53,66 @@ struct TileNeighbourhood {
   vec3 lowest;   // the range of the bilinear taps on the pixel's surface (none: lowest > highest)
   vec3 highest;
   // Their probe blend (GatheredLight::probeBlend), weighted as `blended` weighs them; 1 (start afresh) when none is on
-  // the surface. Only TemporalFilter reads it, and with the range: the outer taps, which count only where the bilinear
-  // four miss the surface, are left out of both, and their loads with them.
+  // the surface. Only TemporalFilter reads it, with the range.
   float probeBlend;
   // Some tap's sample lies on the pixel's surface. A sliver a few pixels wide (the top of a block seen edge-on) can
   // miss all sixteen samples of a frame; its light is then unknown this frame, not zero.
   bool sampled;
 };
 
+// One tile's sample as it bears on a pixel's surface: its light and confidence (a), and its geometry weight (0 where
+// the tile is outside the image or its sample saw nothing).
+struct TileTap {
+  vec4 irradiance;
+  float geometry;
+};
+
+// The tiles around the bilinear four, in the 4×4 block from (-1, -1) to (2, 2).
+const ivec2 kOuterTileOffsets[12] = ivec2[](ivec2(-1, -1), ivec2(0, -1), ivec2(1, -1), ivec2(2, -1), ivec2(-1, 0),
+                                            ivec2(2, 0), ivec2(-1, 1), ivec2(2, 1), ivec2(-1, 2), ivec2(0, 2),
+                                            ivec2(1, 2), ivec2(2, 2));
+
+TileTap tileTap(Surface surface, ivec2 tile, ivec2 sampleOffset) {
+  if (any(lessThan(tile, ivec2(0))) || any(greaterThanEqual(tile, ivec2(gather.tiles)))) return TileTap(vec4(0.0), 0.0);
+  // The tile's geometry is that of the pixel it sampled.
+  ivec2 samplePixel = min(tile * int(kGatherTileSize) + sampleOffset, ivec2(frame.size) - 1);
+  float sampleDepth = texelFetch(depthBuffer, samplePixel, 0).r;
+  if (sampleDepth <= 0.0) return TileTap(vec4(0.0), 0.0);  // the tile's sample saw nothing
+  vec3 samplePosition = reconstructPosition(frame.inverseViewProjection, vec2(samplePixel), vec2(frame.size),
+                                            sampleDepth);
+  float geometry = planeWeight(surface, samplePosition) *
+                   normalWeight(surface, normalize(texelFetch(normalBuffer, samplePixel, 0).xyz));
+  return TileTap(geometry > 0.0 ? imageLoad(tileIrradiance, tile) : vec4(0.0), geometry);
+}
+
 TileNeighbourhood tileNeighbourhood(Surface surface, ivec2 pixel) {
   ivec2 sampleOffset = ivec2(gatherSampleOffset(gather.frameIndex));
   vec2 tileCoordinate = vec2(pixel - sampleOffset) / float(kGatherTileSize);
   ivec2 firstTile = ivec2(floor(tileCoordinate));
-  ivec2 lastTile = ivec2(gather.tiles) - 1;
   TileNeighbourhood result = TileNeighbourhood(vec3(0.0), 0.0, vec3(1e30), vec3(0.0), 0.0, false);
-  float sameSurfaceWeight = 0.0;
+  vec4 weightedSum = vec4(0.0);  // rgb E, a confidence
   float totalWeight = 0.0;
-  for (int y = -1; y <= 2; ++y)
-    for (int x = -1; x <= 2; ++x) {
-      ivec2 tile = firstTile + ivec2(x, y);
-      if (any(lessThan(tile, ivec2(0))) || any(greaterThan(tile, lastTile))) continue;
-      // The tile's geometry is that of the pixel it sampled.
-      ivec2 samplePixel = min(tile * int(kGatherTileSize) + sampleOffset, ivec2(frame.size) - 1);
-      float sampleDepth = texelFetch(depthBuffer, samplePixel, 0).r;
-      if (sampleDepth <= 0.0) continue;  // the tile's sample saw nothing
-      vec3 samplePosition = reconstructPosition(frame.inverseViewProjection, vec2(samplePixel), vec2(frame.size),
-                                                sampleDepth);
-      float geometry = planeWeight(surface, samplePosition) *
-                       normalWeight(surface, normalize(texelFetch(normalBuffer, samplePixel, 0).xyz));
-      vec4 tileSample = imageLoad(tileIrradiance, tile);  // rgb E; a: confidence
-      vec3 irradiance = tileSample.rgb;
-      vec2 tent = max(vec2(1.0) - abs(vec2(tile) - tileCoordinate), vec2(kOuterTapWeight));
-      result.blended += tent.x * tent.y * geometry * irradiance;
-      result.confidence += tent.x * tent.y * geometry * tileSample.a;
-      totalWeight += tent.x * tent.y * geometry;
-      if (x >= 0 && x <= 1 && y >= 0 && y <= 1 && geometry >= kSameSurfaceWeight) {
-        result.lowest = min(result.lowest, irradiance);
-        result.highest = max(result.highest, irradiance);
-        result.probeBlend += tent.x * tent.y * geometry * imageLoad(tileProbeBlend, tile).r;
-        sameSurfaceWeight += tent.x * tent.y * geometry;
-      }
+  float sameSurfaceWeight = 0.0;
+  for (int tap = 0; tap < 16; ++tap) {
+    // The bilinear four first (taps 0–3); the twelve around them only where none of the four is on the surface.
+    ivec2 offset = tap < 4 ? ivec2(tap & 1, tap >> 1) : kOuterTileOffsets[tap - 4];
+    if (tap == 4 && totalWeight > 0.0) break;
+    ivec2 tile = firstTile + offset;
+    TileTap tileSample = tileTap(surface, tile, sampleOffset);
+    vec2 tent = max(vec2(1.0) - abs(vec2(tile) - tileCoordinate), vec2(kOuterTapWeight));
+    float weight = tent.x * tent.y * tileSample.geometry;
+    weightedSum += weight * tileSample.irradiance;
+    totalWeight += weight;
+    if (tap < 4 && tileSample.geometry >= kSameSurfaceWeight) {
+      result.lowest = min(result.lowest, tileSample.irradiance.rgb);
+      result.highest = max(result.highest, tileSample.irradiance.rgb);
+      result.probeBlend += weight * imageLoad(tileProbeBlend, tile).r;
+      sameSurfaceWeight += weight;
     }
+  }
   result.sampled = totalWeight > 0.0;
-  result.blended = totalWeight > 0.0 ? result.blended / totalWeight : vec3(0.0);
-  result.confidence = totalWeight > 0.0 ? result.confidence / totalWeight : 0.0;
+  result.blended = totalWeight > 0.0 ? weightedSum.rgb / totalWeight : vec3(0.0);
+  result.confidence = totalWeight > 0.0 ? weightedSum.a / totalWeight : 0.0;
   result.probeBlend = sameSurfaceWeight > 0.0 ? result.probeBlend / sameSurfaceWeight : 1.0;
   return result;
 }

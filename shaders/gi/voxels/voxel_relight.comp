@@ -6,7 +6,8 @@
 // camera looks away left its bounce light there for good, feeding itself through the probes).
 // A frame relights the pool's bricks [firstBrick, endBrick) — a slice of it, Settings::voxelRelightPeriod — up to the
 // bump allocator's count (no brick beyond it was ever used), a workgroup going over every gl_NumWorkGroups-th brick
-// with a thread per voxel: a few hundred workgroups rather than one per brick of the pool, most of which is empty.
+// with a thread per occupied voxel: a few hundred workgroups rather than one per brick of the pool, most of which is
+// empty.
 #define SSVGI_VOXELS_WRITABLE
 #include "gi/gather/probe_irradiance.glsl"
 #include "shared/sampling.h"
@@ -19,10 +20,11 @@ layout(push_constant) uniform Slice {
 };
 layout(binding = kBindPoolState) readonly buffer PoolBlock { BrickPoolState pool; };
 
-void relightVoxel(uint brick, uint voxelIndex) {
+void relightVoxel(uint brick, uint occupiedVoxel) {
   if (bricks[brick].live == 0u) return;  // free
+  uint voxelIndex = nthOccupiedVoxel(brick, occupiedVoxel);
+  if (voxelIndex == kVoxelsPerBrick) return;
   uvec3 voxelInBrick = uvec3(voxelIndex & 3u, (voxelIndex >> 2u) & 3u, voxelIndex >> 4u);
-  if (!voxelOccupied(brick, voxelInBrick)) return;
   uint index = brick * kVoxelsPerBrick + voxelIndex;
   Voxel voxel = voxels[index];
   if ((voxel.albedo & kVoxelRelit) == 0u) return;  // its view gave all of its light: it stays as given
