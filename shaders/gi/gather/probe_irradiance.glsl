@@ -53,7 +53,7 @@ GatheredLight gatherLevel(uint level, vec3 position, vec3 normal, bool testVisib
   vec3 grid = biased / spacing;
   ivec3 cell = ivec3(floor(grid));
   vec3 fraction = grid - vec3(cell);
-  vec3 irradiance = vec3(0.0);
+  Sh2Rgb radiance = sh2Zero();  // the probes' radiance SH, weighted
   float known = 0.0;
   float blend = 0.0;
   float totalWeight = 0.0;
@@ -88,15 +88,17 @@ GatheredLight gatherLevel(uint level, vec3 position, vec3 normal, bool testVisib
         if (blocker.hit && blocker.distance < pointDistance - 0.5 * volume.voxelSize) continue;
       }
     }
-    Sh2Rgb radiance = probeRadianceSh(stored);
-    irradiance += weight * sh2IrradianceWithoutRinging(radiance, normal);
+    radiance = sh2Add(radiance, sh2Scale(probeRadianceSh(stored), weight));
     // The same probes with the same weights: the confidence says how much of this E rests on observed space.
     known += weight * probeKnownFraction(stored);
     blend += weight / float(probeHistoryCount(stored.state) + 1u);
     totalWeight += weight;
   }
   if (totalWeight <= 0.0) return GatheredLight(vec3(0.0), 0.0, 1.0, false);
-  return GatheredLight(irradiance / totalWeight, known / totalWeight, blend / totalWeight, true);
+  // One reading of the radiance field interpolated at the point, not eight of the probes' own: the reading is the
+  // gather's costliest arithmetic (a pow per channel), and its guards apply as well to the light the point is given.
+  vec3 irradiance = sh2IrradianceWithoutRinging(sh2Divide(radiance, totalWeight), normal);
+  return GatheredLight(irradiance, known / totalWeight, blend / totalWeight, true);
 }
 
 // Irradiance and confidence at a surface point from the finest level that holds it (near a level's boundary, by
