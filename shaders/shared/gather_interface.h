@@ -30,6 +30,8 @@ SSVGI_CONSTANT(float, kGatherBackfacingProbeWeight, 0.02f);
 // "Distance Weight": a probe whose traced distance toward the point is shorter than the point's distance probably sees a
 // surface in between; its weight falls with the cube of the ratio, down to this floor.
 SSVGI_CONSTANT(float, kGatherOccludedProbeWeight, 0.02f);
+// A probe whose weight before the visibility test is at most this share of the 8 probes' is left out untraced.
+SSVGI_CONSTANT(float, kGatherNegligibleProbeShare, 0.03f);
 // Levels blend over the last this-many probe spacings inside a level's boundary: the gather picks the coarser level
 // with a probability that grows toward the boundary ("Noise + Light Gather Temporal Filter", the talk), so the seam
 // becomes noise that the temporal filter averages.

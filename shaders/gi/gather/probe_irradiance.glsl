@@ -40,59 +40,85 @@ struct GatheredLight {
   bool found;        // some probe contributed
 };
 
+// One of the 8 probes around a point, with the talk's weights (trilinear × normal × distance) before the visibility
+// test; weight 0 where the probe is outside the level or knows nothing.
+struct CornerProbe {
+  Probe stored;
+  vec3 position;  // with its virtual offset
+  float weight;
+};
+
+CornerProbe cornerProbe(uint level, ivec3 cell, vec3 fraction, int corner, vec3 position, vec3 normal, vec3 biased) {
+  float spacing = gather.probeLevels[level].spacing;
+  ivec3 origin = gather.probeLevels[level].origin;
+  ivec3 dimensions = gather.probesPerAxis;
+  ProbeCellCorner around = probeCellCorner(cell, fraction, corner);
+  ivec3 probe = around.probe;
+  CornerProbe result;
+  result.weight = 0.0;
+  if (any(lessThan(probe, origin)) || any(greaterThanEqual(probe, origin + dimensions))) return result;
+  result.stored = probes[level * uint(gather.probesPerLevel) + probeSlotIndex(probe, dimensions)];
+  // A probe never traced, inside geometry, just moved, or a slot that still holds a probe the level scrolled away
+  // from, knows nothing here.
+  if (!probeIsUsable(result.stored, probe)) return result;
+  result.position = probeWorldPosition(probe, spacing, result.stored.state);
+  float weight = around.weight;
+  // "Normal Weight": probes behind the surface count less (from the true point, as DDGI does).
+  vec3 toProbe = result.position - position;
+  float facing = 0.5 * (dot(toProbe, normal) / max(length(toProbe), 1e-4) + 1.0);
+  weight *= facing * facing + kGatherBackfacingProbeWeight;
+  // "Distance Weight": the probe's traced distance toward the point against the point's distance.
+  vec3 fromProbe = biased - result.position;
+  float pointDistance = length(fromProbe);
+  if (pointDistance > 1e-4) {
+    float traced = dot(probeDistanceSh(result.stored, spacing), sh2Basis(fromProbe / pointDistance));
+    float visible = clamp(traced / pointDistance, 0.0, 1.0);
+    weight *= max(visible * visible * visible, kGatherOccludedProbeWeight);
+  }
+  result.weight = weight;
+  return result;
+}
+
 // Irradiance at a surface point from the 8 probes of a level around it, and their confidence.
 // `testVisibility`: leave out a probe with a voxel between it and the point (a voxel trace per probe). Only a pass that
 // does not write the voxels may trace them.
 GatheredLight gatherLevel(uint level, vec3 position, vec3 normal, bool testVisibility) {
   float spacing = gather.probeLevels[level].spacing;
-  ivec3 origin = gather.probeLevels[level].origin;
-  ivec3 dimensions = gather.probesPerAxis;
   // "Normal Bias" (the talk): interpolate and test visibility from a point off the surface, so that the probes just
   // behind a wall do not see the point on its front as unoccluded.
   vec3 biased = position + normal * (kGatherNormalBiasSpacings * spacing);
   vec3 grid = biased / spacing;
   ivec3 cell = ivec3(floor(grid));
   vec3 fraction = grid - vec3(cell);
+  // The traces are most of the gather's cost: a probe whose weight is a negligible share of the 8 probes' is left out
+  // rather than traced, which changes E by less than that share.
+  float weightBeforeVisibility = 0.0;
+  for (int corner = 0; corner < kProbeCellCorners; ++corner)
+    weightBeforeVisibility += cornerProbe(level, cell, fraction, corner, position, normal, biased).weight;
+  float negligibleWeight = kGatherNegligibleProbeShare * weightBeforeVisibility;
   Sh2Rgb radiance = sh2Zero();  // the probes' radiance SH, weighted
   float known = 0.0;
   float blend = 0.0;
   float totalWeight = 0.0;
   for (int corner = 0; corner < kProbeCellCorners; ++corner) {
-    ProbeCellCorner around = probeCellCorner(cell, fraction, corner);
-    ivec3 probe = around.probe;
-    if (any(lessThan(probe, origin)) || any(greaterThanEqual(probe, origin + dimensions))) continue;
-    Probe stored = probes[level * uint(gather.probesPerLevel) + probeSlotIndex(probe, dimensions)];
-    // A probe never traced, inside geometry, just moved, or a slot that still holds a probe the level scrolled away
-    // from, knows nothing here.
-    if (!probeIsUsable(stored, probe)) continue;
-    float weight = around.weight;
-    vec3 probePosition = probeWorldPosition(probe, spacing, stored.state);  // with its virtual offset
-    // "Normal Weight": probes behind the surface count less (from the true point, as DDGI does).
-    vec3 toProbe = probePosition - position;
-    float facing = 0.5 * (dot(toProbe, normal) / max(length(toProbe), 1e-4) + 1.0);
-    weight *= facing * facing + kGatherBackfacingProbeWeight;
-    // "Distance Weight": the probe's traced distance toward the point against the point's distance.
-    vec3 fromProbe = biased - probePosition;
+    CornerProbe probe = cornerProbe(level, cell, fraction, corner, position, normal, biased);
+    if (probe.weight <= negligibleWeight) continue;
+    vec3 fromProbe = biased - probe.position;
     float pointDistance = length(fromProbe);
-    if (pointDistance > 1e-4) {
-      float traced = dot(probeDistanceSh(stored, spacing), sh2Basis(fromProbe / pointDistance));
-      float visible = clamp(traced / pointDistance, 0.0, 1.0);
-      weight *= max(visible * visible * visible, kGatherOccludedProbeWeight);
-      // Beyond the talk's weights, which it says only ease leaks: a probe with a voxel between it and the point does
-      // not light it. The SH2 distance is far too coarse to see a wall a probe stands a few centimetres behind (the
-      // virtual offset may put it on either side), and through a closed door the lit room's probes would light the
-      // dark one (`ssvgi scenario leak`). A voxel within half a voxel of the biased point is the point's own surface.
-      if (testVisibility) {
-        VoxelHit blocker = traceVoxelsHierarchical(probePosition, fromProbe / pointDistance, pointDistance,
-                                                      kIgnoreObservedSpace);
-        if (blocker.hit && blocker.distance < pointDistance - 0.5 * volume.voxelSize) continue;
-      }
+    // Beyond the talk's weights, which it says only ease leaks: a probe with a voxel between it and the point does not
+    // light it. The SH2 distance is far too coarse to see a wall a probe stands a few centimetres behind (the virtual
+    // offset may put it on either side), and through a closed door the lit room's probes would light the dark one
+    // (`ssvgi scenario leak`). A voxel within half a voxel of the biased point is the point's own surface.
+    if (testVisibility && pointDistance > 1e-4) {
+      VoxelHit blocker =
+          traceVoxelsHierarchical(probe.position, fromProbe / pointDistance, pointDistance, kIgnoreObservedSpace);
+      if (blocker.hit && blocker.distance < pointDistance - 0.5 * volume.voxelSize) continue;
     }
-    radiance = sh2Add(radiance, sh2Scale(probeRadianceSh(stored), weight));
+    radiance = sh2Add(radiance, sh2Scale(probeRadianceSh(probe.stored), probe.weight));
     // The same probes with the same weights: the confidence says how much of this E rests on observed space.
-    known += weight * probeKnownFraction(stored);
-    blend += weight / float(probeHistoryCount(stored.state) + 1u);
-    totalWeight += weight;
+    known += probe.weight * probeKnownFraction(probe.stored);
+    blend += probe.weight / float(probeHistoryCount(probe.stored.state) + 1u);
+    totalWeight += probe.weight;
   }
   if (totalWeight <= 0.0) return GatheredLight(vec3(0.0), 0.0, 1.0, false);
   // One reading of the radiance field interpolated at the point, not eight of the probes' own: the reading is the
