@@ -1063,9 +1063,10 @@ TEST_F(VoxelScene, theHighTierVoxelSceneFitsTheMemoryBudget) {
     EXPECT_GT(resource.bytes, 0u) << resource.name;
     if (resource.name.rfind("ssvgi probe", 0) != 0) voxelBytes += resource.bytes;  // probe_tests.cpp checks those
   }
-  // SPEC §5: all GI data ≤ 30 MB at high tier; the voxel scene must leave room for the probes (≈ 8 MB).
-  EXPECT_LE(voxelBytes, 22u * 1024 * 1024);
-  EXPECT_EQ(stats.brickPoolCapacity, 16384u);
+  // Issue 16: all GI data ≤ 24 MB at high tier by default (SPEC §5 allows 30); the voxel scene must leave room for the
+  // probes (≈ 7 MB without reservoirs).
+  EXPECT_LE(voxelBytes, 17u * 1024 * 1024);
+  EXPECT_EQ(stats.brickPoolCapacity, 12288u);
 }
 
 // A description of the shared test device with default settings.

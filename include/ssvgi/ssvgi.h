@@ -57,7 +57,7 @@ struct Settings {
   float voxelSize = 0.25f;                            // metres; a brick is 4×4×4 voxels
   std::array<uint32_t, 3> volumeBricks{128, 48, 128};  // the voxel volume around the camera in bricks (X, Y, Z);
                                                       // each a multiple of 8
-  uint32_t brickPoolCapacity = 16384;                 // bricks that can hold voxels at once
+  uint32_t brickPoolCapacity = 12288;                 // bricks that can hold voxels at once
   uint32_t invalidFramesToClear = 8;                  // frames a voxel may be seen through before it is cleared, ≤ 63
   uint32_t emptyFramesToRelease = 8;                  // frames a brick may stay empty before it returns to the pool
   uint32_t allocationPixelStride = 2;                 // BrickAllocate reads every Nth pixel in X and Y
