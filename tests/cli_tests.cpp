@@ -149,8 +149,9 @@ TEST(Cli, renderWithAMemoryBudgetReportsItAndTheSettingsItChose) {
 TEST(Cli, benchReportsTheWorkOfSsvgisPassesInOneMoreFrame) {
   const fs::path out = freshDirectory("bench-work");
   fs::create_directories(out);
-  const CliRun run = runCli("bench --scene cornell --size 32x32 --frames 3 --measured-frames 1 --gi-set raysPerProbe=16 "
-                            "--rays 100 --repetitions 1 --pixel-rays 4 --validation --out " + (out / "bench.json").string());
+  const CliRun run = runCli("bench --scene cornell --size 32x32 --frames 3 --measured-frames 1 "
+                            "--gi-set raysPerProbe=16 --rays 100 --repetitions 1 --pixel-rays 4 --validation --out " +
+                            (out / "bench.json").string());
   ASSERT_EQ(run.exitCode, 0) << run.output;
   std::ifstream reportFile(out / "bench.json");
   const auto report = nlohmann::json::parse(reportFile);

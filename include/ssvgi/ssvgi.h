@@ -227,9 +227,9 @@ struct FrameDesc {
   // Y00, Y1,-1, Y1,0, Y1,1. Probe rays that leave the voxel volume see it (clamped at 0). All zero: a black sky.
   std::array<float, 12> skyRadianceSh{};
   std::vector<ExtraView> extraViews;  // at most kMaxExtraViews; their images as the lit frame's (SampledImage)
-  // The passes count their work this frame (Stats::work): what each did, which no device changes, beside the GPU
-  // times, which every device does. It costs an atomic add per thread of each counted pass and counter: leave it off
-  // except to measure (`ssvgi bench` counts one frame after its timed ones). Off, the passes skip it on a uniform.
+  // The passes count their work this frame (Stats::work): what each did, which the device's speed does not change,
+  // beside the GPU times, which it does. It costs an atomic add per thread of each counted pass and counter: leave it
+  // off except to measure (`ssvgi bench` counts one frame after its timed ones). Off, the passes skip it on a uniform.
   bool countWork = false;
 };
 

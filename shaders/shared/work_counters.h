@@ -1,10 +1,10 @@
 // The work of a frame's passes, counted on the GPU where it depends on the data (ssvgi::Stats::work, `ssvgi bench`):
-// what each pass did, which no device changes, beside the GPU times, which every device does. The passes count only
-// on a frame the host asks to (FrameDesc::countWork, VoxelVolume::countsWork), into a buffer of the voxel scene
-// (kBindWorkCounters) cleared at the start of that frame and copied out at its end. Each thread sums its own work and
-// adds it with one atomicAdd per counter (or a workgroup sums its threads' first). Adds commute, so the passes need
-// no barrier between them for it (gpu::Bindings::accumulator): a frame that does not count pays for the counters
-// with nothing but a uniform branch and a few additions in registers. 32 bits hold a frame's counts.
+// what each pass did, which the device's speed does not change, beside the GPU times, which it does. The passes
+// count only on a frame the host asks to (FrameDesc::countWork, VoxelVolume::countsWork), into a buffer of the voxel
+// scene (kBindWorkCounters) cleared at the start of that frame and copied out at its end. Each thread sums its own
+// work and adds it with one atomicAdd per counter (or a workgroup sums its threads' first). Adds commute, so the
+// passes need no barrier between them for it (gpu::Bindings::accumulator): a frame that does not count pays for the
+// counters with nothing but a uniform branch and a few additions in registers. 32 bits hold a frame's counts.
 //
 // Rays are voxel traces (traceVoxelsHierarchical, SPEC §4.4); their reads are the buffer words they load (brick
 // lookups, occupancy masks and grid words, the voxel they meet: VoxelHit::reads), a trace's cost on any device.
