@@ -152,6 +152,7 @@ void Renderer::recordGi(gpu::CommandList& commands, const shader::FrameConstants
   const shader::Sh2Rgb sky = projectSkyToSh2(frame.sky);  // what probe rays that leave the voxel volume see
   std::memcpy(desc.skyRadianceSh.data(), &sky, sizeof(sky));
   desc.extraViews = lastExtraViews_;
+  desc.countWork = settings_.countGiWork;
   if (const ssvgi::Error error = gi_->dispatch(desc, commands.handle())) throw gpu::GpuError("ssvgi: " + error.message);
   giView_ = desc.camera;
 }

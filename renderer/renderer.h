@@ -57,6 +57,7 @@ struct RendererSettings {
   ExtraViewSettings extraViews;
   // Anything but All needs litFrameDirectOnly: a final radiance given to ssvgi as its lit frame must hold all the light.
   ShownLight shownLight = ShownLight::All;
+  bool countGiWork = false;  // ssvgi's passes count their work (ssvgi::FrameDesc::countWork, Stats::work)
 };
 
 // The host renderer (headless): shadows, G-buffer, direct light, the GI library, composite and tonemap for one scene,
@@ -72,6 +73,7 @@ class Renderer {
   // The settings that may change between frames (the viewer's controls); the others need a new renderer.
   void setExposure(float exposure) { settings_.exposure = exposure; }
   void setGiLighting(bool giLighting) { settings_.giLighting = giLighting; }
+  void setCountGiWork(bool count) { settings_.countGiWork = count; }
   void setShownLight(ShownLight shown);  // throws as the constructor does
 
   // Renders the scene as it is at `state` (camera, sun, moving object) and waits for the GPU.

@@ -146,6 +146,34 @@ TEST(Cli, renderWithAMemoryBudgetReportsItAndTheSettingsItChose) {
   EXPECT_EQ(used["raysPerProbe"], asked["raysPerProbe"]);  // what the budget does not size stays
 }
 
+TEST(Cli, benchReportsTheWorkOfSsvgisPassesInOneMoreFrame) {
+  const fs::path out = freshDirectory("bench-work");
+  fs::create_directories(out);
+  const CliRun run = runCli("bench --scene cornell --size 32x32 --frames 3 --measured-frames 1 "
+                            "--gi-set raysPerProbe=16 --rays 100 --repetitions 1 --pixel-rays 4 --validation --out " +
+                            (out / "bench.json").string());
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  std::ifstream reportFile(out / "bench.json");
+  const auto report = nlohmann::json::parse(reportFile);
+  ASSERT_TRUE(report.contains("work"));
+  const auto& work = report["work"];
+  EXPECT_EQ(work["frame"], 3);  // after the 3 timed frames
+  EXPECT_EQ(work["probeLevel"], 0);
+  const auto& probeTrace = work["ProbeTrace"];
+  EXPECT_GT(probeTrace["probes"].get<uint32_t>(), 0u);
+  EXPECT_EQ(probeTrace["rays"].get<uint32_t>(), 16 * probeTrace["probes"].get<uint32_t>());
+  EXPECT_DOUBLE_EQ(probeTrace["readsPerRay"].get<double>(),
+                   probeTrace["reads"].get<double>() / probeTrace["rays"].get<double>());
+  for (const char* pass : {"ProbeTrace", "ProbeRelocate", "VoxelRelight", "FinalGather"})
+    for (const char* count : {"rays", "reads", "readsPerRay"}) EXPECT_TRUE(work[pass].contains(count)) << pass << count;
+  EXPECT_TRUE(probeTrace.contains("seedRays"));
+  const uint32_t tiles = work["FinalGather"]["tiles"].get<uint32_t>();
+  EXPECT_GT(tiles, 0u);
+  EXPECT_LE(tiles, 8u * 8u);  // 4×4-pixel tiles of 32×32
+  EXPECT_GT(work["SceneVoxelization"]["voxels"].get<uint32_t>(), 0u);
+  EXPECT_EQ(work["Upsample"]["pixels"], 16 * 16);
+}
+
 TEST(Cli, debugViewsAreSeenFromTheDebugCamera) {
   // The Cornell box's voxels from its own camera, and from a camera at the same place looking away from the box, out
   // of its open side into the empty volume: there every ray leaves the volume (black).

@@ -452,6 +452,56 @@ TEST_F(GatherOverConstantProbes, finalGatherGivesPiTimesTheRadianceEverywhere) {
   EXPECT_EQ(output.height, kSize / 2);
 }
 
+TEST_F(GatherOverConstantProbes, finalGatherCountsTheTilesWhoseSampleShowsASurfaceAndEightVisibilityRaysForEach) {
+  // Every probe is usable and every surface lies inside a level with a spacing to spare, so each tile that samples a
+  // surface tests the visibility of all 8 probes around it; a tile that samples nothing traces nothing. Nothing is
+  // drawn right of column 19, which the tiles of column 4 sample at this frame's offset (2, 0) but at others not.
+  const glm::vec3 position(0.5f, 0.5f, 3.5f);
+  Context& context = dispatchOverConstantProbes(position);
+  Stats stats = context.stats();
+  EXPECT_FALSE(stats.work.counted);  // its frames do not count
+  EXPECT_EQ(stats.work.finalGather.tiles, 0u);
+  EXPECT_EQ(stats.work.finalGather.visibility.rays, 0u);
+  EXPECT_EQ(stats.work.upsample.pixels, 0u);
+
+  constexpr uint32_t kFirstColumnShowingNothing = 19;
+  TestView view = viewFrom(position);
+  for (uint32_t y = 0; y < kSize; ++y)
+    for (uint32_t x = kFirstColumnShowingNothing; x < kSize; ++x) view.depth[y * kSize + x] = 0.0f;
+  setFrame(view, position);
+  FrameDesc frame;
+  frame.frameIndex = 2;
+  frame.camera = debugCamera(position);
+  frame.depth.view = depthView();
+  frame.normal.view = normalView();
+  frame.countWork = true;
+  Error error;
+  device().submitAndWait([&](VkCommandBuffer commandBuffer) { error = context.dispatch(frame, commandBuffer); });
+  ASSERT_FALSE(error) << error.message;
+
+  const glm::uvec2 offset = shader::gatherSampleOffset(frame.frameIndex);
+  ASSERT_EQ(offset, glm::uvec2(2, 0));
+  uint32_t surfaceTiles = 0;
+  for (uint32_t y = 0; y < kSize / shader::kGatherTileSize; ++y)
+    for (uint32_t x = 0; x < kSize / shader::kGatherTileSize; ++x) {
+      const glm::uvec2 pixel = glm::uvec2(x, y) * shader::kGatherTileSize + offset;
+      surfaceTiles += view.depth[pixel.y * kSize + pixel.x] > 0.0f ? 1u : 0u;
+    }
+  ASSERT_EQ(surfaceTiles, 5u * (kSize / shader::kGatherTileSize));
+  stats = context.stats();
+  EXPECT_TRUE(stats.work.counted);
+  EXPECT_EQ(stats.work.finalGather.tiles, surfaceTiles);
+  EXPECT_EQ(stats.work.finalGather.visibility.rays, 8u * surfaceTiles);
+  EXPECT_GT(stats.work.finalGather.visibility.reads, 0u);  // not ≥ rays: a probe outside the voxel volume reads none
+  // The passes of one thread per pixel, counted from their dispatch sizes: the half-resolution output, and the Hi-Z
+  // pyramid from half resolution down to one texel.
+  EXPECT_EQ(stats.work.upsample.pixels, (kSize / 2) * (kSize / 2));
+  EXPECT_EQ(stats.work.temporalFilter.pixels, (kSize / 2) * (kSize / 2));
+  uint32_t hizTexels = 0;
+  for (uint32_t side = kSize / 2; side >= 1; side /= 2) hizTexels += side * side;
+  EXPECT_EQ(stats.work.hizBuild.texels, hizTexels);
+}
+
 TEST_F(GatherOverConstantProbes, probeDebugViewShowsEachProbeAsASphereLitByItsShOrInItsStateColour) {
   Context& context = dispatchOverConstantProbes({0.5f, 0.5f, 3.5f});
   // A debug camera on the line of probes x = y = 0, half a spacing behind probe (0, 0, 3): the centre pixel's ray meets

@@ -11,6 +11,7 @@
 #include "renderer.h"
 #include "shared/probe_interface.h"
 #include "ssvgi/ssvgi.h"
+#include "voxel_readback.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -19,6 +20,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <iterator>
 #include <optional>
 #include <vector>
 
@@ -226,6 +228,7 @@ class ProbeCache : public testing::GpuTest {
       frame.normal.view = depth_.view();  // nothing is drawn, so the gather never reads a normal
       frame.skyRadianceSh = uniformSkySh(kSkyRadiance);
       frame.extraViews = extraViews_;
+      frame.countWork = countWork_;
       Error error;
       device().submitAndWait([&](VkCommandBuffer commandBuffer) { error = context_->dispatch(frame, commandBuffer); });
       ASSERT_FALSE(error) << error.message;
@@ -298,6 +301,7 @@ class ProbeCache : public testing::GpuTest {
   gpu::Image depth_;
   View view_;
   std::vector<ExtraView> extraViews_;  // given with every frame
+  bool countWork_ = false;             // the frames count their work (FrameDesc::countWork)
   uint32_t frameIndex_ = 0;
 };
 
@@ -870,6 +874,143 @@ TEST_F(ProbeCache, anInvalidProbeTakesTheMeanRadianceOfItsUsableNeighbours) {
     for (int i = 0; i < 4; ++i)
       EXPECT_NEAR(actual[i], expected[i], 1e-3f * std::abs(expected[i]) + 1e-4f) << "channel " << channel << " " << i;
   }
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// The work the passes count (Stats::work, FrameDesc::countWork).
+
+// Every count of a frame that did not count its work is 0.
+void expectNoWorkCounted(const WorkCounts& work) {
+  EXPECT_FALSE(work.counted);
+  const uint32_t counts[] = {work.hizBuild.texels,
+                             work.observedSpace.rays,
+                             work.observedSpace.cells,
+                             work.sceneVoxelization.voxels,
+                             work.sceneVoxelization.voxelsInView,
+                             work.extraViewVoxelization.voxels,
+                             work.extraViewVoxelization.voxelsInView,
+                             work.voxelRelight.voxels,
+                             work.voxelRelight.visibility.rays,
+                             work.voxelRelight.visibility.reads,
+                             work.probePlacement.probes,
+                             work.probePlacement.reads,
+                             work.probeTrace.probes,
+                             work.probeTrace.rays.rays,
+                             work.probeTrace.rays.reads,
+                             work.probeTrace.seedVisibility.rays,
+                             work.probeTrace.seedVisibility.reads,
+                             work.probeRelocate.rays,
+                             work.probeRelocate.reads,
+                             work.finalGather.tiles,
+                             work.finalGather.visibility.rays,
+                             work.finalGather.visibility.reads,
+                             work.upsample.pixels,
+                             work.temporalFilter.pixels};
+  for (size_t i = 0; i < std::size(counts); ++i) EXPECT_EQ(counts[i], 0u) << "count " << i;
+}
+
+TEST_F(ProbeCache, probeTraceCountsRaysPerProbeForEachProbeAndASeedRayForEachUsableCoarserProbeApart) {
+  // One brick. Frame 1 updates level 1, whose coarser level has never been traced: its new probes start from nothing.
+  // Frame 2 (level 2) does not count. Frame 3 updates level 0, all of whose probes are new: each tests its visibility
+  // to every coarser probe around it with a trilinear weight, usable (traced at frame 1, not moved since) and more than
+  // half a voxel away — a count taken here from level 1's probes as frame 3 finds them. 16 rays per probe, not the
+  // workgroup's 32 threads.
+  Settings settings = probeTestSettings();
+  settings.raysPerProbe = 16;
+  create(settings);  // frame 0, level 0: nothing to trace yet
+  writeScene({{{0, -3, 4}, kFullBrick, glm::vec3(0.5f), {0.0f, 1.0f, 0.0f}}});
+  countWork_ = true;
+  runFrames(1);
+  Stats stats = context_->stats();
+  ASSERT_TRUE(stats.work.counted);
+  ASSERT_EQ(stats.probeLevelUpdatedLastFrame, 1u);
+  ASSERT_GT(stats.probesUpdatedLastFrame, 0u);
+  EXPECT_EQ(stats.work.probeTrace.probes, stats.probesUpdatedLastFrame);
+  EXPECT_EQ(stats.work.probeTrace.rays.rays, stats.probesUpdatedLastFrame * settings.raysPerProbe);
+  EXPECT_GE(stats.work.probeTrace.rays.reads, stats.work.probeTrace.rays.rays);  // each starts in the volume
+  EXPECT_EQ(stats.work.probeTrace.seedVisibility.rays, 0u);
+  EXPECT_GE(stats.work.probePlacement.probes, stats.probesUpdatedLastFrame);
+  EXPECT_GE(stats.work.probePlacement.reads, stats.probesUpdatedLastFrame);
+
+  // Frame 2 does not count: its passes leave the counters as frame 1 left them, and Stats reports none.
+  const auto counters = [&] {
+    return gpu::readBufferAs<uint32_t>(device(), gi::voxelSceneOf(*context_).workCounters());
+  };
+  const std::vector<uint32_t> countedByFrame1 = counters();
+  countWork_ = false;
+  runFrames(1);
+  ASSERT_GT(context_->stats().probesUpdatedLastFrame, 0u);
+  EXPECT_EQ(counters(), countedByFrame1) << "a pass counted its work on a frame that does not count";
+  expectNoWorkCounted(context_->stats().work);
+
+  const std::vector<shader::Probe> probes = readProbes();
+  countWork_ = true;
+  runFrames(1);
+  stats = context_->stats();
+  ASSERT_EQ(stats.probeLevelUpdatedLastFrame, 0u);
+  const gi::ProbeVolume& volume = gi::probeVolumeOf(*context_);
+  const std::vector<uint32_t> list = gpu::readBufferAs<uint32_t>(device(), volume.list());
+  const uint32_t listed = list[3];
+  ASSERT_EQ(listed, stats.probesUpdatedLastFrame);
+  const glm::ivec3 origin = volume.levelOrigin(0, kCameraPosition);
+  uint32_t seeds = 0;
+  for (uint32_t i = 0; i < listed; ++i) {
+    const glm::ivec3 probe = shader::probeWorldCoordinate(list[shader::kIndirectListHeaderWords + i], origin,
+                                                          probeGrid());
+    ASSERT_FALSE(wasTraced(probes[shader::probeSlotIndex(probe, probeGrid())])) << "a level-0 probe is not new";
+    const glm::vec3 position = shader::probeWorldPosition(probe, spacing(0), 0u);
+    const glm::vec3 fraction = glm::vec3(probe & 1) * 0.5f;
+    for (int corner = 0; corner < shader::kProbeCellCorners; ++corner) {
+      const shader::ProbeCellCorner around = shader::probeCellCorner(probe >> 1, fraction, corner);
+      const shader::Probe& coarser = probes[probesPerLevel() + shader::probeSlotIndex(around.probe, probeGrid())];
+      if (around.weight == 0.0f || !shader::probeIsUsable(coarser, around.probe)) continue;
+      const glm::vec3 coarserPosition = shader::probeWorldPosition(around.probe, spacing(1), coarser.state);
+      if (glm::distance(coarserPosition, position) > 0.5f * settings.voxelSize) ++seeds;
+    }
+  }
+  ASSERT_GT(seeds, 0u);
+  EXPECT_EQ(stats.work.probeTrace.seedVisibility.rays, seeds);
+  EXPECT_GE(stats.work.probeTrace.seedVisibility.reads, seeds);
+  EXPECT_EQ(stats.work.probeTrace.probes, listed);
+  EXPECT_EQ(stats.work.probeTrace.rays.rays, listed * settings.raysPerProbe);
+}
+
+TEST_F(ProbeCache, voxelRelightCountsEveryRelitVoxelAViewHasSeenSinceTheLitFrameAndItsVisibilityRays) {
+  // The relight test's two bricks: the top layer of one relit, of the other given all its light; and a third whose
+  // voxels are relit but were lit by the camera's lit frame last (no extra view since), which VoxelRelight leaves to
+  // it. The count must be the voxels of the first alone, as the voxels read back say: occupied, relit, seen by an
+  // extra view since.
+  create(probeTestSettings());
+  constexpr uint64_t kTopLayer = 0xf000'f000'f000'f000ull;
+  TestBrick relit{{0, -3, 4}, kTopLayer, glm::vec3(0.0f), {0.0f, 1.0f, 0.0f}};
+  relit.albedo = glm::vec3(0.5f);
+  relit.directRadiance = glm::vec3(0.5f);
+  const TestBrick given{{2, -3, 4}, kTopLayer, glm::vec3(kSkyRadiance), {0.0f, 1.0f, 0.0f}};
+  TestBrick litByTheCamera = relit;
+  litByTheCamera.coordinate = {-2, -3, 4};
+  writeScene({relit, given, litByTheCamera});
+  // The third brick's voxels as the camera's lit frame leaves them: no extra view since.
+  const gi::VoxelScene& scene = gi::voxelSceneOf(*context_);
+  std::vector<shader::Voxel> voxels = gpu::readBufferAs<shader::Voxel>(device(), scene.voxels());
+  for (uint32_t voxel = 0; voxel < shader::kVoxelsPerBrick; ++voxel)
+    voxels[2 * shader::kVoxelsPerBrick + voxel].surfaceAndLastHit &= ~(3u << shader::kVoxelExtraViewsShift);
+  gpu::uploadBuffer(device(), scene.voxels(), std::as_bytes(std::span(voxels)));
+  runUpdates(1);  // probes around them
+  countWork_ = true;
+  runFrames(1);
+  const Stats stats = context_->stats();
+
+  uint32_t relightable = 0;
+  for (const auto& [coordinate, voxel] : testing::readOccupiedVoxels(device(), *context_))
+    if ((voxel.albedo & shader::kVoxelRelit) != 0u && shader::voxelExtraViewsSinceLitFrame(voxel) != 0u) ++relightable;
+  EXPECT_EQ(relightable, 16u);
+  EXPECT_EQ(stats.work.voxelRelight.voxels, relightable);
+  // Each gathers from the 8 probes around it at one level (a coarser one where none is usable): at least one usable
+  // probe, at most 8 at each of 3 levels, every probe in the volume and so read from.
+  EXPECT_GE(stats.work.voxelRelight.visibility.rays, relightable);
+  EXPECT_LE(stats.work.voxelRelight.visibility.rays, relightable * 8 * shader::kProbeLevels);
+  EXPECT_GE(stats.work.voxelRelight.visibility.reads, stats.work.voxelRelight.visibility.rays);
+  EXPECT_EQ(stats.work.finalGather.tiles, 0u);  // the frames show nothing
 }
 
 // ---------------------------------------------------------------------------------------------------------------------

@@ -174,6 +174,7 @@ class VoxelScene : public testing::GpuTest {
     frame.extraViews = extraViews;
     frame.skyRadianceSh = skyRadianceSh;
     frame.frameIndex = frameIndex_++;
+    frame.countWork = countWork_;
     frame.camera = current.view;
     frame.depth.view = current.depth.view();
     frame.normal.view = current.normal.view();
@@ -247,6 +248,7 @@ class VoxelScene : public testing::GpuTest {
   }
 
   std::unique_ptr<Context> context_;
+  bool countWork_ = false;  // dispatch()'s frames count their work (FrameDesc::countWork)
   uint32_t frameIndex_ = 0;
 };
 
@@ -394,6 +396,36 @@ TEST_F(VoxelScene, anExtraViewFillsTheVoxelsTheCameraNeverSeesAndTheLitFrameWins
   // Every voxel of the ring: centres 10.5 or 11.5 voxels from (0.5, 0.5) along the farther axis, 24² − 20² of them.
   EXPECT_EQ(outerVoxels, 176u) << "the extra view's voxels beyond the camera's view are missing";
   expectPoolConsistent(state, smallSettings());
+}
+
+TEST_F(VoxelScene, injectionCountsEveryVoxelOfEachBrickInViewForTheCameraAndTheExtraViewsApart) {
+  // The previous test's floor, seen by the camera and by a wider extra view. SceneVoxelization runs a thread per voxel
+  // of each brick BrickCulling listed, whose count Stats sums over the views; of those, the voxels whose random point
+  // lies in the view read its texels. ObservedSpace walks each view's pixels, every ray marking at least its first
+  // brick cell.
+  Settings settings = smallSettings();
+  settings.skyOnlyThroughObservedSpace = true;  // ObservedSpace runs
+  create(settings);
+  const HostFrame camera(device(), lookingDown({0.5f, 6.0f, 0.5f}), {kFloor});
+  const HostFrame wide(device(), lookingDown({0.5f, 6.0f, 0.5f}, 60.0f), {kFloor});
+  for (uint32_t frame = 0; frame < 4; ++frame) dispatch(camera, &camera, {extraView(wide)});
+  countWork_ = true;
+  dispatch(camera, &camera, {extraView(wide)});
+  const Stats stats = context_->stats();
+  ASSERT_TRUE(stats.work.counted);
+  const WorkCounts::Injection& cameraInjection = stats.work.sceneVoxelization;
+  const WorkCounts::Injection& extraViewInjection = stats.work.extraViewVoxelization;
+  EXPECT_EQ(cameraInjection.voxels + extraViewInjection.voxels,
+            shader::kVoxelsPerBrick * stats.bricksVisibleLastFrame);
+  EXPECT_GT(cameraInjection.voxels, 0u);
+  EXPECT_GT(extraViewInjection.voxels, cameraInjection.voxels);  // it sees more of the floor
+  EXPECT_GT(cameraInjection.voxelsInView, 0u);
+  EXPECT_LE(cameraInjection.voxelsInView, cameraInjection.voxels);
+  EXPECT_GT(extraViewInjection.voxelsInView, 0u);
+  EXPECT_LE(extraViewInjection.voxelsInView, extraViewInjection.voxels);
+  EXPECT_GT(stats.work.observedSpace.rays, 0u);
+  EXPECT_LE(stats.work.observedSpace.rays, 2 * kSize * kSize);
+  EXPECT_GE(stats.work.observedSpace.cells, stats.work.observedSpace.rays);
 }
 
 TEST_F(VoxelScene, anExtraViewLitByDirectLightOnlyTakesTheProbesLightReflectedByItsAlbedo) {

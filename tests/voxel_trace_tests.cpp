@@ -415,7 +415,7 @@ class VoxelSceneTest : public testing::GpuTest {
     GpuTest::SetUp();
     scene_ = std::make_unique<gi::VoxelScene>(device(), smallVolumeSettings(), 1);
     bool scrolled = false;
-    cpu_ = std::make_unique<CpuVoxelScene>(scene_->place(kCameraPosition, 0, scrolled));
+    cpu_ = std::make_unique<CpuVoxelScene>(scene_->place(kCameraPosition, 0, false, scrolled));
   }
 
   // Writes the CPU scene into the VoxelScene's buffers, with every grid word set to `gridFill`.

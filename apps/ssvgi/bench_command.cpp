@@ -10,10 +10,12 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <fstream>
 #include <map>
 #include <memory>
+#include <string>
 
 namespace ssvgi::cli {
 
@@ -36,6 +38,45 @@ nlohmann::json traceMethodJson(const bench::TraceMethodResult& result) {
           {"raysPerSecond", result.raysPerSecond},
           {"readsPerRay", result.readsPerRay},
           {"hitFraction", result.hitFraction}};
+}
+
+// Rays a pass traced through the voxels, their reads and the reads per ray, as `pass`'s fields "rays", "reads",
+// "readsPerRay", or with a prefix ("seed": "seedRays", …).
+void addVoxelRays(nlohmann::json& pass, const ssvgi::VoxelRays& traced, const std::string& prefix = "") {
+  const auto key = [&](const std::string& name) {
+    return prefix.empty() ? name : prefix + char(std::toupper(name[0])) + name.substr(1);
+  };
+  pass[key("rays")] = traced.rays;
+  pass[key("reads")] = traced.reads;
+  pass[key("readsPerRay")] = traced.rays ? double(traced.reads) / traced.rays : 0.0;
+}
+
+// The work of ssvgi's passes in the counted frame (ssvgi::Stats::work), by pass name as in "gpuMilliseconds".
+nlohmann::json workJson(const ssvgi::Stats& gi, uint32_t frame, size_t extraViews) {
+  const ssvgi::WorkCounts& work = gi.work;
+  nlohmann::json report = {{"frame", frame},
+                           {"probeLevel", gi.probeLevelUpdatedLastFrame},
+                           {"extraViews", extraViews},
+                           {"HiZBuild", {{"texels", work.hizBuild.texels}}},
+                           {"ObservedSpace", {{"rays", work.observedSpace.rays}, {"cells", work.observedSpace.cells}}},
+                           {"SceneVoxelization", {{"voxels", work.sceneVoxelization.voxels},
+                                                  {"voxelsInView", work.sceneVoxelization.voxelsInView}}},
+                           {"ExtraViews", {{"voxels", work.extraViewVoxelization.voxels},
+                                           {"voxelsInView", work.extraViewVoxelization.voxelsInView}}},
+                           {"VoxelRelight", {{"voxels", work.voxelRelight.voxels}}},
+                           {"ProbePlacement", {{"probes", work.probePlacement.probes},
+                                               {"reads", work.probePlacement.reads}}},
+                           {"ProbeTrace", {{"probes", work.probeTrace.probes}}},
+                           {"ProbeRelocate", nlohmann::json::object()},
+                           {"FinalGather", {{"tiles", work.finalGather.tiles}}},
+                           {"Upsample", {{"pixels", work.upsample.pixels}}},
+                           {"TemporalFilter", {{"pixels", work.temporalFilter.pixels}}}};
+  addVoxelRays(report["VoxelRelight"], work.voxelRelight.visibility);
+  addVoxelRays(report["ProbeTrace"], work.probeTrace.rays);
+  addVoxelRays(report["ProbeTrace"], work.probeTrace.seedVisibility, "seed");
+  addVoxelRays(report["ProbeRelocate"], work.probeRelocate);
+  addVoxelRays(report["FinalGather"], work.finalGather.visibility);
+  return report;
 }
 
 int runBench(const BenchOptions& options) {
@@ -130,6 +171,12 @@ int runBench(const BenchOptions& options) {
                           {"pixelStride", options.pixelStride},
                           {"results", perPixel}};
 
+  // One more frame, counting the work of ssvgi's passes (FrameDesc::countWork): after everything above, which it
+  // would otherwise change.
+  renderer.setCountGiWork(true);
+  renderer.render(state);
+  report["work"] = workJson(*renderer.giStats(), options.frames, renderer.extraViews().size());
+
   const std::string json = report.dump(2);
   if (options.out.empty()) {
     std::printf("%s\n", json.c_str());
@@ -151,8 +198,9 @@ CommandRunner addBenchCommand(CLI::App& app) {
   auto options = std::make_shared<BenchOptions>();
   CLI::App* command = app.add_subcommand(
       "bench", "Render a scene with ssvgi and report, as JSON, the GPU time of every pass, GI memory and counters, "
-               "rays/s of the hierarchical against the flat voxel trace on the same rays, and a per-pixel voxel "
-               "trace's time and quality against ssvgi's (SPEC §7 baselines)");
+               "rays/s of the hierarchical against the flat voxel trace on the same rays, a per-pixel voxel "
+               "trace's time and quality against ssvgi's (SPEC §7 baselines), and the work of ssvgi's passes "
+               "(rays, reads, items) in one more frame");
   addSceneOptions(*command, options->scene);
   command->add_option("--frames", options->frames, "Frames to render")
       ->capture_default_str()

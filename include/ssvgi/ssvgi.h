@@ -227,6 +227,10 @@ struct FrameDesc {
   // Y00, Y1,-1, Y1,0, Y1,1. Probe rays that leave the voxel volume see it (clamped at 0). All zero: a black sky.
   std::array<float, 12> skyRadianceSh{};
   std::vector<ExtraView> extraViews;  // at most kMaxExtraViews; their images as the lit frame's (SampledImage)
+  // The passes count their work this frame (Stats::work): what each did, which the device's speed does not change,
+  // beside the GPU times, which it does. It costs an atomic add per thread of each counted pass and counter: leave it
+  // off except to measure (`ssvgi bench` counts one frame after its timed ones). Off, the passes skip it on a uniform.
+  bool countWork = false;
 };
 
 struct ResourceMemory {
@@ -237,6 +241,48 @@ struct ResourceMemory {
 struct PassTime {
   std::string name;  // "ssvgi: <PassName>", as labelled in RenderDoc / Nsight
   double milliseconds = 0.0;
+};
+
+// Voxel rays a pass traced (SPEC §4.4) and what they cost on any device: the buffer words they read — brick lookups,
+// occupancy masks and grid words, the voxel they met. 32-bit counts of one frame.
+struct VoxelRays {
+  uint32_t rays = 0;
+  uint32_t reads = 0;
+};
+
+// What the passes of a frame did (FrameDesc::countWork): counted on the GPU where it depends on the data, from the
+// dispatch sizes where it does not. Pass names as in Stats::passes, without "ssvgi: ".
+struct WorkCounts {
+  bool counted = false;  // the frame counted its work; every count below is 0 otherwise
+  // HiZBuild, for the camera: the texels of every level of its pyramid.
+  struct { uint32_t texels = 0; } hizBuild;
+  // ObservedSpace (with Settings::skyOnlyThroughObservedSpace), summed over the views: pixels whose ray enters the
+  // voxel volume, and the brick cells those rays mark observed.
+  struct { uint32_t rays = 0; uint32_t cells = 0; } observedSpace;
+  // SceneVoxelization of the camera's lit frame, and of the extra views (timed as "ssvgi: ExtraViews"): a voxel for
+  // every voxel of each brick in view, and of those the voxels whose random point lay in the view (they read its
+  // texels).
+  struct Injection {
+    uint32_t voxels = 0;
+    uint32_t voxelsInView = 0;
+  };
+  Injection sceneVoxelization;
+  Injection extraViewVoxelization;
+  // VoxelRelight: the voxels whose light it gathered from the probes, and its visibility rays from them.
+  struct { uint32_t voxels = 0; VoxelRays visibility; } voxelRelight;
+  // ProbePlacement: the probes whose range it searched for voxels, and the occupancy grid words it read.
+  struct { uint32_t probes = 0; uint32_t reads = 0; } probePlacement;
+  // ProbeTrace: the probes traced and their rays (Settings::raysPerProbe each); and, for the probes that start
+  // afresh, the visibility rays to the coarser level's probes they start from.
+  struct { uint32_t probes = 0; VoxelRays rays; VoxelRays seedVisibility; } probeTrace;
+  // ProbeRelocate: the rays traced back to the surface a probe inside geometry moves past.
+  VoxelRays probeRelocate;
+  // FinalGather: the tiles of 4×4 pixels whose sample shows a surface (those showing nothing gather nothing), and its
+  // visibility rays.
+  struct { uint32_t tiles = 0; VoxelRays visibility; } finalGather;
+  // Upsample and TemporalFilter: the pixels of the half-resolution output.
+  struct { uint32_t pixels = 0; } upsample;
+  struct { uint32_t pixels = 0; } temporalFilter;
 };
 
 struct Stats {
@@ -257,6 +303,7 @@ struct Stats {
   uint32_t probeLevelUpdatedLastFrame = 0;  // the clipmap level the last frame updated (frame index % 3)
   uint32_t probesUpdatedLastFrame = 0;      // probes it traced: in view, near voxels, within the budget
   std::vector<PassTime> passes;        // the last completed frame's GPU times
+  WorkCounts work;                     // what its passes did, where it counted (FrameDesc::countWork)
 };
 
 // Debug images of what ssvgi knows, ray-traced through its voxel volume from a camera.

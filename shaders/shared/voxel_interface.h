@@ -30,7 +30,8 @@ SSVGI_CONSTANT(uint, kBindPoolState, 6u);       // BrickPoolState + free list (b
 SSVGI_CONSTANT(uint, kBindChangedCells, 7u);    // IndirectList of brick cells whose occupancy may have changed
 SSVGI_CONSTANT(uint, kBindObservedSpace, 8u);   // bit volumes of the observed space (below), laid out as the
                                                 // occupancy grid's levels 2–4
-SSVGI_CONSTANT(uint, kBindFirstPassSlot, 9u);
+SSVGI_CONSTANT(uint, kBindWorkCounters, 9u);    // WorkCounters (work_counters.h; gi/work_counting.glsl)
+SSVGI_CONSTANT(uint, kBindFirstPassSlot, 10u);
 // SceneVoxelization's own slots.
 SSVGI_CONSTANT(uint, kBindInjectionColor, kBindFirstPassSlot);        // the view's radiance (sampled)
 SSVGI_CONSTANT(uint, kBindInjectionDepth, kBindFirstPassSlot + 1u);   // its depth, D32 reversed-Z (sampled)
@@ -61,8 +62,11 @@ struct VoxelVolume {
   uint gridWords;               // the grid bit buffer's size in uints
   ivec3 previousOriginBrick;    // originBrick of the last frame (VolumeScroll forgets what scrolled in)
   uint skyOnlyThroughObservedSpace;  // 1: probe rays see the sky only through observed space (Settings::…)
+  uint countsWork;              // 1: the passes count their work this frame (WorkCounters)
+  uint padding;                 // std140 rounds a uniform struct up to a multiple of 16 bytes
+  uvec2 morePadding;
 };
-SSVGI_CHECK_SIZE(VoxelVolume, 80);
+SSVGI_CHECK_SIZE(VoxelVolume, 96);
 
 // Observed space (SPEC §6.4, "unknown is not sky"): which brick cells of the volume a view — the camera or an extra
 // view — has observed, by seeing through them (known empty) or into them (they hold the surface it saw). Three bit

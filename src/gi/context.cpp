@@ -6,6 +6,7 @@
 #include "probes/probe_debug_view.h"
 #include "probes/probe_passes.h"
 #include "shared/gi_frame.h"
+#include "shared/work_counters.h"
 #include "ssvgi/ssvgi.h"
 #include "voxels/build_octree.h"
 #include "voxels/voxel_debug_view.h"
@@ -264,6 +265,7 @@ class ContextImplementation final : public Context {
     std::memcpy(&probeList, slot.probeListReadback.mapped(), sizeof(probeList));
     stats.probeLevelUpdatedLastFrame = slot.probeLevel;
     stats.probesUpdatedLastFrame = probeList.count;
+    stats.work = workCounts(slot);
     for (const auto& timing : slot.profiler.resolve()) stats.passes.push_back({timing.name, timing.milliseconds});
     return stats;
   }
@@ -279,7 +281,9 @@ class ContextImplementation final : public Context {
           statsReadback(device, "ssvgi stats readback", bytes.statsReadback, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                         gpu::MemoryUsage::HostReadback),
           probeListReadback(device, "ssvgi probe list readback", bytes.probeListReadback,
-                            VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::MemoryUsage::HostReadback) {
+                            VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::MemoryUsage::HostReadback),
+          workReadback(device, "ssvgi work counters readback", bytes.workReadback, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                       gpu::MemoryUsage::HostReadback) {
       for (uint32_t i = 0; i < kMaxExtraViews; ++i)
         extraViewConstants.emplace_back(device, "ssvgi extra view constants", bytes.viewConstants,
                                         VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryUsage::HostUpload);
@@ -290,8 +294,36 @@ class ContextImplementation final : public Context {
     std::vector<gpu::Buffer> extraViewConstants;  // GiFrame of each extra view (FrameDesc::extraViews)
     gpu::Buffer statsReadback;
     gpu::Buffer probeListReadback;  // the probe list's header: how many probes were traced
+    gpu::Buffer workReadback;       // WorkCounters, copied at the end of a frame that counts its work
     uint32_t probeLevel = 0;        // the probe level the frame updated
+    // Whether the frame counted its work (FrameDesc::countWork), and what its dispatch sizes tell of it: the camera's
+    // Hi-Z texels, the half-resolution pixels of Upsample and TemporalFilter.
+    bool countsWork = false;
+    uint32_t hizTexels = 0;
+    uint32_t halfResolutionPixels = 0;
   };
+
+  // Stats::work of a frame: where it counted its work, the GPU's counters and the figures of the dispatch sizes.
+  static WorkCounts workCounts(const PerFrame& slot) {
+    WorkCounts work;
+    if (!slot.countsWork) return work;
+    shader::WorkCounters counted{};
+    std::memcpy(&counted, slot.workReadback.mapped(), sizeof(counted));
+    work.counted = true;
+    work.observedSpace = {counted.observedSpaceRays, counted.observedSpaceCells};
+    work.sceneVoxelization = {counted.injectionVoxels, counted.injectionVoxelsInView};
+    work.extraViewVoxelization = {counted.extraViewInjectionVoxels, counted.extraViewInjectionVoxelsInView};
+    work.voxelRelight = {counted.relightVoxels, {counted.relightRays, counted.relightReads}};
+    work.probePlacement = {counted.placementProbes, counted.placementReads};
+    work.probeTrace = {counted.probeTraceProbes,
+                       {counted.probeTraceRays, counted.probeTraceReads},
+                       {counted.probeTraceSeedRays, counted.probeTraceSeedReads}};
+    work.probeRelocate = {counted.relocateRays, counted.relocateReads};
+    work.finalGather = {counted.gatherTiles, {counted.gatherRays, counted.gatherReads}};
+    work.hizBuild.texels = slot.hizTexels;
+    work.upsample.pixels = work.temporalFilter.pixels = slot.halfResolutionPixels;
+    return work;
+  }
 
   static VkSamplerCreateInfo pointSamplerInfo() {
     VkSamplerCreateInfo info{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
@@ -406,10 +438,14 @@ class ContextImplementation final : public Context {
     std::memcpy(slot.frameConstants.mapped(), &frame, sizeof(frame));
     bool scrolled = false;
     const shader::VoxelVolume volume =
-        scene_.place(glm::vec3(frame.cameraPosition), desc.frameIndex, scrolled);
+        scene_.place(glm::vec3(frame.cameraPosition), desc.frameIndex, desc.countWork, scrolled);
     const gi::OfferedProbeBlocks probeBlocks = probes_.prepare(desc.frameIndex, glm::vec3(frame.cameraPosition),
                                                        frame.frustumPlanes, desc.skyRadianceSh, volume);
     slot.probeLevel = uint32_t(probes_.current().level);
+    slot.countsWork = desc.countWork;
+    slot.hizTexels = 0;
+    for (uint32_t level = 0; level < hizLevels; ++level)
+      slot.hizTexels += frame.hizLevels[level].size.x * frame.hizLevels[level].size.y;
     gi::GatherTargets::ProbeLevels probeLevels{};
     probeLevels.dimensions = probes_.current().probesPerAxis;
     for (uint32_t level = 0; level < shader::kProbeLevels; ++level) {
@@ -417,6 +453,7 @@ class ContextImplementation final : public Context {
       probeLevels.spacings[level] = probes_.levelSpacing(level);
     }
     gather_.prepare(desc.frameIndex, frame.viewProjection, desc.camera.width, desc.camera.height, probeLevels);
+    slot.halfResolutionPixels = gather_.halfSize().x * gather_.halfSize().y;
 
     gpu::CommandList commands(device_, commandBuffer, slot.descriptors, &slot.profiler);
     slot.profiler.begin(commandBuffer);
@@ -437,6 +474,11 @@ class ContextImplementation final : public Context {
       const uint32_t zeroCounters[5] = {};
       commands.updateBuffer(scene_.poolState(), offsetof(shader::BrickPoolState, droppedThisFrame), zeroCounters,
                             sizeof(zeroCounters));
+      if (desc.countWork) {
+        // The passes add to the counters untracked (gpu::Bindings::accumulator): all of them after the clear.
+        commands.fillBuffer(scene_.workCounters(), 0);
+        commands.use(scene_.workCounters(), gpu::Usage::ComputeWrite);
+      }
       const shader::IndirectList empty{0, 1, 1, 0};
       commands.updateBuffer(scene_.changedCells(), 0, &empty, sizeof(empty));
       commands.updateBuffer(probes_.list(), 0, &empty, sizeof(empty));
@@ -497,6 +539,11 @@ class ContextImplementation final : public Context {
     commands.use(slot.statsReadback, gpu::Usage::HostRead);
     commands.copyBuffer(probes_.list(), slot.probeListReadback, sizeof(shader::IndirectList));
     commands.use(slot.probeListReadback, gpu::Usage::HostRead);
+    // The tracker last saw the counters written by compute (FrameSetup's use()): the copy waits for every dispatch.
+    if (desc.countWork) {
+      commands.copyBuffer(scene_.workCounters(), slot.workReadback, sizeof(shader::WorkCounters));
+      commands.use(slot.workReadback, gpu::Usage::HostRead);
+    }
     commands.flushBarriers();
     lastSlot_ = slotIndex;
     lastCameraPosition_ = glm::vec3(frame.cameraPosition);

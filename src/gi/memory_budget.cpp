@@ -4,6 +4,7 @@
 #include "probes/probe_volume.h"
 #include "shared/probe_interface.h"
 #include "shared/voxel_interface.h"
+#include "shared/work_counters.h"
 #include "voxels/voxel_scene.h"
 
 #include <glm/glm.hpp>
@@ -84,12 +85,13 @@ ContextBufferBytes ContextBufferBytes::of(const ContextDesc& desc, const Setting
   bytes.viewConstants = sizeof(shader::GiFrame);
   bytes.statsReadback = sizeof(shader::BrickPoolState);
   bytes.probeListReadback = sizeof(shader::IndirectList);
+  bytes.workReadback = sizeof(shader::WorkCounters);
   return bytes;
 }
 
 VkDeviceSize ContextBufferBytes::total(uint32_t framesInFlight) const {
   return hiz + visibleBricks +
-         framesInFlight * ((1 + kMaxExtraViews) * viewConstants + statsReadback + probeListReadback);
+         framesInFlight * ((1 + kMaxExtraViews) * viewConstants + statsReadback + probeListReadback + workReadback);
 }
 
 // The order in which a budget shrinks the settings, least harmful first:

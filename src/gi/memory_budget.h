@@ -17,6 +17,7 @@ struct ContextBufferBytes {
   VkDeviceSize viewConstants = 0;      // a GiFrame: per frame in flight, the camera's and one per extra view
   VkDeviceSize statsReadback = 0;      // per frame in flight
   VkDeviceSize probeListReadback = 0;  // per frame in flight
+  VkDeviceSize workReadback = 0;       // per frame in flight: the WorkCounters of a frame that counts its work
 
   static ContextBufferBytes of(const ContextDesc& desc, const Settings& settings);
   VkDeviceSize total(uint32_t framesInFlight) const;

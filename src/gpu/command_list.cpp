@@ -47,7 +47,9 @@ VkDescriptorSet CommandList::writeDescriptors(const PipelineLayout& layout, cons
         if (!entry->buffer) throw GpuError(name + ": binding " + binding.name + " needs a buffer");
         bufferInfos.push_back({entry->buffer->handle(), 0, VK_WHOLE_SIZE});
         write.pBufferInfo = &bufferInfos.back();
-        use(*entry->buffer, compute ? (binding.writable ? Usage::ComputeWrite : Usage::ComputeRead) : Usage::GraphicsRead);
+        if (entry->tracked)
+          use(*entry->buffer,
+              compute ? (binding.writable ? Usage::ComputeWrite : Usage::ComputeRead) : Usage::GraphicsRead);
         break;
       case VK_DESCRIPTOR_TYPE_STORAGE_IMAGE:
         if (!entry->view || entry->sampler) throw GpuError(name + ": binding " + binding.name + " needs a storage image");

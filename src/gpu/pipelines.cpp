@@ -123,6 +123,11 @@ Bindings& Bindings::externalStorage(uint32_t slot, VkImageView view) {
   return *this;
 }
 
+Bindings& Bindings::accumulator(uint32_t slot, const Buffer& buffer) {
+  entries_.push_back({slot, &buffer, nullptr, VK_NULL_HANDLE, VK_NULL_HANDLE, false});
+  return *this;
+}
+
 DescriptorArena::DescriptorArena(Device& device) : device_(device) { pools_.push_back(newPool()); }
 
 DescriptorArena::~DescriptorArena() {

@@ -82,6 +82,10 @@ class Bindings {
   Bindings& externalSampled(uint32_t slot, VkImageView view, VkSampler sampler);
   // A storage image someone else owns, in VK_IMAGE_LAYOUT_GENERAL (see CommandList::useExternalImage): not tracked.
   Bindings& externalStorage(uint32_t slot, VkImageView view);
+  // A buffer that dispatches only add to with atomics (counters): the adds commute, so no barrier orders the
+  // dispatches among themselves for it. Bound, not tracked; whoever records them orders the buffer against its other
+  // uses (a clear before, a copy after) with CommandList::use.
+  Bindings& accumulator(uint32_t slot, const Buffer& buffer);
 
   struct Entry {
     uint32_t slot;
@@ -89,6 +93,7 @@ class Bindings {
     const Image* image = nullptr;
     VkImageView view = VK_NULL_HANDLE;
     VkSampler sampler = VK_NULL_HANDLE;
+    bool tracked = true;
   };
   const std::vector<Entry>& entries() const { return entries_; }
 

@@ -7,6 +7,7 @@
 // light is; 0 where no probe contributed or nothing was drawn.
 #include "gi/gi_frame.glsl"
 #include "gi/gather/probe_irradiance.glsl"
+#include "gi/work_counting.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -29,6 +30,11 @@ void main() {
   vec3 normal = normalize(texelFetch(normalBuffer, pixel, 0).xyz);
   vec3 position = reconstructPosition(frame.inverseViewProjection, vec2(pixel), vec2(frame.size), depth);
   GatheredLight light = probeLight(position, normal, hashToUnitCube(uvec3(tile, frameIndex)).x, true);
+  if (countsWork()) {
+    atomicAdd(work.gatherTiles, 1u);
+    atomicAdd(work.gatherRays, tracedWork.rays);
+    atomicAdd(work.gatherReads, tracedWork.reads);
+  }
   // A host pixel whose depth or normal is not finite gives no light rather than a NaN, and no confidence.
   float confidence = light.confidence >= 0.0 ? min(light.confidence, 1.0) : 0.0;  // a NaN fails the test
   imageStore(tileIrradiance, ivec2(tile), vec4(finiteHalf(light.irradiance), confidence));

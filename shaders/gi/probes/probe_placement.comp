@@ -11,6 +11,7 @@
 // use the voxel octree to speed up the search"): 8 bits for a level whose spacing is 1, 2 or 4 bricks.
 #include "gi/gi_frame.glsl"
 #include "gi/voxels/voxel_access.glsl"
+#include "gi/work_counting.glsl"
 #include "shared/probe_interface.h"
 
 layout(local_size_x = 64) in;  // one block of kProbeBlockSize³ probes
@@ -25,7 +26,8 @@ layout(binding = kBindProbeList) buffer ProbeList {
 // Whether any voxel lies in [lo, hi): the cells of the search level that cover it, each inside the voxel volume
 // (a cell of a grid level is wholly inside or outside it; outside, its toroidal bit belongs to another cell). The
 // cells searched are clipped to the volume first, so that no probe spacing makes the loop longer than the volume.
-bool voxelsWithin(vec3 lo, vec3 hi) {
+// Counts the grid words it reads in `reads`.
+bool voxelsWithin(vec3 lo, vec3 hi, inout uint reads) {
   uint level = update.placementSearchLevel;
   float cellSize = volume.voxelSize * float(1u << level);
   int bricksPerCell = 1 << (level - kFirstGridLevel);
@@ -37,7 +39,9 @@ bool voxelsWithin(vec3 lo, vec3 hi) {
     for (int y = first.y; y <= last.y; ++y)
       for (int x = first.x; x <= last.x; ++x) {
         ivec3 cell = ivec3(x, y, z);
-        if (brickInVolume(cell * bricksPerCell, volume) && gridOccupied(level, cell)) return true;
+        if (!brickInVolume(cell * bricksPerCell, volume)) continue;
+        ++reads;
+        if (gridOccupied(level, cell)) return true;
       }
   return false;
 }
@@ -53,7 +57,14 @@ void main() {
   float spacing = update.spacing;
   vec3 lo = vec3(probe - 1) * spacing;
   vec3 hi = vec3(probe + 1) * spacing;
-  if ((push.inView != 0u && !boxInFrustum(lo, hi, frame.frustumPlanes)) || !voxelsWithin(lo, hi)) return;
+  if (push.inView != 0u && !boxInFrustum(lo, hi, frame.frustumPlanes)) return;
+  uint reads = 0u;
+  bool holdsVoxels = voxelsWithin(lo, hi, reads);
+  if (countsWork()) {
+    atomicAdd(work.placementProbes, 1u);
+    atomicAdd(work.placementReads, reads);
+  }
+  if (!holdsVoxels) return;
 
   uint slot = atomicAdd(list.count, 1u);
   if (slot >= update.probeBudget) {  // over budget: undo, so that count ends as the number listed

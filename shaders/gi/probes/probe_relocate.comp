@@ -17,6 +17,7 @@
 // invalidated probe starts afresh (m = 0), so that its next trace alone — from its new position — decides again:
 // seeing no back faces it stays; an invalid probe seeing none (the geometry went) becomes active again.
 #include "gi/voxels/voxel_trace.glsl"
+#include "gi/work_counting.glsl"
 #include "shared/probe_interface.h"
 
 layout(local_size_x = kProbeTraceGroupSize) in;  // one workgroup per listed probe; thread i < 26: neighbour direction i
@@ -81,6 +82,10 @@ void main() {
   // own position.
   VoxelHit surface = traceVoxelsHierarchical(farthest, -direction, max(reach, 0.0) + volume.voxelSize,
                                              kIgnoreObservedSpace);
+  if (countsWork()) {
+    atomicAdd(work.relocateRays, 1u);
+    atomicAdd(work.relocateReads, surface.reads);
+  }
   // Halfway into the room behind the surface must stay clear of it after rounding each component to a step.
   float room = surface.distance;
   bool escapes = reach > 0.0 && surface.hit && room >= sqrt(3.0) * offsetStep;

@@ -44,6 +44,7 @@
 // probe's reservoirs hold (their re-traced rays, this frame), and the reservoir in full: a bright direction found for
 // the first time raises the maximum by the next update, so the clamp only cuts a sudden outlier's first update.
 #include "gi/voxels/voxel_trace.glsl"
+#include "gi/work_counting.glsl"
 #include "shared/probe_interface.h"
 
 layout(local_size_x = kProbeTraceGroupSize) in;
@@ -82,6 +83,9 @@ shared uint knownRays;
 shared vec3 knownMeanRadiance;
 shared Sh2Rgb heldRadiance;
 shared bool startsFromCoarserLevel;
+// The workgroup's rays and their reads, summed here on a frame that counts its work, then added once for the probe.
+shared uint rayCount;
+shared uint rayReads;
 
 vec3 skyRadiance(vec3 direction) {
   // SH2 rings below zero opposite a bright sky; negative radiance is not light.
@@ -485,14 +489,33 @@ void writeProbe(ListedProbe probe) {
   probes[probe.index] = makeProbe(radiance, distanceSh, normalDotSh, nextState, tag);
 }
 
+// The probe's work (shared/work_counters.h), by thread 0 once the workgroup's rays are summed: the probe, its rays
+// and their reads, and the visibility tests of the coarser level's probes thread 0 made before them (`seeding`).
+void countProbeWork(TracedWork seeding) {
+  atomicAdd(work.probeTraceProbes, 1u);
+  atomicAdd(work.probeTraceRays, rayCount);
+  atomicAdd(work.probeTraceReads, rayReads);
+  atomicAdd(work.probeTraceSeedRays, seeding.rays);
+  atomicAdd(work.probeTraceSeedReads, seeding.reads);
+}
+
 // The update as the list of its steps; the barriers between them are the workgroup's.
 void main() {
   uint ray = gl_LocalInvocationID.x;
   ListedProbe probe = readProbe(listedProbes[gl_WorkGroupID.x]);
   ProbeRay chosen = chooseRay(probe, ray);
-  if (ray == 0u) holdRadiance(probe);
+  if (ray == 0u) {
+    holdRadiance(probe);
+    rayCount = 0u;
+    rayReads = 0u;
+  }
+  TracedWork seeding = tracedWork;  // thread 0's: holdRadiance's visibility tests of the coarser level's probes
   barrier();
   VoxelHit hit = traceRay(probe, chosen, ray);
+  if (countsWork()) {
+    atomicAdd(rayCount, tracedWork.rays - seeding.rays);
+    atomicAdd(rayReads, tracedWork.reads - seeding.reads);
+  }
   barrier();
   if (ray == 0u) averageKnownRays();
   barrier();
@@ -506,5 +529,8 @@ void main() {
   uint reusableUpdates = 2u * probe.historyCount < storedCount ? 0u : probe.historyCount;
   if (update.keepsReservoirs != 0u) updateReservoirs(probe, chosen, ray, reusableUpdates);
   sumOverRays(ray);
-  if (ray == 0u) writeProbe(probe);
+  if (ray == 0u) {
+    writeProbe(probe);
+    if (countsWork()) countProbeWork(seeding);
+  }
 }

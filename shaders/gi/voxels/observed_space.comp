@@ -8,6 +8,7 @@
 #define SSVGI_OBSERVED_SPACE_WRITABLE
 #include "gi/gi_frame.glsl"
 #include "gi/voxels/voxel_access.glsl"
+#include "gi/work_counting.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -74,10 +75,12 @@ void main() {
   vec3 crossingStep = abs(inverse);
   int maxSteps = volumeDimensions().x + volumeDimensions().y + volumeDimensions().z;
   bool surfaceCellKept = (frame.viewKind & kViewObservesOnly) != 0u && depth > 0.0 && last == 1.0;
+  uint crossedCells = 0u;
   for (int stepCount = 0; stepCount < maxSteps; ++stepCount) {
     bool atLastCell = all(equal(cell, lastCell));
     if (atLastCell && surfaceCellKept) break;
     markObserved(cell);
+    ++crossedCells;
     if (atLastCell) break;
     int axis = nextCrossing.x <= nextCrossing.y && nextCrossing.x <= nextCrossing.z ? 0
                                                                                    : (nextCrossing.y <= nextCrossing.z ? 1 : 2);
@@ -85,5 +88,9 @@ void main() {
     cell[axis] += stepDirection[axis];
     if (cell[axis] < lowest[axis] || cell[axis] > highest[axis]) break;
     nextCrossing[axis] += crossingStep[axis];
+  }
+  if (countsWork()) {
+    atomicAdd(work.observedSpaceRays, 1u);
+    atomicAdd(work.observedSpaceCells, crossedCells);
   }
 }

@@ -13,6 +13,7 @@
 #include "gi/gi_frame.glsl"
 #include "gi/voxels/brick_pool.glsl"
 #include "gi/voxels/voxel_access.glsl"
+#include "gi/work_counting.glsl"
 #include "shared/sampling.h"
 
 layout(local_size_x = 64) in;
@@ -135,6 +136,19 @@ shared uint occupancyLow;
 shared uint occupancyHigh;
 shared uint observedLow;
 shared uint observedHigh;
+shared uint voxelsInView;  // on a frame that counts its work: the brick's voxels whose point lies in the view
+
+// The brick's work (shared/work_counters.h), by thread 0 once its voxels are done: the camera's lit frame's, or an
+// extra view's.
+void countBrickWork() {
+  if ((frame.viewKind & kViewIsExtra) == 0u) {
+    atomicAdd(work.injectionVoxels, kVoxelsPerBrick);
+    atomicAdd(work.injectionVoxelsInView, voxelsInView);
+  } else {
+    atomicAdd(work.extraViewInjectionVoxels, kVoxelsPerBrick);
+    atomicAdd(work.extraViewInjectionVoxelsInView, voxelsInView);
+  }
+}
 
 void main() {
   uint brick = visibleBricks[gl_WorkGroupID.x];
@@ -154,6 +168,7 @@ void main() {
     occupancyHigh = 0u;
     observedLow = 0u;
     observedHigh = 0u;
+    voxelsInView = 0u;
   }
   barrier();
 
@@ -169,6 +184,7 @@ void main() {
   bool seenThrough = false;
   bool observedNow = false;
   if (inDepthRange && all(greaterThanEqual(pixel, vec2(0.0))) && all(lessThan(pixel, litSize))) {
+    if (countsWork()) atomicAdd(voxelsInView, 1u);
     ViewSample seen = viewSampleAt(ivec2(pixel), litSize);
     // "Clearly in front" along the view's ray (perspective or orthographic): by more than half a voxel, so that depth
     // quantisation and a surface point just outside this voxel do not count against it — and in front of the nearest
@@ -269,6 +285,7 @@ void main() {
   barrier();
 
   if (voxelIndex == 0u) {
+    if (countsWork()) countBrickWork();
     uvec2 mask = uvec2(occupancyLow, occupancyHigh);
     bool empty = mask == uvec2(0u);
     uint emptyInjections = empty ? heldBrick.emptyInjections + 1u : 0u;

@@ -10,6 +10,7 @@
 // empty.
 #define SSVGI_VOXELS_WRITABLE
 #include "gi/gather/probe_irradiance.glsl"
+#include "gi/work_counting.glsl"
 #include "shared/sampling.h"
 
 layout(local_size_x = 64) in;
@@ -20,17 +21,18 @@ layout(push_constant) uniform Slice {
 };
 layout(binding = kBindPoolState) readonly buffer PoolBlock { BrickPoolState pool; };
 
-void relightVoxel(uint brick, uint occupiedVoxel) {
-  if (bricks[brick].live == 0u) return;  // free
+// Whether the voxel's light was gathered from the probes (the work counted: shared/work_counters.h).
+bool relightVoxel(uint brick, uint occupiedVoxel) {
+  if (bricks[brick].live == 0u) return false;  // free
   uint voxelIndex = nthOccupiedVoxel(brick, occupiedVoxel);
-  if (voxelIndex == kVoxelsPerBrick) return;
+  if (voxelIndex == kVoxelsPerBrick) return false;
   uvec3 voxelInBrick = uvec3(voxelIndex & 3u, (voxelIndex >> 2u) & 3u, voxelIndex >> 4u);
   uint index = brick * kVoxelsPerBrick + voxelIndex;
   Voxel voxel = voxels[index];
-  if ((voxel.albedo & kVoxelRelit) == 0u) return;  // its view gave all of its light: it stays as given
+  if ((voxel.albedo & kVoxelRelit) == 0u) return false;  // its view gave all of its light: it stays as given
   // The camera's lit frame keeps the voxels it lights current with the gather's light (SceneVoxelization): those it
   // lit last and no extra view has seen since are left to it; a voxel off screen is relit once a view sees it.
-  if (voxelExtraViewsSinceLitFrame(voxel) == 0u) return;
+  if (voxelExtraViewsSinceLitFrame(voxel) == 0u) return false;
 
   ivec3 worldVoxel = bricks[brick].coordinate * int(kBrickSizeVoxels) + ivec3(voxelInBrick);
   float voxelSize = volume.voxelSize;
@@ -44,13 +46,20 @@ void relightVoxel(uint brick, uint occupiedVoxel) {
   // With the gather's visibility trace (this pass writes only radiance, which no trace reads): without it the lit
   // room's probes lit the dark side of `two-rooms`' wall (docs/QUALITY.md, "Voxels follow the light").
   vec4 irradiance = probeIrradiance(surface, normal, noise, true);
-  if (irradiance.a == 0.0) return;  // no probe knows its surroundings yet: it keeps the light it has
+  if (irradiance.a == 0.0) return true;  // no probe knows its surroundings yet: it keeps the light it has
   vec3 direct = unpackR11G11B10F(voxel.directRadiance);
   voxels[index].radiance = packR11G11B10F(direct + unpackVoxelAlbedo(voxel.albedo) * (1.0 / kPi) * irradiance.rgb);
+  return true;
 }
 
 void main() {
   uint end = min(endBrick, pool.bumpCount);
+  uint relitVoxels = 0u;
   for (uint brick = firstBrick + gl_WorkGroupID.x; brick < end; brick += gl_NumWorkGroups.x)
-    relightVoxel(brick, gl_LocalInvocationID.x);
+    if (relightVoxel(brick, gl_LocalInvocationID.x)) ++relitVoxels;
+  if (countsWork()) {
+    atomicAdd(work.relightVoxels, relitVoxels);
+    atomicAdd(work.relightRays, tracedWork.rays);
+    atomicAdd(work.relightReads, tracedWork.reads);
+  }
 }

@@ -356,7 +356,7 @@ VoxelHit voxelHitAt(VoxelWalk walk, CachedBrick cached, vec3 direction, uint rea
 // occupancy is unknown — it is known (occupied) while the walk is still inside a cell it came down from.
 // A trace that watches observed space looks for unobserved brick cells (cellContents) until it has crossed one, and
 // for unobserved voxels all the way.
-VoxelHit traceVoxelsHierarchical(vec3 origin, vec3 direction, float maxDistance, bool watchesObservedSpace) {
+VoxelHit walkOccupancyHierarchy(vec3 origin, vec3 direction, float maxDistance, bool watchesObservedSpace) {
   VoxelWalk walk;
   if (!beginVoxelWalk(origin, direction, maxDistance, walk)) return voxelMiss(maxDistance, 0u);
   CachedBrick cached = noCachedBrick();
@@ -396,6 +396,21 @@ VoxelHit traceVoxelsHierarchical(vec3 origin, vec3 direction, float maxDistance,
     if (level < kTopLevel && (knownOccupiedLevels & (1u << uint(level + 1))) == 0u) ++level;
   }
   return withObservation(voxelMiss(maxDistance, reads), unobserved, unobservedDistance);
+}
+
+// The traces this invocation has made and their reads, whichever function made them: the work a pass counts
+// (shared/work_counters.h) where it counts it. Two additions a trace, counted or not.
+struct TracedWork {
+  uint rays;
+  uint reads;
+};
+TracedWork tracedWork = TracedWork(0u, 0u);
+
+VoxelHit traceVoxelsHierarchical(vec3 origin, vec3 direction, float maxDistance, bool watchesObservedSpace) {
+  VoxelHit hit = walkOccupancyHierarchy(origin, direction, maxDistance, watchesObservedSpace);
+  tracedWork.rays += 1u;
+  tracedWork.reads += hit.reads;
+  return hit;
 }
 
 #endif

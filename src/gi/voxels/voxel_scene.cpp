@@ -1,5 +1,7 @@
 #include "voxel_scene.h"
 
+#include "shared/work_counters.h"
+
 #include <cmath>
 #include <cstring>
 
@@ -21,7 +23,7 @@ VkDeviceSize gridBytes(const Settings& settings) {
 
 // The bytes of each buffer of a scene of `settings`: what the constructor allocates and bytes() counts.
 struct VoxelScene::BufferBytes {
-  VkDeviceSize brickLookup, brickHeaders, voxels, grid, poolState, changedCells, volume;
+  VkDeviceSize brickLookup, brickHeaders, voxels, grid, poolState, changedCells, workCounters, volume;
 };
 
 VoxelScene::BufferBytes VoxelScene::bufferBytes(const Settings& settings) {
@@ -32,6 +34,7 @@ VoxelScene::BufferBytes VoxelScene::bufferBytes(const Settings& settings) {
           gridBytes(settings),
           sizeof(shader::BrickPoolState) + capacity * 4,
           sizeof(shader::IndirectList) + capacity * 2 * 4,
+          sizeof(shader::WorkCounters),
           sizeof(shader::VoxelVolume)};
 }
 
@@ -48,7 +51,8 @@ VoxelScene::VoxelScene(gpu::Device& device, const Settings& settings, uint32_t f
       observedSpace_(device, "ssvgi observed space", bytes.grid, kStorage),
       poolState_(device, "ssvgi brick pool state and free list", bytes.poolState, kStorage),
       changedCells_(device, "ssvgi changed brick cells", bytes.changedCells,
-                    kStorage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT) {
+                    kStorage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT),
+      workCounters_(device, "ssvgi work counters", bytes.workCounters, kStorage) {
   for (uint32_t i = 0; i < framesInFlight; ++i)
     volumes_.emplace_back(device, "ssvgi voxel volume", bytes.volume, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                           gpu::MemoryUsage::HostUpload);
@@ -69,7 +73,7 @@ VoxelScene::VoxelScene(gpu::Device& device, const Settings& settings, uint32_t f
 VkDeviceSize VoxelScene::bytes(const Settings& settings, uint32_t framesInFlight) {
   const BufferBytes bytes = bufferBytes(settings);
   return bytes.brickLookup + bytes.brickHeaders + bytes.voxels + 2 * bytes.grid + bytes.poolState +
-         bytes.changedCells + framesInFlight * bytes.volume;
+         bytes.changedCells + bytes.workCounters + framesInFlight * bytes.volume;
 }
 
 gpu::Bindings VoxelScene::bindings() const {
@@ -81,14 +85,16 @@ gpu::Bindings VoxelScene::bindings() const {
       .buffer(shader::kBindOccupancyGrid, occupancyGrid_)
       .buffer(shader::kBindObservedSpace, observedSpace_)
       .buffer(shader::kBindPoolState, poolState_)
-      .buffer(shader::kBindChangedCells, changedCells_);
+      .buffer(shader::kBindChangedCells, changedCells_)
+      .accumulator(shader::kBindWorkCounters, workCounters_);
 }
 
 uint32_t VoxelScene::cellCount() const {
   return settings_.volumeBricks[0] * settings_.volumeBricks[1] * settings_.volumeBricks[2];
 }
 
-shader::VoxelVolume VoxelScene::place(glm::vec3 cameraPosition, uint32_t frameIndex, bool& scrolled) {
+shader::VoxelVolume VoxelScene::place(glm::vec3 cameraPosition, uint32_t frameIndex, bool countsWork,
+                                      bool& scrolled) {
   const glm::ivec3 dimensions = current_.dimensionsBricks;
   const float brickSize = current_.brickSize;
   const int step = shader::kScrollStepBricks;
@@ -100,6 +106,7 @@ shader::VoxelVolume VoxelScene::place(glm::vec3 cameraPosition, uint32_t frameIn
   current_.previousOriginBrick = placed_ ? current_.originBrick : origin;
   placed_ = true;
   current_.originBrick = origin;
+  current_.countsWork = countsWork ? 1u : 0u;
   currentVolume_ = frameIndex % volumes_.size();
   std::memcpy(volumes_[currentVolume_].mapped(), &current_, sizeof(current_));
   return current_;

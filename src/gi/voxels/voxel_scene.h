@@ -16,9 +16,10 @@ class VoxelScene {
   // The bytes the constructor allocates for these arguments, without allocating them (the memory budget's count).
   static VkDeviceSize bytes(const Settings& settings, uint32_t framesInFlight);
 
-  // Where the volume stands this frame: centred on the camera, its origin moving in kScrollStepBricks steps.
-  // Returns the volume description to upload; `scrolled` tells whether the origin moved since the last call.
-  shader::VoxelVolume place(glm::vec3 cameraPosition, uint32_t frameIndex, bool& scrolled);
+  // Where the volume stands this frame: centred on the camera, its origin moving in kScrollStepBricks steps; and
+  // whether the frame's passes count their work (VoxelVolume::countsWork). Returns the volume description to upload;
+  // `scrolled` tells whether the origin moved since the last call.
+  shader::VoxelVolume place(glm::vec3 cameraPosition, uint32_t frameIndex, bool countsWork, bool& scrolled);
 
   // This frame's VoxelVolume uniform buffer: one per frame in flight, so the host may write the next frame's while the
   // GPU still reads the last.
@@ -30,8 +31,11 @@ class VoxelScene {
   const gpu::Buffer& observedSpace() const { return observedSpace_; }
   const gpu::Buffer& poolState() const { return poolState_; }   // BrickPoolState, then the free list (uint[capacity])
   const gpu::Buffer& changedCells() const { return changedCells_; }  // uint count, then brick cell indices
+  // WorkCounters of a frame that counts its work: its passes add to it untracked (gpu::Bindings::accumulator), so
+  // the frame clears and copies it with barriers of its own.
+  const gpu::Buffer& workCounters() const { return workCounters_; }
   uint32_t cellCount() const;
-  // The scene's shared binding slots (voxel_access.glsl, brick_pool.glsl) for a pass's Bindings.
+  // The scene's shared binding slots (voxel_access.glsl, brick_pool.glsl, work_counting.glsl) for a pass's Bindings.
   gpu::Bindings bindings() const;
   const Settings& settings() const { return settings_; }
   const shader::VoxelVolume& current() const { return current_; }
@@ -50,6 +54,7 @@ class VoxelScene {
   gpu::Buffer observedSpace_;
   gpu::Buffer poolState_;
   gpu::Buffer changedCells_;
+  gpu::Buffer workCounters_;
   shader::VoxelVolume current_{};
   bool placed_ = false;
 };
