@@ -452,9 +452,10 @@ TEST_F(GatherOverConstantProbes, finalGatherGivesPiTimesTheRadianceEverywhere) {
   EXPECT_EQ(output.height, kSize / 2);
 }
 
-TEST_F(GatherOverConstantProbes, finalGatherCountsTheTilesWhoseSampleShowsASurfaceAndEightVisibilityRaysForEach) {
+TEST_F(GatherOverConstantProbes, finalGatherCountsTheTilesWhoseSampleShowsASurfaceAndOneToEightVisibilityRaysForEach) {
   // Every probe is usable and every surface lies inside a level with a spacing to spare, so each tile that samples a
-  // surface tests the visibility of all 8 probes around it; a tile that samples nothing traces nothing. Nothing is
+  // surface tests the visibility of the 8 probes around it but those whose weight is a negligible share
+  // (kGatherNegligibleProbeShare) — never its heaviest; a tile that samples nothing traces nothing. Nothing is
   // drawn right of column 19, which the tiles of column 4 sample at this frame's offset (2, 0) but at others not.
   const glm::vec3 position(0.5f, 0.5f, 3.5f);
   Context& context = dispatchOverConstantProbes(position);
@@ -491,7 +492,8 @@ TEST_F(GatherOverConstantProbes, finalGatherCountsTheTilesWhoseSampleShowsASurfa
   stats = context.stats();
   EXPECT_TRUE(stats.work.counted);
   EXPECT_EQ(stats.work.finalGather.tiles, surfaceTiles);
-  EXPECT_EQ(stats.work.finalGather.visibility.rays, 8u * surfaceTiles);
+  EXPECT_GE(stats.work.finalGather.visibility.rays, surfaceTiles);
+  EXPECT_LE(stats.work.finalGather.visibility.rays, 8u * surfaceTiles);
   EXPECT_GT(stats.work.finalGather.visibility.reads, 0u);  // not ≥ rays: a probe outside the voxel volume reads none
   // The passes of one thread per pixel, counted from their dispatch sizes: the half-resolution output, and the Hi-Z
   // pyramid from half resolution down to one texel.
