@@ -210,6 +210,19 @@ bool halfTexelOnNearWall(const TestView& view, size_t texel) {
   return view.onNearWall[2 * y * kSize + 2 * x];
 }
 
+// `view` with the far wall's tile samples (frame index 0: each tile's top-left pixel) moved 1 m in front of it, in the
+// tile columns `moved` picks: a surface there is seen only between the samples.
+template <typename TileColumnPredicate>
+TestView withFarWallTileSamplesInFront(TestView view, TileColumnPredicate moved) {
+  for (uint32_t y = 0; y < kSize; y += shader::kGatherTileSize)
+    for (uint32_t x = 0; x < kSize; x += shader::kGatherTileSize) {
+      const size_t pixel = size_t(y) * kSize + x;
+      if (!view.onNearWall[pixel] && moved(x / shader::kGatherTileSize))
+        view.depth[pixel] = kNear / (-kFarWallZ - 1.0f);
+    }
+  return view;
+}
+
 TEST_F(GatherFilters, upsampleAndTemporalFilterKeepAConstantField) {
   const glm::vec3 position(0.0f);
   const TestView view = viewFrom(position);
@@ -297,12 +310,7 @@ TEST_F(GatherFilters, temporalFilterKeepsTheHistoryOfASurfaceNoSampleOfTheFrameL
   writeTiles([](size_t) { return kFarValue; });
   runUpsample();
   runTemporalFilter();
-  TestView samplesInFront = view;
-  for (uint32_t y = 0; y < kSize; y += shader::kGatherTileSize)
-    for (uint32_t x = 0; x < kSize; x += shader::kGatherTileSize) {
-      const size_t pixel = size_t(y) * kSize + x;
-      if (!view.onNearWall[pixel]) samplesInFront.depth[pixel] = kNear / (-kFarWallZ - 1.0f);
-    }
+  const TestView samplesInFront = withFarWallTileSamplesInFront(view, [](uint32_t) { return true; });
   setFrame(samplesInFront, position);
   writeTiles([](size_t) { return kNearValue; });
   runUpsample();
@@ -326,24 +334,19 @@ TEST_F(GatherFilters, upsampleReadsTheTilesAroundTheBilinearFourWhereNoneOfThemL
   // third column of tiles. A pixel between two such columns finds none of its bilinear four on its surface; it must
   // take its light from its own surface one tile further out, not from the samples in front and not nothing.
   const glm::vec3 position(0.0f);
-  TestView view = viewFrom(position);
-  std::vector<bool> sampleOnWall(view.depth.size(), true);
-  for (uint32_t y = 0; y < kSize; y += shader::kGatherTileSize)
-    for (uint32_t x = 0; x < kSize; x += shader::kGatherTileSize) {
-      const size_t pixel = size_t(y) * kSize + x;
-      if (view.onNearWall[pixel] || (x / shader::kGatherTileSize) % 3 == 0) continue;
-      view.depth[pixel] = kNear / (-kFarWallZ - 1.0f);
-      sampleOnWall[pixel] = false;
-    }
+  const TestView view =
+      withFarWallTileSamplesInFront(viewFrom(position), [](uint32_t column) { return column % 3 != 0; });
+  const TestView unchanged = viewFrom(position);
+  const auto sampleOnWall = [&](size_t pixel) { return view.depth[pixel] == unchanged.depth[pixel]; };
   setFrame(view, position);
-  writeTiles([&](size_t pixel) { return sampleOnWall[pixel] ? kFarValue : kNearValue; });
+  writeTiles([&](size_t pixel) { return sampleOnWall(pixel) ? kFarValue : kNearValue; });
   runUpsample();
   const std::vector<float> values = output();
   uint32_t fromOuterTiles = 0;
   for (size_t texel = 0; texel < values.size(); ++texel) {
     const size_t x = texel % (kSize / 2), y = texel / (kSize / 2);
     const size_t pixel = 2 * y * kSize + 2 * x;
-    if (view.onNearWall[pixel] || !sampleOnWall[pixel]) continue;
+    if (view.onNearWall[pixel] || !sampleOnWall(pixel)) continue;
     const uint32_t firstTileColumn = uint32_t(2 * x) / shader::kGatherTileSize;
     const bool bilinearFourInFront = firstTileColumn % 3 == 1;
     fromOuterTiles += bilinearFourInFront ? 1u : 0u;
