@@ -40,43 +40,45 @@ struct GatheredLight {
   bool found;        // some probe contributed
 };
 
-// One of the 8 probes around a point, with the talk's weights (trilinear × normal × distance) before the visibility
-// test; weight 0 where the probe is outside the level or knows nothing.
+// One of the 8 probes around a point, as the gather reads it.
 struct CornerProbe {
   Probe stored;
-  vec3 position;  // with its virtual offset
-  float weight;
+  vec3 position;    // with its virtual offset
+  float trilinear;  // its trilinear weight; 0 where it is outside the level or knows nothing
 };
 
-CornerProbe cornerProbe(uint level, ivec3 cell, vec3 fraction, int corner, vec3 position, vec3 normal, vec3 biased) {
-  float spacing = gather.probeLevels[level].spacing;
+CornerProbe cornerProbe(uint level, ivec3 cell, vec3 fraction, int corner) {
   ivec3 origin = gather.probeLevels[level].origin;
-  ivec3 dimensions = gather.probesPerAxis;
   ProbeCellCorner around = probeCellCorner(cell, fraction, corner);
   ivec3 probe = around.probe;
   CornerProbe result;
-  result.weight = 0.0;
-  if (any(lessThan(probe, origin)) || any(greaterThanEqual(probe, origin + dimensions))) return result;
-  result.stored = probes[level * uint(gather.probesPerLevel) + probeSlotIndex(probe, dimensions)];
+  result.trilinear = 0.0;
+  if (any(lessThan(probe, origin)) || any(greaterThanEqual(probe, origin + gather.probesPerAxis))) return result;
+  result.stored = probes[level * uint(gather.probesPerLevel) + probeSlotIndex(probe, gather.probesPerAxis)];
   // A probe never traced, inside geometry, just moved, or a slot that still holds a probe the level scrolled away
   // from, knows nothing here.
   if (!probeIsUsable(result.stored, probe)) return result;
-  result.position = probeWorldPosition(probe, spacing, result.stored.state);
-  float weight = around.weight;
+  result.position = probeWorldPosition(probe, gather.probeLevels[level].spacing, result.stored.state);
+  result.trilinear = around.weight;
+  return result;
+}
+
+// The talk's weights of a corner probe (trilinear × normal × distance), before the visibility test.
+float cornerWeight(CornerProbe probe, float spacing, vec3 position, vec3 normal, vec3 biased) {
+  if (probe.trilinear <= 0.0) return 0.0;
   // "Normal Weight": probes behind the surface count less (from the true point, as DDGI does).
-  vec3 toProbe = result.position - position;
+  vec3 toProbe = probe.position - position;
   float facing = 0.5 * (dot(toProbe, normal) / max(length(toProbe), 1e-4) + 1.0);
-  weight *= facing * facing + kGatherBackfacingProbeWeight;
+  float weight = probe.trilinear * (facing * facing + kGatherBackfacingProbeWeight);
   // "Distance Weight": the probe's traced distance toward the point against the point's distance.
-  vec3 fromProbe = biased - result.position;
+  vec3 fromProbe = biased - probe.position;
   float pointDistance = length(fromProbe);
   if (pointDistance > 1e-4) {
-    float traced = dot(probeDistanceSh(result.stored, spacing), sh2Basis(fromProbe / pointDistance));
+    float traced = dot(probeDistanceSh(probe.stored, spacing), sh2Basis(fromProbe / pointDistance));
     float visible = clamp(traced / pointDistance, 0.0, 1.0);
     weight *= max(visible * visible * visible, kGatherOccludedProbeWeight);
   }
-  result.weight = weight;
-  return result;
+  return weight;
 }
 
 // Irradiance at a surface point from the 8 probes of a level around it, and their confidence.
@@ -90,19 +92,23 @@ GatheredLight gatherLevel(uint level, vec3 position, vec3 normal, bool testVisib
   vec3 grid = biased / spacing;
   ivec3 cell = ivec3(floor(grid));
   vec3 fraction = grid - vec3(cell);
+  float weights[kProbeCellCorners];
+  float weightBeforeVisibility = 0.0;
+  for (int corner = 0; corner < kProbeCellCorners; ++corner) {
+    weights[corner] = cornerWeight(cornerProbe(level, cell, fraction, corner), spacing, position, normal, biased);
+    weightBeforeVisibility += weights[corner];
+  }
   // The traces are most of the gather's cost: a probe whose weight is a negligible share of the 8 probes' is left out
   // rather than traced, which changes E by less than that share.
-  float weightBeforeVisibility = 0.0;
-  for (int corner = 0; corner < kProbeCellCorners; ++corner)
-    weightBeforeVisibility += cornerProbe(level, cell, fraction, corner, position, normal, biased).weight;
   float negligibleWeight = kGatherNegligibleProbeShare * weightBeforeVisibility;
-  Sh2Rgb radiance = sh2Zero();  // the probes' radiance SH, weighted
+  vec3 irradiance = vec3(0.0);
   float known = 0.0;
   float blend = 0.0;
   float totalWeight = 0.0;
   for (int corner = 0; corner < kProbeCellCorners; ++corner) {
-    CornerProbe probe = cornerProbe(level, cell, fraction, corner, position, normal, biased);
-    if (probe.weight <= negligibleWeight) continue;
+    float weight = weights[corner];
+    if (weight <= negligibleWeight) continue;
+    CornerProbe probe = cornerProbe(level, cell, fraction, corner);
     vec3 fromProbe = biased - probe.position;
     float pointDistance = length(fromProbe);
     // Beyond the talk's weights, which it says only ease leaks: a probe with a voxel between it and the point does not
@@ -114,17 +120,16 @@ GatheredLight gatherLevel(uint level, vec3 position, vec3 normal, bool testVisib
           traceVoxelsHierarchical(probe.position, fromProbe / pointDistance, pointDistance, kIgnoreObservedSpace);
       if (blocker.hit && blocker.distance < pointDistance - 0.5 * volume.voxelSize) continue;
     }
-    radiance = sh2Add(radiance, sh2Scale(probeRadianceSh(probe.stored), probe.weight));
+    // Each probe's own reading: where the probes see a small bright source from different sides, one reading of
+    // their mean SH is darker than the mean of their readings (QUALITY.md, "Cheaper passes").
+    irradiance += weight * sh2IrradianceWithoutRinging(probeRadianceSh(probe.stored), normal);
     // The same probes with the same weights: the confidence says how much of this E rests on observed space.
-    known += probe.weight * probeKnownFraction(probe.stored);
-    blend += probe.weight / float(probeHistoryCount(probe.stored.state) + 1u);
-    totalWeight += probe.weight;
+    known += weight * probeKnownFraction(probe.stored);
+    blend += weight / float(probeHistoryCount(probe.stored.state) + 1u);
+    totalWeight += weight;
   }
   if (totalWeight <= 0.0) return GatheredLight(vec3(0.0), 0.0, 1.0, false);
-  // One reading of the radiance field interpolated at the point, not eight of the probes' own: the reading is the
-  // gather's costliest arithmetic (a pow per channel), and its guards apply as well to the light the point is given.
-  vec3 irradiance = sh2IrradianceWithoutRinging(sh2Divide(radiance, totalWeight), normal);
-  return GatheredLight(irradiance, known / totalWeight, blend / totalWeight, true);
+  return GatheredLight(irradiance / totalWeight, known / totalWeight, blend / totalWeight, true);
 }
 
 // Irradiance and confidence at a surface point from the finest level that holds it (near a level's boundary, by
