@@ -101,13 +101,18 @@ GatheredLight gatherLevel(uint level, vec3 position, vec3 normal, bool testVisib
   // The traces are most of the gather's cost: a probe whose weight is a negligible share of the 8 probes' is left out
   // rather than traced, which changes E by less than that share.
   float negligibleWeight = kGatherNegligibleProbeShare * weightBeforeVisibility;
+  uint kept = 0u;  // bit per corner
+  for (int corner = 0; corner < kProbeCellCorners; ++corner)
+    if (weights[corner] > negligibleWeight) kept |= 1u << uint(corner);
   vec3 irradiance = vec3(0.0);
   float known = 0.0;
   float blend = 0.0;
   float totalWeight = 0.0;
-  for (int corner = 0; corner < kProbeCellCorners; ++corner) {
+  // Over the kept corners only: invocations run in lock-step groups, and a loop over all eight would make each group
+  // wait for a trace at every corner some invocation keeps.
+  for (; kept != 0u; kept &= kept - 1u) {
+    int corner = findLSB(kept);
     float weight = weights[corner];
-    if (weight <= negligibleWeight) continue;
     CornerProbe probe = cornerProbe(level, cell, fraction, corner);
     vec3 fromProbe = biased - probe.position;
     float pointDistance = length(fromProbe);
