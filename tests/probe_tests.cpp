@@ -144,6 +144,39 @@ TEST(ProbeDirections, theStateWordKeepsHistoryDirectionOffsetAndPlacementApartAn
   }
 }
 
+TEST(ProbeDirections, theChangeWordKeepsTheDriftSumToWithinAStepAndItsSign) {
+  for (const float dither : {0.0f, 0.5f, 0.999f}) {
+    for (float drift = -shader::kProbeDriftLimit + 0.01f; drift < shader::kProbeDriftLimit; drift += 0.13f) {
+      shader::ProbeChange change{0.5f, 0.01f, 3u, drift};
+      const shader::ProbeChange unpacked = shader::unpackProbeChange(shader::packProbeChange(change, dither));
+      ASSERT_NEAR(unpacked.drift, drift, shader::kProbeDriftStep) << "dither " << dither;
+      if (unpacked.drift != 0.0f) {
+        ASSERT_EQ(unpacked.drift < 0.0f, drift < 0.0f) << drift;
+      }
+      ASSERT_EQ(unpacked.recoveryUpdates, 3u);
+      ASSERT_NEAR(unpacked.mean, 0.5f, 1e-3f);
+    }
+  }
+}
+
+TEST(ProbeDirections, theDriftSumClimbsWithUpdatesThatKeepStrayingOneWayAndNotWithNoise) {
+  // Noise that strays by up to the allowance either way leaves it at zero; updates 1.5 deviations up climb 0.5 each.
+  float drift = 0.0f;
+  for (int update = 0; update < 100; ++update)
+    drift = shader::accumulateProbeDrift(drift, update % 2 ? shader::kProbeDriftAllowance
+                                                           : -shader::kProbeDriftAllowance);
+  EXPECT_EQ(drift, 0.0f);
+  const float stray = shader::kProbeDriftAllowance + 0.5f;
+  for (int update = 1; update <= 4; ++update) {
+    drift = shader::accumulateProbeDrift(drift, stray);
+    EXPECT_FLOAT_EQ(drift, 0.5f * float(update));
+  }
+  // An update the other way takes it back toward zero, and past zero it starts again on that side.
+  EXPECT_FLOAT_EQ(shader::accumulateProbeDrift(drift, -0.5f), drift - 0.5f - shader::kProbeDriftAllowance);
+  EXPECT_FLOAT_EQ(shader::accumulateProbeDrift(0.5f, -3.0f), -3.0f + shader::kProbeDriftAllowance);
+  EXPECT_FLOAT_EQ(shader::accumulateProbeDrift(-0.5f, -1.5f), -0.5f - 1.5f + shader::kProbeDriftAllowance);
+}
+
 // ---------------------------------------------------------------------------------------------------------------------
 // GPU: scenes of bricks under the probes.
 
@@ -620,13 +653,14 @@ TEST_F(ProbeChangeDetection, aProbeWhoseSurroundingsBrightenFollowsWithinAnUpdat
   }
 }
 
-// Light that grows over many updates, as the bounces after a light switched on come in through the lit-frame loop:
+// Light that grows over many updates, as the bounces after a light switched on come in round the voxel → probe loop:
 // the walls of the closed box brighten by 10 % per update. No single update strays from the history by twice the
-// noise floor at first; two in a row stray the same way by 1.5 floors from the 2nd on, and the probe then follows
-// with a history of at most 1 (kProbeChangeRecoveryHistory). Worked through by hand for these exact walls (every ray
-// sees the walls, so every trimmed mean is their radiance), the rules give after 12 updates 0.92 of the walls'
-// radiance, the single-update rule alone 0.69 and the plain blend 0.42 (the GPU agrees: docs/QUALITY.md, "What the
-// scenario tests' bounds rest on"); the bounds lie between.
+// noise floor at first: the first four stray by 0.9, 1.9, 2.8 and 3.5 floors, and less the allowance of one floor
+// each their sum passes four floors at the 4th; the probe then follows with a history of at most 1
+// (kProbeChangeRecoveryHistory), the drift starting it again at the 8th. Worked through by hand for these exact walls
+// (every ray sees the walls, so every trimmed mean is their radiance), the rules give after 12 updates 0.92 of the
+// walls' radiance, the single-update rule alone 0.69 and the plain blend 0.42 (the GPU agrees: docs/QUALITY.md, "What
+// the scenario tests' bounds rest on"); the bounds lie between.
 TEST_F(ProbeChangeDetection, aProbeWhoseSurroundingsBrightenStepByStepKeepsUpWithThem) {
   constexpr float kStart = 0.25f, kGrowth = 1.1f;
   constexpr uint32_t kSteps = 12;

@@ -69,9 +69,9 @@ TEST_F(Scenario, convergedDarkRoomChangesUnderOnePercentFromFrameToFrame) {
 TEST_F(Scenario, cornellLightSwitchedOnArrivesSoonerWithChangeDetection) {
   // The ceiling light of the Cornell box switched on after 64 frames lit by the panel alone: the indirect light
   // doubles. Change detection (SPEC §6.2) lets the probes take the first bounce at once instead of 1/33 of it per
-  // update, and the bounces after it, which come through the lit-frame loop in small steps, with a short history while
-  // they keep coming (two updates in a row straying the same way). 80 % lies between the progress 48 frames after the
-  // switch with it and with the single-update rule alone (docs/QUALITY.md, "What the scenario tests' bounds rest on").
+  // update, and the bounces after it, which come round the loop in small steps, with a short history while they keep
+  // coming (their drift summed over updates). 80 % lies between the progress 48 frames after the switch with it and
+  // with the single-update rule alone (docs/QUALITY.md, "What the scenario tests' bounds rest on").
   const bench::ScenarioView view = builtinView("cornell");
   bench::LagOptions options;
   options.framesAfterSwitch = 48;

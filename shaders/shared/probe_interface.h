@@ -351,29 +351,37 @@ SSVGI_CONSTANT(uint, kProbeChangeTrimFraction, 8u);
 SSVGI_CONSTANT(float, kProbeChangeVarianceFloor, 0.0025f);
 // Below this history count the blend weight 1/(m+1) is large anyway, and the variance has too few updates.
 SSVGI_CONSTANT(uint, kProbeChangeMinimumHistory, 4u);
-// Light that keeps coming: after a switch the first bounce arrives at once, the later ones through the lit-frame loop
-// of SPEC §3, in steps too small for one update to tell from noise, and the history would trail them by about half
-// its length. Two updates in a row that stray the same way by more than kProbeDriftDeviations standard deviations
-// (a chance of about 1 in 110 for noise) start a recovery: for kProbeChangeRecoveryUpdates updates the history count
-// stays at most kProbeChangeRecoveryHistory, so the probe follows the light while it grows.
-SSVGI_CONSTANT(float, kProbeDriftDeviations, 1.5f);
+// Light that keeps coming: after a switch the first bounce arrives at once, the later ones in steps too small for one
+// update to tell from noise, and the history would trail them at its own pace — α = 1/(m+1) with m about 10 to 30,
+// for every bounce in turn. Evidence of a drift is summed over updates instead (Page's CUSUM): `drift` adds each
+// update's deviation in standard deviations less kProbeDriftAllowance, on the side it leans, and never crosses zero
+// but to start again on the other. Noise wanders back to zero; a history that falls behind light that keeps growing
+// strays further each update and climbs. Past kProbeDriftLimit deviations it starts a recovery: for
+// kProbeChangeRecoveryUpdates updates the history count stays at most kProbeChangeRecoveryHistory, so the probe
+// follows the light while it grows (or fades). An allowance of 1 keeps the still dark-room's flicker as it was; 0.75
+// halved the lag again but raised it (docs/QUALITY.md, "Drift summed over updates").
+SSVGI_CONSTANT(float, kProbeDriftAllowance, 1.0f);
+SSVGI_CONSTANT(float, kProbeDriftLimit, 4.0f);
 SSVGI_CONSTANT(uint, kProbeChangeRecoveryUpdates, 15u);
 SSVGI_CONSTANT(uint, kProbeChangeRecoveryHistory, 1u);
+// The drift is stored in steps of this many deviations (its magnitude in 3 bits, below the limit).
+SSVGI_CONSTANT(float, kProbeDriftStep, kProbeDriftLimit / 7.0f);
 
 // A probe's word of the change buffer: bits 0–15 the trimmed mean H (half float); bits 16–23 the rms of d, √(mean
 // d²), in 8-bit fixed point over [0, 1] (|d| ≤ 1), rounded with `dither` as packProbeUnitSh rounds (the variance
-// blends with α down to 1/(m+1), below one step); bits 24–27 the updates left of a recovery; bits 28–29 which way the
-// last update strayed (0 not by kProbeDriftDeviations, 1 up, 2 down).
+// blends with α down to 1/(m+1), below one step); bits 24–27 the updates left of a recovery; bits 28–30 the drift's
+// magnitude in kProbeDriftSteps (rounded with the same dither), bit 31 its sign.
 struct ProbeChange {
   float mean;
   float variance;
   uint recoveryUpdates;
-  uint lastStray;
+  float drift;  // in standard deviations; negative: the light fades
 };
 SSVGI_INLINE uint packProbeChange(ProbeChange change, float dither) {
   uint deviation = min(uint(floor(sqrt(clamp(change.variance, 0.0f, 1.0f)) * 255.0f + dither)), 255u);
+  uint drift = min(uint(floor(min(abs(change.drift), kProbeDriftLimit) / kProbeDriftStep + dither)), 7u);
   return SSVGI_HALF_BITS(min(change.mean, 65504.0f)) | (deviation << 16u) | (min(change.recoveryUpdates, 15u) << 24u) |
-         (change.lastStray << 28u);
+         (drift << 28u) | (change.drift < 0.0f ? 1u << 31u : 0u);
 }
 SSVGI_INLINE ProbeChange unpackProbeChange(uint word) {
   float deviation = float((word >> 16u) & 0xffu) / 255.0f;
@@ -381,8 +389,18 @@ SSVGI_INLINE ProbeChange unpackProbeChange(uint word) {
   change.mean = SSVGI_HALF_FLOAT(word & 0xffffu);
   change.variance = deviation * deviation;
   change.recoveryUpdates = (word >> 24u) & 0xfu;
-  change.lastStray = word >> 28u;
+  change.drift = float((word >> 28u) & 0x7u) * kProbeDriftStep * ((word >> 31u) != 0u ? -1.0f : 1.0f);
   return change;
+}
+// The drift sum after an update that strays by `deviations` standard deviations (Page's CUSUM, one side at a time):
+// on the side it leans, down to zero; from zero, on whichever side the update leans past the allowance.
+SSVGI_INLINE float accumulateProbeDrift(float drift, float deviations) {
+  float leaning = drift >= 0.0f ? max(drift + deviations - kProbeDriftAllowance, 0.0f)
+                                : min(drift + deviations + kProbeDriftAllowance, 0.0f);
+  if (leaning != 0.0f) return leaning;
+  if (deviations > kProbeDriftAllowance) return deviations - kProbeDriftAllowance;
+  if (deviations < -kProbeDriftAllowance) return deviations + kProbeDriftAllowance;
+  return 0.0f;
 }
 // The mean radiance over the sphere of an SH2, as luminance: band 0 over 4π·Y00.
 SSVGI_INLINE float probeMeanLuminance(Sh2Rgb radiance) {

@@ -205,28 +205,31 @@ float probeDither(uint probeIndex) { return hashToUnitCube(uvec3(probeIndex, upd
 
 // Less lag (SPEC §6.2; shared/probe_interface.h): an update whose trimmed mean strays from its history's by more than
 // its usual noise shortens the history in proportion. Its deviation is then not learnt as noise, so that a change does
-// not teach the probe to expect changes. Light that keeps growing (or fading) — two updates in a row straying the same
-// way — holds the history short for a while. Updates the probe's change statistics; returns the history count this
+// not teach the probe to expect changes. Light that keeps growing (or fading) — a drift summed over updates past
+// kProbeDriftLimit deviations — holds the history short for a while. Updates the probe's change statistics; returns the history count this
 // update blends with.
 uint followChange(uint probeIndex, uint storedCount, float trimmedMean) {
   uint historyCount = storedCount;
   float threshold = update.changeThreshold;
   ProbeChange change =
-      storedCount > 0u ? unpackProbeChange(changes[probeIndex]) : ProbeChange(trimmedMean, 0.0, 0u, 0u);
+      storedCount > 0u ? unpackProbeChange(changes[probeIndex]) : ProbeChange(trimmedMean, 0.0, 0u, 0.0);
   float deviation = (trimmedMean - change.mean) / max(trimmedMean + change.mean, 1e-20);
   float squaredDeviation = deviation * deviation;
-  uint stray = 0u;
+  float drift = 0.0;
   if (threshold > 0.0 && storedCount >= kProbeChangeMinimumHistory) {
     float noise = max(change.variance, kProbeChangeVarianceFloor);
     float expected = threshold * threshold * noise;
-    if (squaredDeviation > kProbeDriftDeviations * kProbeDriftDeviations * noise) stray = deviation > 0.0 ? 1u : 2u;
-    if (stray != 0u && stray == change.lastStray) change.recoveryUpdates = kProbeChangeRecoveryUpdates;
+    drift = accumulateProbeDrift(change.drift, deviation / sqrt(noise));
+    if (abs(drift) >= kProbeDriftLimit) {
+      change.recoveryUpdates = kProbeChangeRecoveryUpdates;
+      drift = 0.0;
+    }
     if (squaredDeviation > expected) {
       historyCount = uint(float(storedCount) * expected / squaredDeviation);
       squaredDeviation = change.variance;
     }
   }
-  change.lastStray = stray;
+  change.drift = drift;
   if (change.recoveryUpdates > 0u) {
     historyCount = min(historyCount, kProbeChangeRecoveryHistory);
     --change.recoveryUpdates;
