@@ -1,11 +1,13 @@
-// SPEC §7 lag: a local light is switched on in a converged scene, and the indirect irradiance climbs to its new steady
-// state through the loop of SPEC §3 (the lit frame carries the new direct light into the voxels, the probes trace them,
-// the gather and its temporal filter pass it on). The renderer uploads Scene::lights every frame, so the switch is the
-// light's intensity going from zero to its value between two frames. The scene's emissive surfaces and its other
-// lights stay on: the old steady state is not zero, and the lag is counted on the way from the old state to the new.
+// SPEC §7 lag: a local light is switched on (or off) in a converged scene, and the indirect irradiance moves to its new
+// steady state through the voxel → probe loop (the lit frame and the views carry the new direct light into the
+// voxels, the probes trace them, the relight and the gather pass it on). The renderer uploads Scene::lights every
+// frame, so the switch is the light's intensity going from zero to its value, or back, between two frames. The
+// scene's emissive surfaces and its other lights stay on: the old steady state is not zero, and the lag is counted on
+// the way from the old state to the new.
 #include "scenario_rendering.h"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -28,26 +30,30 @@ LagResult measureLag(gpu::OwnedDevice& device, const ScenarioRendering& renderin
   if (options.steadyFrames == 0 || options.steadyFrames > std::min(options.convergenceFrames, options.framesAfterSwitch))
     throw std::runtime_error("scenario lag: the steady frames must be 1 to the frames before and after the switch");
 
-  // Two runs side by side, frame for frame: one with the light switched on after convergenceFrames, and one with it
-  // on all along, whose last frames are the new steady state (the lit loop of SPEC §3 converges over many frames, so
-  // the switched run's own last frames would still be on their way).
+  // Two runs side by side, frame for frame: the switched one, and the settled one with the light as the switch leaves
+  // it all along, whose last frames are the new steady state (the loop converges over many frames, so the switched
+  // run's own last frames would still be on their way).
   renderer::Scene switchedScene = view.scene;  // the renderer reads its lights every frame: the switch reaches it
+  renderer::Scene settledScene = view.scene;
+  const glm::vec3 intensityOn = view.scene.lights[options.light].intensity;
+  const glm::vec3 intensityBefore = options.switchOff ? intensityOn : glm::vec3(0.0f);
+  const glm::vec3 intensityAfter = options.switchOff ? glm::vec3(0.0f) : intensityOn;
   renderer::LocalLight& light = switchedScene.lights[options.light];
-  const glm::vec3 intensityOn = light.intensity;
-  light.intensity = glm::vec3(0.0f);
+  light.intensity = intensityBefore;
+  settledScene.lights[options.light].intensity = intensityAfter;
   ScenarioRenderer switched(device, switchedScene, rendering);
-  ScenarioRenderer alwaysOn(device, view.scene, rendering);
+  ScenarioRenderer settled(device, settledScene, rendering);
 
   std::vector<bool> surface;
-  std::vector<double> switchedIrradiance, alwaysOnIrradiance;
+  std::vector<double> switchedIrradiance, settledIrradiance;
   const uint32_t frames = options.convergenceFrames + options.framesAfterSwitch;
   for (uint32_t frame = 0; frame < frames; ++frame) {
-    if (frame == options.convergenceFrames) light.intensity = intensityOn;
+    if (frame == options.convergenceFrames) light.intensity = intensityAfter;
     switched.render(view.camera, 1);
-    alwaysOn.render(view.camera, 1);
-    if (surface.empty()) surface = surfacePoints(view.camera, alwaysOn.renderer().viewDistance()).isSurface;
+    settled.render(view.camera, 1);
+    if (surface.empty()) surface = surfacePoints(view.camera, settled.renderer().viewDistance()).isSurface;
     switchedIrradiance.push_back(meanWhere(luminance(switched.renderer().indirectIrradiance()), surface));
-    alwaysOnIrradiance.push_back(meanWhere(luminance(alwaysOn.renderer().indirectIrradiance()), surface));
+    settledIrradiance.push_back(meanWhere(luminance(settled.renderer().indirectIrradiance()), surface));
   }
   // The mean of `steadyFrames` frames of a run, the last of them `end` − 1.
   const auto steadyMean = [&](const std::vector<double>& irradiance, size_t end) {
@@ -55,9 +61,11 @@ LagResult measureLag(gpu::OwnedDevice& device, const ScenarioRendering& renderin
                            irradiance.begin() + ptrdiff_t(end), 0.0) / double(options.steadyFrames);
   };
   const double before = steadyMean(switchedIrradiance, options.convergenceFrames);
-  const double after = steadyMean(alwaysOnIrradiance, frames);
-  if (!(after > before))
-    throw std::runtime_error("scenario lag: switching the light on did not raise the indirect irradiance");
+  const double after = steadyMean(settledIrradiance, frames);
+  if (options.switchOff ? !(after < before) : !(after > before))
+    throw std::runtime_error(options.switchOff
+                                 ? "scenario lag: switching the light off did not lower the indirect irradiance"
+                                 : "scenario lag: switching the light on did not raise the indirect irradiance");
 
   LagResult result;
   result.irradianceBefore = before;
@@ -68,10 +76,11 @@ LagResult measureLag(gpu::OwnedDevice& device, const ScenarioRendering& renderin
     if (!result.framesToNinetyPercent && result.progress.back() >= kLagFraction)
       result.framesToNinetyPercent = uint32_t(result.progress.size());
   }
-  for (size_t frame = 0; frame < frames && !result.alwaysOnFramesToNinetyPercent; ++frame)
-    if (alwaysOnIrradiance[frame] >= kLagFraction * after) result.alwaysOnFramesToNinetyPercent = uint32_t(frame + 1);
+  for (size_t frame = 0; frame < frames && !result.settledRunFramesToNinetyPercent; ++frame)
+    if (std::abs(settledIrradiance[frame] - after) <= (1.0 - kLagFraction) * after)
+      result.settledRunFramesToNinetyPercent = uint32_t(frame + 1);
   if (frames >= 2 * options.steadyFrames)
-    result.steadyDrift = after / steadyMean(alwaysOnIrradiance, frames - options.steadyFrames) - 1.0;
+    result.steadyDrift = after / steadyMean(settledIrradiance, frames - options.steadyFrames) - 1.0;
   return result;
 }
 
@@ -79,9 +88,9 @@ nlohmann::json toJson(const LagResult& result) {
   return {{"framesToNinetyPercent",
            result.framesToNinetyPercent ? nlohmann::json(*result.framesToNinetyPercent) : nlohmann::json(nullptr)},
           {"targetFrames", result.targetFrames},
-          {"alwaysOnFramesToNinetyPercent", result.alwaysOnFramesToNinetyPercent
-                                                ? nlohmann::json(*result.alwaysOnFramesToNinetyPercent)
-                                                : nlohmann::json(nullptr)},
+          {"settledRunFramesToNinetyPercent", result.settledRunFramesToNinetyPercent
+                                                  ? nlohmann::json(*result.settledRunFramesToNinetyPercent)
+                                                  : nlohmann::json(nullptr)},
           {"steadyDrift", result.steadyDrift},
           {"irradianceBefore", result.irradianceBefore},
           {"irradianceAfter", result.irradianceAfter},

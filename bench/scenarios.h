@@ -78,26 +78,27 @@ FlickerResult measureFlicker(gpu::OwnedDevice& device, const ScenarioRendering& 
                              const FlickerOptions& options = {});
 
 // ---------------------------------------------------------------------------------------------------------------------
-// Lag (SPEC §7, target §6.2): frames after a local light is switched on until the indirect irradiance has made 90 % of
-// its way from the old steady state to the new one.
+// Lag (SPEC §7, target §6.2): frames after a local light is switched on (or off) until the indirect irradiance has made
+// 90 % of its way from the old steady state to the new one.
 
 struct LagOptions {
-  uint32_t light = 0;                // index of the scene's local light that is switched on
-  uint32_t convergenceFrames = 64;   // frames with the light off before the switch
-  uint32_t framesAfterSwitch = 96;   // frames rendered with the light on
+  uint32_t light = 0;                // index of the scene's local light that is switched
+  bool switchOff = false;            // the light is on before the switch and off after it (issue 14's switch-off)
+  uint32_t convergenceFrames = 64;   // frames before the switch
+  uint32_t framesAfterSwitch = 96;   // frames rendered after it
   uint32_t steadyFrames = 16;        // frames averaged for a steady state: the last before the switch, and the last of
-                                     // a run with the light on all along
+                                     // the settled run (the light as the switch leaves it, all along)
 };
 
 struct LagResult {
   double irradianceBefore = 0.0;  // mean luminance of E_indirect over the surface pixels before the switch (W/m²): the
                                   // other lights, emissive surfaces and the sky still light the scene
-  double irradianceAfter = 0.0;   // the same in a run with the light on all along, at its last frames
+  double irradianceAfter = 0.0;   // the same in the settled run, at its last frames
   std::vector<double> progress;   // per frame after the switch: (E − before) / (after − before)
   std::optional<uint32_t> framesToNinetyPercent;  // the first frame (1 = the switch frame) whose progress ≥ 0.9
-  // For comparison, the first frame of the run with the light on all along whose E ≥ 0.9 · after: how long the GI
-  // takes to build up from nothing (the lit-frame loop of SPEC §3 adds a bounce per pass through it).
-  std::optional<uint32_t> alwaysOnFramesToNinetyPercent;
+  // For comparison, the first frame of the settled run whose E is within 10 % of `after`: how long the GI takes to
+  // build up from nothing (each bounce goes once round the voxel → probe loop).
+  std::optional<uint32_t> settledRunFramesToNinetyPercent;
   // How far that run still moved: its last steadyFrames' mean over the mean of the steadyFrames before those, − 1.
   // Far from 0, `after` is not yet a steady state and the frame counts above are too low.
   double steadyDrift = 0.0;

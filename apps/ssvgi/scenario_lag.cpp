@@ -8,18 +8,20 @@ CommandRunner addLagScenario(CLI::App& scenario) {
   auto options = std::make_shared<ScenarioOptions>();
   auto lag = std::make_shared<bench::LagOptions>();
   CLI::App* command = scenario.add_subcommand(
-      "lag", "Lag (SPEC §7): frames after a local light is switched on until the mean indirect irradiance has made "
-             "90 % of its way to the new steady state; SPEC §6.2's target is reported alongside");
+      "lag", "Lag (SPEC §7): frames after a local light is switched on (or off, --off) until the mean indirect "
+             "irradiance has made 90 % of its way to the new steady state; SPEC §6.2's target is reported alongside");
   addScenarioOptions(*command, *options, "cornell");
-  command->add_option("--light", lag->light, "Index of the scene's local light to switch on")->capture_default_str();
-  command->add_option("--frames", lag->convergenceFrames, "Frames rendered with the light off before the switch")
+  command->add_option("--light", lag->light, "Index of the scene's local light to switch")->capture_default_str();
+  command->add_flag("--off", lag->switchOff, "Switch the light off (on before the switch) instead of on");
+  command->add_option("--frames", lag->convergenceFrames, "Frames rendered before the switch")
       ->capture_default_str()
       ->check(CLI::Range(1u, 100000u));
-  command->add_option("--frames-after", lag->framesAfterSwitch, "Frames rendered with the light on")
+  command->add_option("--frames-after", lag->framesAfterSwitch, "Frames rendered after the switch")
       ->capture_default_str()
       ->check(CLI::Range(1u, 100000u));
   command->add_option("--steady-frames", lag->steadyFrames,
-                      "The last frames with the light on, averaged as the new steady state")
+                      "The last frames of the run with the light as the switch leaves it all along, averaged as the "
+                      "new steady state")
       ->capture_default_str()
       ->check(CLI::Range(1u, 100000u));
   return [options, lag] {
@@ -27,6 +29,7 @@ CommandRunner addLagScenario(CLI::App& scenario) {
                                             const bench::ScenarioRendering& rendering) {
       nlohmann::json figures = bench::toJson(bench::measureLag(device, rendering, {resolved.scene, resolved.camera}, *lag));
       figures["light"] = lag->light;
+      figures["switch"] = lag->switchOff ? "off" : "on";
       figures["frames"] = lag->convergenceFrames;
       figures["framesAfterSwitch"] = lag->framesAfterSwitch;
       figures["steadyFrames"] = lag->steadyFrames;
