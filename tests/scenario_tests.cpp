@@ -108,7 +108,8 @@ TEST_F(Scenario, cornellLightSwitchedOffFadesWithChangeDetection) {
   ASSERT_EQ(lag.progress.size(), options.framesAfterSwitch);
   for (const double progress : lag.progress) EXPECT_TRUE(std::isfinite(progress));
   EXPECT_LT(std::abs(lag.steadyDrift), 0.02) << "the run with the light off all along has settled";
-  std::printf("switch-off: %.0f %% of the way after %u frames\n", 100.0 * lag.progress.back(), options.framesAfterSwitch);
+  std::printf("switch-off: %.0f %% of the way after %u frames\n", 100.0 * lag.progress.back(),
+              options.framesAfterSwitch);
   EXPECT_GT(lag.progress.back(), 0.8);
   EXPECT_LT(lag.progress.back(), 1.05) << "and does not overshoot";
 }

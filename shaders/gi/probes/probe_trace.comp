@@ -206,8 +206,8 @@ float probeDither(uint probeIndex) { return hashToUnitCube(uvec3(probeIndex, upd
 // Less lag (SPEC §6.2; shared/probe_interface.h): an update whose trimmed mean strays from its history's by more than
 // its usual noise shortens the history in proportion. Its deviation is then not learnt as noise, so that a change does
 // not teach the probe to expect changes. Light that keeps growing (or fading) — a drift summed over updates past
-// kProbeDriftLimit deviations — holds the history short for a while. Updates the probe's change statistics; returns the history count this
-// update blends with.
+// kProbeDriftLimit deviations — holds the history short for a while. Updates the probe's change statistics; returns
+// the history count this update blends with.
 uint followChange(uint probeIndex, uint storedCount, float trimmedMean) {
   uint historyCount = storedCount;
   float threshold = update.changeThreshold;
