@@ -95,10 +95,10 @@ TEST_F(Scenario, cornellLightSwitchedOnArrivesSoonerWithChangeDetection) {
 }
 
 TEST_F(Scenario, cornellLightSwitchedOffFadesWithChangeDetection) {
-  // The same light switched off after 64 frames on: the indirect light falls to 36 % of what it was. 48 frames after
-  // the switch the probes have made 97 % of the way with change detection and 18 % with it off (`ssvgi scenario lag
-  // --size 128x72 --off --frames-after 48 [--gi-set probeChangeThreshold=0]`, docs/QUALITY.md, "Drift summed over
-  // updates"); the bound, 80 %, lies between, as the switch-on test's does.
+  // The same light switched off after 64 frames on: the indirect light falls to about a third. Change detection lets
+  // the probes drop the light's bounces within a few updates instead of 1/33 of them per update; 80 % of the way 48
+  // frames after the switch lies between the progress with it and without it (docs/QUALITY.md, "What the scenario
+  // tests' bounds rest on").
   const bench::ScenarioView view = builtinView("cornell");
   bench::LagOptions options;
   options.switchOff = true;

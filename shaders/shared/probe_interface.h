@@ -358,8 +358,9 @@ SSVGI_CONSTANT(uint, kProbeChangeMinimumHistory, 4u);
 // but to start again on the other. Noise wanders back to zero; a history that falls behind light that keeps growing
 // strays further each update and climbs. Past kProbeDriftLimit deviations it starts a recovery: for
 // kProbeChangeRecoveryUpdates updates the history count stays at most kProbeChangeRecoveryHistory, so the probe
-// follows the light while it grows (or fades). An allowance of 1 keeps the still dark-room's flicker as it was; 0.75
-// halved the lag again but raised it (docs/QUALITY.md, "Drift summed over updates").
+// follows the light while it grows (or fades). The allowance is one deviation because a smaller one shortened the
+// lag further but let noise start recoveries in still scenes, which flicker (docs/QUALITY.md, "Drift summed over
+// updates").
 SSVGI_CONSTANT(float, kProbeDriftAllowance, 1.0f);
 SSVGI_CONSTANT(float, kProbeDriftLimit, 4.0f);
 SSVGI_CONSTANT(uint, kProbeChangeRecoveryUpdates, 15u);
