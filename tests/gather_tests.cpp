@@ -360,14 +360,17 @@ TEST_F(GatherFilters, upsampleReadsTheTilesAroundTheBilinearFourWhereNoneOfThemL
 
 // A GI context whose every probe of every level is active with radiance L everywhere (set by the test), dispatched
 // once more over them from a camera at `position` looking along −Z. No lit frame: nothing is injected and no probe is
-// traced, so the test's probes stay. Each probe's known fraction (SPEC §6.4) is `known(level, world coordinate)`.
+// traced, so the test's probes stay. Each probe's known fraction (SPEC §6.4) is `known(level, world coordinate)`, and
+// its radiance L times `brightness(world coordinate)` where given.
 class GatherOverConstantProbes : public GatherFilters {
  protected:
   static constexpr float kRadiance = 0.8f;
   using KnownFraction = std::function<float(uint32_t level, glm::ivec3 coordinate)>;
+  using Brightness = std::function<float(glm::ivec3 coordinate)>;
 
   Context& dispatchOverConstantProbes(glm::vec3 position, const KnownFraction& known = {},
-                                      std::array<uint32_t, 3> probeGrid = {16, 8, 16}) {
+                                      std::array<uint32_t, 3> probeGrid = {16, 8, 16},
+                                      const Brightness& brightness = {}) {
     Settings settings;
     settings.volumeBricks = {16, 8, 16};
     settings.brickPoolCapacity = 256;
@@ -398,10 +401,10 @@ class GatherOverConstantProbes : public GatherFilters {
       // Radiance L everywhere: L00 = 4π·Y00·L; a distance of two spacings (the distance SH's range) in every
       // direction: D00 = 4π·Y00·D; no back faces: normal-dot 1.
       const float band0 = 4.0f * kPi * shader::kSh2Band0Basis;
-      const glm::vec4 radiance(band0 * kRadiance, 0.0f, 0.0f, 0.0f);
       const uint32_t unitSh = shader::packProbeUnitSh(glm::vec4(band0, 0.0f, 0.0f, 0.0f), 0.5f);
       for (uint32_t slot = 0; slot < volume.probesPerLevel(); ++slot) {
         const glm::ivec3 coordinate = shader::probeWorldCoordinate(slot, volume.levelOrigin(level, position), dimensions);
+        const glm::vec4 radiance(band0 * kRadiance * (brightness ? brightness(coordinate) : 1.0f), 0.0f, 0.0f, 0.0f);
         probes_.push_back(shader::makeProbe({radiance, radiance, radiance}, unitSh, unitSh,
                                             shader::packProbeState(1, 0, shader::kProbeStateActive),
                                             shader::packProbeTag(coordinate, known ? known(level, coordinate) : 1.0f,
@@ -430,6 +433,36 @@ class GatherOverConstantProbes : public GatherFilters {
     return texels;
   }
 
+  // One counted frame over the test's probes, with nothing drawn right of column 19 (which the tiles of column 4 sample
+  // at this frame's offset (2, 0) but at others not). Returns the tiles whose sample shows a surface.
+  uint32_t dispatchCountedFrame(Context& context, glm::vec3 position) {
+    constexpr uint32_t kFirstColumnShowingNothing = 19;
+    TestView view = viewFrom(position);
+    for (uint32_t y = 0; y < kSize; ++y)
+      for (uint32_t x = kFirstColumnShowingNothing; x < kSize; ++x) view.depth[y * kSize + x] = 0.0f;
+    setFrame(view, position);
+    FrameDesc frame;
+    frame.frameIndex = 2;
+    frame.camera = debugCamera(position);
+    frame.depth.view = depthView();
+    frame.normal.view = normalView();
+    frame.countWork = true;
+    Error error;
+    device().submitAndWait([&](VkCommandBuffer commandBuffer) { error = context.dispatch(frame, commandBuffer); });
+    EXPECT_FALSE(error) << error.message;
+
+    const glm::uvec2 offset = shader::gatherSampleOffset(frame.frameIndex);
+    EXPECT_EQ(offset, glm::uvec2(2, 0));
+    uint32_t surfaceTiles = 0;
+    for (uint32_t y = 0; y < kSize / shader::kGatherTileSize; ++y)
+      for (uint32_t x = 0; x < kSize / shader::kGatherTileSize; ++x) {
+        const glm::uvec2 pixel = glm::uvec2(x, y) * shader::kGatherTileSize + offset;
+        surfaceTiles += view.depth[pixel.y * kSize + pixel.x] > 0.0f ? 1u : 0u;
+      }
+    EXPECT_EQ(surfaceTiles, 5u * (kSize / shader::kGatherTileSize));
+    return surfaceTiles;
+  }
+
   std::unique_ptr<Context> context_;
   std::vector<shader::Probe> probes_;  // as uploaded: level-major, slot order
 };
@@ -456,46 +489,26 @@ TEST_F(GatherOverConstantProbes, finalGatherGivesPiTimesTheRadianceEverywhere) {
 }
 
 TEST_F(GatherOverConstantProbes, finalGatherCountsTheTilesWhoseSampleShowsASurfaceAndOneToEightVisibilityRaysForEach) {
-  // Every probe is usable and every surface lies inside a level with a spacing to spare, so each tile that samples a
-  // surface tests the visibility of the 8 probes around it but those whose weight is a negligible share
-  // (kGatherNegligibleProbeShare) — never its heaviest; a tile that samples nothing traces nothing. Nothing is
-  // drawn right of column 19, which the tiles of column 4 sample at this frame's offset (2, 0) but at others not.
+  // Probes alternately of radiance L and 2L along x, so that the 8 around any point disagree by far more than
+  // kGatherAgreement. Every probe is usable and every surface lies inside a level with a spacing to spare, so each
+  // tile that samples a surface tests the visibility of the 8 probes around it but those whose weight is a negligible
+  // share (kGatherNegligibleProbeShare) — never its heaviest; a tile that samples nothing traces nothing.
   const glm::vec3 position(0.5f, 0.5f, 3.5f);
-  Context& context = dispatchOverConstantProbes(position);
+  Context& context = dispatchOverConstantProbes(position, {}, {16, 8, 16},
+                                                [](glm::ivec3 probe) { return probe.x % 2 == 0 ? 1.0f : 2.0f; });
   Stats stats = context.stats();
   EXPECT_FALSE(stats.work.counted);  // its frames do not count
   EXPECT_EQ(stats.work.finalGather.tiles, 0u);
   EXPECT_EQ(stats.work.finalGather.visibility.rays, 0u);
   EXPECT_EQ(stats.work.upsample.pixels, 0u);
 
-  constexpr uint32_t kFirstColumnShowingNothing = 19;
-  TestView view = viewFrom(position);
-  for (uint32_t y = 0; y < kSize; ++y)
-    for (uint32_t x = kFirstColumnShowingNothing; x < kSize; ++x) view.depth[y * kSize + x] = 0.0f;
-  setFrame(view, position);
-  FrameDesc frame;
-  frame.frameIndex = 2;
-  frame.camera = debugCamera(position);
-  frame.depth.view = depthView();
-  frame.normal.view = normalView();
-  frame.countWork = true;
-  Error error;
-  device().submitAndWait([&](VkCommandBuffer commandBuffer) { error = context.dispatch(frame, commandBuffer); });
-  ASSERT_FALSE(error) << error.message;
-
-  const glm::uvec2 offset = shader::gatherSampleOffset(frame.frameIndex);
-  ASSERT_EQ(offset, glm::uvec2(2, 0));
-  uint32_t surfaceTiles = 0;
-  for (uint32_t y = 0; y < kSize / shader::kGatherTileSize; ++y)
-    for (uint32_t x = 0; x < kSize / shader::kGatherTileSize; ++x) {
-      const glm::uvec2 pixel = glm::uvec2(x, y) * shader::kGatherTileSize + offset;
-      surfaceTiles += view.depth[pixel.y * kSize + pixel.x] > 0.0f ? 1u : 0u;
-    }
-  ASSERT_EQ(surfaceTiles, 5u * (kSize / shader::kGatherTileSize));
+  const uint32_t surfaceTiles = dispatchCountedFrame(context, position);
   stats = context.stats();
   EXPECT_TRUE(stats.work.counted);
   EXPECT_EQ(stats.work.finalGather.tiles, surfaceTiles);
-  EXPECT_GE(stats.work.finalGather.visibility.rays, surfaceTiles);
+  // At least the heaviest of each tile; more in all, since the probes of a tile whose kept probes are not all of one
+  // brightness are each traced.
+  EXPECT_GT(stats.work.finalGather.visibility.rays, surfaceTiles);
   EXPECT_LE(stats.work.finalGather.visibility.rays, 8u * surfaceTiles);
   EXPECT_GT(stats.work.finalGather.visibility.reads, 0u);  // not ≥ rays: a probe outside the voxel volume reads none
   // The passes of one thread per pixel, counted from their dispatch sizes: the half-resolution output, and the Hi-Z
@@ -505,6 +518,17 @@ TEST_F(GatherOverConstantProbes, finalGatherCountsTheTilesWhoseSampleShowsASurfa
   uint32_t hizTexels = 0;
   for (uint32_t side = kSize / 2; side >= 1; side /= 2) hizTexels += side * side;
   EXPECT_EQ(stats.work.hizBuild.texels, hizTexels);
+}
+
+TEST_F(GatherOverConstantProbes, finalGatherTracesOneProbeOfEachTileWhereTheProbesAroundItAgree) {
+  // Every probe of radiance L: which of them a point sees cannot change its E as long as one does, so each tile that
+  // samples a surface traces its heaviest probe alone, which sees it (there are no voxels).
+  const glm::vec3 position(0.5f, 0.5f, 3.5f);
+  Context& context = dispatchOverConstantProbes(position);
+  const uint32_t surfaceTiles = dispatchCountedFrame(context, position);
+  const Stats stats = context.stats();
+  EXPECT_EQ(stats.work.finalGather.tiles, surfaceTiles);
+  EXPECT_EQ(stats.work.finalGather.visibility.rays, surfaceTiles);
 }
 
 TEST_F(GatherOverConstantProbes, probeDebugViewShowsEachProbeAsASphereLitByItsShOrInItsStateColour) {

@@ -1040,7 +1040,8 @@ TEST_F(ProbeCache, voxelRelightCountsEveryRelitVoxelAViewHasSeenSinceTheLitFrame
   EXPECT_EQ(relightable, 16u);
   EXPECT_EQ(stats.work.voxelRelight.voxels, relightable);
   // Each gathers from the 8 probes around it at one level (a coarser one where none is usable): at least one usable
-  // probe, at most 8 at each of 3 levels, every probe in the volume and so read from.
+  // probe traced (the heaviest alone where they agree, kGatherAgreement), at most 8 at each of 3 levels, every probe
+  // in the volume and so read from.
   EXPECT_GE(stats.work.voxelRelight.visibility.rays, relightable);
   EXPECT_LE(stats.work.voxelRelight.visibility.rays, relightable * 8 * shader::kProbeLevels);
   EXPECT_GE(stats.work.voxelRelight.visibility.reads, stats.work.voxelRelight.visibility.rays);

@@ -133,6 +133,11 @@ struct Voxel {
 SSVGI_CHECK_SIZE(Voxel, 16);
 
 SSVGI_CONSTANT(uint, kVoxelRelit, 1u << 24u);
+// A VoxelRelight workgroup relights this many bricks at a time, this many occupied voxels of each at a time: a brick
+// holds a dozen occupied voxels on average (a wall fills 16 of its 64), and with a thread per voxel slot the idle
+// three quarters of each workgroup still cost lavapipe a fifth of the pass (docs/PERFORMANCE.md).
+SSVGI_CONSTANT(uint, kRelightBricksAtOnce, 4u);
+SSVGI_CONSTANT(uint, kRelightVoxelsAtOnce, 16u);
 SSVGI_INLINE uint packVoxelAlbedo(vec3 albedo) {
   uvec3 quantised = uvec3(clamp(albedo, vec3(0.0f), vec3(1.0f)) * 255.0f + vec3(0.5f));
   return quantised.x | (quantised.y << 8u) | (quantised.z << 16u) | kVoxelRelit;

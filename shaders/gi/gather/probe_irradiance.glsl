@@ -81,6 +81,19 @@ float cornerWeight(CornerProbe probe, float spacing, vec3 position, vec3 normal,
   return weight;
 }
 
+// Beyond the talk's weights, which it says only ease leaks: a probe with a voxel between it and the point does not light
+// it. The SH2 distance is far too coarse to see a wall a probe stands a few centimetres behind (the virtual offset may
+// put it on either side), and through a closed door the lit room's probes would light the dark one (`ssvgi scenario
+// leak`). A voxel within half a voxel of the biased point is the point's own surface.
+bool probeSeesPoint(CornerProbe probe, vec3 biased) {
+  vec3 fromProbe = biased - probe.position;
+  float pointDistance = length(fromProbe);
+  if (pointDistance <= 1e-4) return true;
+  VoxelHit blocker =
+      traceVoxelsHierarchical(probe.position, fromProbe / pointDistance, pointDistance, kIgnoreObservedSpace);
+  return !blocker.hit || blocker.distance >= pointDistance - 0.5 * volume.voxelSize;
+}
+
 // Irradiance at a surface point from the 8 probes of a level around it, and their confidence.
 // `testVisibility`: leave out a probe with a voxel between it and the point (a voxel trace per probe). Only a pass that
 // does not write the voxels may trace them.
@@ -104,33 +117,66 @@ GatheredLight gatherLevel(uint level, vec3 position, vec3 normal, bool testVisib
   uint kept = 0u;  // bit per corner
   for (int corner = 0; corner < kProbeCellCorners; ++corner)
     if (weights[corner] > negligibleWeight) kept |= 1u << uint(corner);
+  // Each kept probe's own reading: where the probes see a small bright source from different sides, one reading of
+  // their mean SH is darker than the mean of their readings (QUALITY.md, "Cheaper passes").
+  vec3 readings[kProbeCellCorners];
+  float knownFractions[kProbeCellCorners];
+  float blends[kProbeCellCorners];
+  vec3 meanReading = vec3(0.0);
+  float keptWeight = 0.0;
+  // Over the kept corners only: invocations run in lock-step groups, and a loop over all eight would make each group
+  // wait for a trace at every corner some invocation keeps.
+  for (uint left = kept; left != 0u; left &= left - 1u) {
+    int corner = findLSB(left);
+    Probe stored = cornerProbe(level, cell, fraction, corner).stored;
+    readings[corner] = sh2IrradianceWithoutRinging(probeRadianceSh(stored), normal);
+    knownFractions[corner] = probeKnownFraction(stored);
+    blends[corner] = 1.0 / float(probeHistoryCount(stored.state) + 1u);
+    meanReading += weights[corner] * readings[corner];
+    keptWeight += weights[corner];
+  }
+  // The visibility test only chooses which of these probes light the point. Where their readings agree to within
+  // kGatherAgreement of their mean, any choice but none gives E within that share of it: one trace, from the heaviest,
+  // shows that some probe sees the point, and the others are not traced. One loop of traces, because lavapipe pays for
+  // every copy of the trace in a shader, taken or not.
+  uint visible = kept;  // bit per corner
+  if (testVisibility && keptWeight > 0.0) {
+    meanReading /= keptWeight;
+    float tolerance = kGatherAgreement * max(meanReading.r, max(meanReading.g, meanReading.b));
+    bool agree = true;
+    int heaviest = findLSB(kept);
+    for (uint left = kept; left != 0u; left &= left - 1u) {
+      int corner = findLSB(left);
+      agree = agree && all(lessThanEqual(abs(readings[corner] - meanReading), vec3(tolerance)));
+      if (weights[corner] > weights[heaviest]) heaviest = corner;
+    }
+    uint heaviestBit = 1u << uint(heaviest);
+    uint toTrace = agree ? heaviestBit : kept;
+    visible = 0u;
+    while (toTrace != 0u) {
+      int corner = findLSB(toTrace);
+      toTrace &= toTrace - 1u;
+      if (probeSeesPoint(cornerProbe(level, cell, fraction, corner), biased)) visible |= 1u << uint(corner);
+      if (toTrace == 0u && agree) {  // the heaviest traced: all seen, or none yet and the rest to trace
+        agree = false;
+        if (visible != 0u)
+          visible = kept;
+        else
+          toTrace = kept & ~heaviestBit;
+      }
+    }
+  }
   vec3 irradiance = vec3(0.0);
   float known = 0.0;
   float blend = 0.0;
   float totalWeight = 0.0;
-  // Over the kept corners only: invocations run in lock-step groups, and a loop over all eight would make each group
-  // wait for a trace at every corner some invocation keeps.
-  for (; kept != 0u; kept &= kept - 1u) {
-    int corner = findLSB(kept);
+  for (; visible != 0u; visible &= visible - 1u) {
+    int corner = findLSB(visible);
     float weight = weights[corner];
-    CornerProbe probe = cornerProbe(level, cell, fraction, corner);
-    vec3 fromProbe = biased - probe.position;
-    float pointDistance = length(fromProbe);
-    // Beyond the talk's weights, which it says only ease leaks: a probe with a voxel between it and the point does not
-    // light it. The SH2 distance is far too coarse to see a wall a probe stands a few centimetres behind (the virtual
-    // offset may put it on either side), and through a closed door the lit room's probes would light the dark one
-    // (`ssvgi scenario leak`). A voxel within half a voxel of the biased point is the point's own surface.
-    if (testVisibility && pointDistance > 1e-4) {
-      VoxelHit blocker =
-          traceVoxelsHierarchical(probe.position, fromProbe / pointDistance, pointDistance, kIgnoreObservedSpace);
-      if (blocker.hit && blocker.distance < pointDistance - 0.5 * volume.voxelSize) continue;
-    }
-    // Each probe's own reading: where the probes see a small bright source from different sides, one reading of
-    // their mean SH is darker than the mean of their readings (QUALITY.md, "Cheaper passes").
-    irradiance += weight * sh2IrradianceWithoutRinging(probeRadianceSh(probe.stored), normal);
+    irradiance += weight * readings[corner];
     // The same probes with the same weights: the confidence says how much of this E rests on observed space.
-    known += weight * probeKnownFraction(probe.stored);
-    blend += weight / float(probeHistoryCount(probe.stored.state) + 1u);
+    known += weight * knownFractions[corner];
+    blend += weight * blends[corner];
     totalWeight += weight;
   }
   if (totalWeight <= 0.0) return GatheredLight(vec3(0.0), 0.0, 1.0, false);

@@ -5,15 +5,15 @@
 // an extra view saw once long ago — instead of staying as a view last left them (a light switched off while the
 // camera looks away left its bounce light there for good, feeding itself through the probes).
 // A frame relights the pool's bricks [firstBrick, endBrick) — a slice of it, Settings::voxelRelightPeriod — up to the
-// bump allocator's count (no brick beyond it was ever used), a workgroup going over every gl_NumWorkGroups-th brick
-// with a thread per occupied voxel: a few hundred workgroups rather than one per brick of the pool, most of which is
-// empty.
+// bump allocator's count (no brick beyond it was ever used): a few hundred workgroups rather than one per brick of the
+// pool, most of which is empty, each going over kRelightBricksAtOnce bricks at a time with kRelightVoxelsAtOnce threads
+// per brick walking its occupied voxels.
 #define SSVGI_VOXELS_WRITABLE
 #include "gi/gather/probe_irradiance.glsl"
 #include "gi/work_counting.glsl"
 #include "shared/sampling.h"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = kRelightBricksAtOnce * kRelightVoxelsAtOnce) in;
 
 layout(push_constant) uniform Slice {
   uint firstBrick;
@@ -23,9 +23,7 @@ layout(binding = kBindPoolState) readonly buffer PoolBlock { BrickPoolState pool
 
 // Whether the voxel's light was gathered from the probes (the work counted: shared/work_counters.h).
 bool relightVoxel(uint brick, uint occupiedVoxel) {
-  if (bricks[brick].live == 0u) return false;  // free
   uint voxelIndex = nthOccupiedVoxel(brick, occupiedVoxel);
-  if (voxelIndex == kVoxelsPerBrick) return false;
   uvec3 voxelInBrick = uvec3(voxelIndex & 3u, (voxelIndex >> 2u) & 3u, voxelIndex >> 4u);
   uint index = brick * kVoxelsPerBrick + voxelIndex;
   Voxel voxel = voxels[index];
@@ -55,8 +53,16 @@ bool relightVoxel(uint brick, uint occupiedVoxel) {
 void main() {
   uint end = min(endBrick, pool.bumpCount);
   uint relitVoxels = 0u;
-  for (uint brick = firstBrick + gl_WorkGroupID.x; brick < end; brick += gl_NumWorkGroups.x)
-    if (relightVoxel(brick, gl_LocalInvocationID.x)) ++relitVoxels;
+  uint brickOfWorkgroup = gl_LocalInvocationID.x / kRelightVoxelsAtOnce;
+  uint firstVoxel = gl_LocalInvocationID.x % kRelightVoxelsAtOnce;
+  for (uint brick = firstBrick + gl_WorkGroupID.x * kRelightBricksAtOnce + brickOfWorkgroup; brick < end;
+       brick += gl_NumWorkGroups.x * kRelightBricksAtOnce) {
+    if (bricks[brick].live == 0u) continue;  // free
+    uvec2 occupancy = bricks[brick].occupancy;
+    uint occupied = uint(bitCount(occupancy.x) + bitCount(occupancy.y));
+    for (uint voxel = firstVoxel; voxel < occupied; voxel += kRelightVoxelsAtOnce)
+      if (relightVoxel(brick, voxel)) ++relitVoxels;
+  }
   if (countsWork()) {
     atomicAdd(work.relightVoxels, relitVoxels);
     atomicAdd(work.relightRays, tracedWork.rays);

@@ -1,4 +1,5 @@
 #include "shared/gather_interface.h"
+#include "shared/voxel_interface.h"
 #include "ssvgi_shaders.h"
 #include "voxel_passes.h"
 
@@ -20,11 +21,13 @@ void VoxelRelight::record(gpu::CommandList& commands, const VoxelScene& scene, c
   } slice{frameIndex % period * bricksPerSlice, std::min(capacity, (frameIndex % period + 1) * bricksPerSlice)};
   // Enough workgroups to fill a GPU; each loops over the slice's used bricks.
   constexpr uint32_t kWorkgroups = 256;
+  const uint32_t workgroups =
+      std::min(kWorkgroups, (bricksPerSlice + shader::kRelightBricksAtOnce - 1) / shader::kRelightBricksAtOnce);
   commands.dispatch(pipeline_,
                     scene.bindings()
                         .buffer(shader::kBindGatherConstants, probeLight.gatherConstants)
                         .buffer(shader::kBindGatherProbes, probeLight.probes),
-                    {std::min(kWorkgroups, bricksPerSlice) * shader::kVoxelsPerBrick, 1, 1}, slice);
+                    {workgroups * shader::kRelightBricksAtOnce * shader::kRelightVoxelsAtOnce, 1, 1}, slice);
 }
 
 }  // namespace ssvgi::gi
