@@ -784,5 +784,41 @@ TEST_F(VoxelTrace, aRayPassingInFrontOfAVoxelsSurfacePlaneGoesOnAndOneCrossingIt
   }
 }
 
+TEST_F(VoxelTrace, watchingObservedSpaceARayFindsASurfaceBeyondUnobservedVoxelsOfItsBrickAndIsUnknownLeavingItWithout) {
+  // A floor, the bottom layer of one brick, none of whose empty voxels a view has observed (the air in front of a
+  // floor that the views saw only at a grazing angle). A ray down through that air to the floor meets it: known. A ray
+  // along X through the same air leaves the brick without a surface: unknown from the first unobserved voxel it enters
+  // (the one it starts in does not count) — a hole a view left in a wall.
+  const glm::vec3 radiance(1.0f, 0.5f, 0.25f);
+  const glm::ivec3 brick(6, 7, 8);
+  uint64_t bottomLayer = 0;
+  for (uint32_t z = 0; z < 4; ++z)
+    for (uint32_t x = 0; x < 4; ++x) bottomLayer |= uint64_t(1) << (x + 16 * z);
+  const uint32_t index = cpu_->addBrick(brick, bottomLayer, radiance, glm::vec3(0.0f, 1.0f, 0.0f));
+  cpu_->setObserved(index, bottomLayer);
+  upload();
+  buildOctree(cpu_->allocatedCells());
+
+  const float voxel = cpu_->voxelSize();
+  const glm::vec3 brickMin = cpu_->minimumCorner() + glm::vec3(brick) * cpu_->volume().brickSize;
+  std::vector<VoxelTraceRay> rays{
+      {brickMin + glm::vec3(0.5f, 3.5f, 1.5f) * voxel, 10.0f, glm::normalize(glm::vec3(1.0f, -1.0f, 0.0f)), 1u},
+      {brickMin + glm::vec3(0.5f, 2.5f, 1.5f) * voxel, 10.0f, glm::vec3(1.0f, 0.0f, 0.0f), 1u},
+  };
+  for (gi::TraceRays* tracer : {hierarchical_.get(), flat_.get()}) {
+    SCOPED_TRACE(tracer->method() == gi::TraceMethod::Flat ? "flat" : "hierarchical");
+    const TraceRun run = trace(*tracer, rays);
+    const VoxelTraceHit& toTheFloor = run.hits[0];
+    ASSERT_TRUE(isHit(toTheFloor));
+    EXPECT_EQ(toTheFloor.crossedUnobservedSpace, 0u);
+    EXPECT_EQ(cpu_->voxelOf(toTheFloor.brick, toTheFloor.voxelBit), glm::ivec3(brick) * 4 + glm::ivec3(3, 0, 1));
+    EXPECT_NEAR(toTheFloor.distance, 2.5f * std::sqrt(2.0f) * voxel, 1e-5f);  // where it enters the floor's layer
+    const VoxelTraceHit& alongTheFloor = run.hits[1];
+    EXPECT_FALSE(isHit(alongTheFloor));
+    EXPECT_EQ(alongTheFloor.crossedUnobservedSpace, 1u);
+    EXPECT_NEAR(alongTheFloor.unobservedDistance, 0.5f * voxel, 1e-5f);
+  }
+}
+
 }  // namespace
 }  // namespace ssvgi

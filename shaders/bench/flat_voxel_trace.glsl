@@ -19,6 +19,7 @@ VoxelHit traceVoxelsFlat(vec3 origin, vec3 direction, float maxDistance, bool wa
   uint reads = 0u;
   bool unobserved = false;
   float unobservedDistance = maxDistance;
+  UnobservedVoxelPassed passed = kNoUnobservedVoxelPassed;
   for (;;) {
     bool newBrick = !isCached(cached, walk.voxel >> kBrickLevel);
     loadBrick(cached, walk.voxel >> kBrickLevel, watchesObservedSpace, reads);
@@ -30,16 +31,18 @@ VoxelHit traceVoxelsFlat(vec3 origin, vec3 direction, float maxDistance, bool wa
       VoxelHit hit = voxelHitAt(walk, cached, direction, reads);
       if (hit.hit) return withObservation(hit, unobserved, unobservedDistance);
       reads = hit.reads;
-    } else if (endsAtUnobservedVoxel(walk, cached)) {
-      return unknownAtVoxel(walk, unobserved, unobservedDistance, reads);
+    } else if (countsAsUnobservedVoxel(walk, cached)) {
+      passed = passUnobservedVoxel(passed, walk, unobserved, unobservedDistance);
     }
     int axis = firstCrossingAxis(nextCrossing);
     if (nextCrossing[axis] > maxDistance) break;
     walk.distance = nextCrossing[axis];
     walk.voxel[axis] += walk.step[axis];
     if (walk.voxel[axis] < 0 || walk.voxel[axis] >= size[axis]) break;
+    if (leftUnobservedVoxelsBrick(passed, walk)) return unknownAtVoxel(passed, maxDistance, reads);
     nextCrossing[axis] = crossingDistance(walk, axis, exitPlane(walk.voxel[axis], kVoxelLevel, walk.step[axis]));
   }
+  if (passed.passed) return unknownAtVoxel(passed, maxDistance, reads);
   return withObservation(voxelMiss(maxDistance, reads), unobserved, unobservedDistance);
 }
 

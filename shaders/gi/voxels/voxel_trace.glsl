@@ -236,9 +236,9 @@ const uint kCellOccupied = 1u;
 const uint kCellUnobserved = 2u;
 const uint kCellUnobservedVoxel = 3u;
 
-// Whether an unobserved voxel ends the walk: any but the one the ray starts in — a probe stands in empty space,
-// whether or not a view has seen it so.
-bool endsAtUnobservedVoxel(VoxelWalk walk, CachedBrick brick) {
+// Whether the walk is in an unobserved voxel that counts: any but the one the ray starts in — a probe stands in empty
+// space, whether or not a view has seen it so.
+bool countsAsUnobservedVoxel(VoxelWalk walk, CachedBrick brick) {
   return walk.distance > 0.0 && voxelBitSet(brick.unobserved, voxelInBrick(walk.voxel));
 }
 
@@ -262,7 +262,7 @@ uint cellContents(VoxelWalk walk, int level, bool watchesCells, bool watchesVoxe
   ivec3 inBrick = voxelInBrick(walk.voxel);
   if (level == kVoxelLevel) {
     if (voxelBitSet(brick.mask, inBrick)) return kCellOccupied;
-    return endsAtUnobservedVoxel(walk, brick) ? kCellUnobservedVoxel : kCellEmpty;
+    return countsAsUnobservedVoxel(walk, brick) ? kCellUnobservedVoxel : kCellEmpty;
   }
   return blockOccupied(brick.mask | brick.unobserved, inBrick) ? kCellOccupied : kCellEmpty;
 }
@@ -299,7 +299,8 @@ VoxelHit voxelMiss(float maxDistance, uint reads) {
 // observed are not the sky — or takes every brick cell without voxels for empty (a visibility test between two
 // points, most debug views). A watching trace goes on through unobserved brick cells: a surface it meets beyond is a
 // surface the views did see, and the rays that pass a pillar's blind spot to a sunlit wall find the wall. It ends,
-// unknown, at an unobserved voxel of a brick that holds surface (loadBrick).
+// unknown, where it leaves a brick that holds surface after passing an unobserved voxel of it (loadBrick) without
+// meeting a surface there.
 const bool kWatchObservedSpace = true;
 const bool kIgnoreObservedSpace = false;
 
@@ -309,10 +310,31 @@ VoxelHit withObservation(VoxelHit hit, bool unobserved, float unobservedDistance
   return hit;
 }
 
-// A walk ended at an unobserved voxel: no hit, and unobserved from where it first entered unobserved space.
-VoxelHit unknownAtVoxel(VoxelWalk walk, bool crossedUnobserved, float unobservedDistance, uint reads) {
-  return withObservation(voxelMiss(walk.maxDistance, reads), true,
-                         crossedUnobserved ? unobservedDistance : walk.distance);
+// An unobserved voxel a walk has passed: it goes on to look for a surface in the same brick — the air voxels in
+// front of a floor that no view has seen at the right angle hide nothing, most likely, from a ray that meets the floor
+// beyond them — and ends unknown where it leaves the brick without one (a hole a view left in a wall).
+struct UnobservedVoxelPassed {
+  bool passed;
+  ivec3 brick;      // the brick cell it lies in
+  float distance;   // where the ray first entered unobserved space (metres)
+};
+const UnobservedVoxelPassed kNoUnobservedVoxelPassed = UnobservedVoxelPassed(false, ivec3(0), 0.0);
+
+UnobservedVoxelPassed passUnobservedVoxel(UnobservedVoxelPassed pending, VoxelWalk walk, bool crossedUnobserved,
+                                          float unobservedDistance) {
+  if (pending.passed) return pending;
+  return UnobservedVoxelPassed(true, walk.voxel >> kBrickLevel, crossedUnobserved ? unobservedDistance : walk.distance);
+}
+
+// Whether the walk has left the brick of an unobserved voxel it passed without meeting a surface there.
+bool leftUnobservedVoxelsBrick(UnobservedVoxelPassed pending, VoxelWalk walk) {
+  return pending.passed && any(notEqual(walk.voxel >> kBrickLevel, pending.brick));
+}
+
+// A walk that passed an unobserved voxel and met no surface in its brick: no hit, and unobserved from where it first
+// entered unobserved space.
+VoxelHit unknownAtVoxel(UnobservedVoxelPassed pending, float maxDistance, uint reads) {
+  return withObservation(voxelMiss(maxDistance, reads), true, pending.distance);
 }
 
 // How far in front of a voxel's surface plane (in voxels) a ray still meets it: the plane's 8-bit quantisation (0.007)
@@ -370,11 +392,13 @@ VoxelHit walkOccupancyHierarchy(vec3 origin, vec3 direction, float maxDistance, 
   uint knownOccupiedLevels = 0u;  // bit L: the walk came down from its current level-L cell
   bool unobserved = false;
   float unobservedDistance = maxDistance;
+  UnobservedVoxelPassed passed = kNoUnobservedVoxelPassed;
   for (;;) {
     uint contents = cellContents(walk, level, watchesObservedSpace && !unobserved, watchesObservedSpace, cached, grid,
                                  observed, reads);
-    if (contents == kCellUnobservedVoxel) return unknownAtVoxel(walk, unobserved, unobservedDistance, reads);
-    if (contents == kCellUnobserved) {
+    if (contents == kCellUnobservedVoxel) {
+      passed = passUnobservedVoxel(passed, walk, unobserved, unobservedDistance);
+    } else if (contents == kCellUnobserved) {
       unobserved = true;
       unobservedDistance = walk.distance;
     } else if (contents == kCellOccupied) {
@@ -389,12 +413,14 @@ VoxelHit walkOccupancyHierarchy(vec3 origin, vec3 direction, float maxDistance, 
     }
     ivec3 previous = walk.voxel;
     if (!stepOverCell(walk, level)) break;
+    if (leftUnobservedVoxelsBrick(passed, walk)) return unknownAtVoxel(passed, maxDistance, reads);
     // The cells that changed are those of the levels up to the highest bit in which the voxel coordinates changed.
     ivec3 changedBits = previous ^ walk.voxel;
     int highestChangedLevel = findMSB(changedBits.x | changedBits.y | changedBits.z);
     knownOccupiedLevels &= ~((2u << uint(highestChangedLevel)) - 1u);
     if (level < kTopLevel && (knownOccupiedLevels & (1u << uint(level + 1))) == 0u) ++level;
   }
+  if (passed.passed) return unknownAtVoxel(passed, maxDistance, reads);
   return withObservation(voxelMiss(maxDistance, reads), unobserved, unobservedDistance);
 }
 
