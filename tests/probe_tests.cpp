@@ -194,6 +194,8 @@ Settings probeTestSettings() {
   // The scenes are written straight into the brick pool, not seen by a view: the open space around them is each
   // test's premise, so a ray that meets no voxel sees the sky (ObservedSpace's tests cover space no view has seen).
   settings.skyOnlyThroughObservedSpace = false;
+  // The relight tests look at the voxels after one frame: the whole pool relit every frame.
+  settings.voxelRelightPeriod = 1;
   return settings;
 }
 
