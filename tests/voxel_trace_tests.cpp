@@ -225,6 +225,14 @@ uint64_t randomMask(std::mt19937_64& rng) {
   }
 }
 
+// The voxels of a brick's bottom layer (y = 0) as its 64-bit mask (bit x + 4y + 16z): a floor one voxel thick.
+uint64_t bottomVoxelLayer() {
+  uint64_t layer = 0;
+  for (uint32_t z = 0; z < 4; ++z)
+    for (uint32_t x = 0; x < 4; ++x) layer |= uint64_t(1) << (x + 16 * z);
+  return layer;
+}
+
 glm::vec3 randomUnitVector(std::mt19937_64& rng) {
   std::normal_distribution<float> gaussian;
   return glm::normalize(glm::vec3(gaussian(rng), gaussian(rng), gaussian(rng)));
@@ -754,9 +762,7 @@ TEST_F(VoxelTrace, aRayPassingInFrontOfAVoxelsSurfacePlaneGoesOnAndOneCrossingIt
   // that surface all the way; 0.05 voxels up they run behind it; a ray down from above crosses it.
   const glm::vec3 radiance(1.0f, 0.5f, 0.25f);
   const glm::ivec3 brick(6, 7, 8);
-  uint64_t bottomLayer = 0;
-  for (uint32_t z = 0; z < 4; ++z)
-    for (uint32_t x = 0; x < 4; ++x) bottomLayer |= uint64_t(1) << (x + 16 * z);
+  const uint64_t bottomLayer = bottomVoxelLayer();
   const uint32_t index = cpu_->addBrick(brick, bottomLayer, radiance, glm::vec3(0.0f, 1.0f, 0.0f));
   for (uint32_t bit = 0; bit < shader::kVoxelsPerBrick; ++bit) cpu_->setSurfacePlane(index, bit, -0.4f);
   upload();
@@ -791,9 +797,7 @@ TEST_F(VoxelTrace, watchingObservedSpaceARayFindsASurfaceBeyondUnobservedVoxelsO
   // (the one it starts in does not count) — a hole a view left in a wall.
   const glm::vec3 radiance(1.0f, 0.5f, 0.25f);
   const glm::ivec3 brick(6, 7, 8);
-  uint64_t bottomLayer = 0;
-  for (uint32_t z = 0; z < 4; ++z)
-    for (uint32_t x = 0; x < 4; ++x) bottomLayer |= uint64_t(1) << (x + 16 * z);
+  const uint64_t bottomLayer = bottomVoxelLayer();
   const uint32_t index = cpu_->addBrick(brick, bottomLayer, radiance, glm::vec3(0.0f, 1.0f, 0.0f));
   cpu_->setObserved(index, bottomLayer);
   upload();
