@@ -85,12 +85,12 @@ float cornerWeight(CornerProbe probe, float spacing, vec3 position, vec3 normal,
 // it. The SH2 distance is far too coarse to see a wall a probe stands a few centimetres behind (the virtual offset may
 // put it on either side), and through a closed door the lit room's probes would light the dark one (`ssvgi scenario
 // leak`). A voxel within half a voxel of the biased point is the point's own surface.
-bool probeSeesPoint(CornerProbe probe, vec3 biased) {
-  vec3 fromProbe = biased - probe.position;
+bool probeSeesPoint(vec3 probePosition, vec3 biased) {
+  vec3 fromProbe = biased - probePosition;
   float pointDistance = length(fromProbe);
   if (pointDistance <= 1e-4) return true;
   VoxelHit blocker =
-      traceVoxelsHierarchical(probe.position, fromProbe / pointDistance, pointDistance, kIgnoreObservedSpace);
+      traceVoxelsHierarchical(probePosition, fromProbe / pointDistance, pointDistance, kIgnoreObservedSpace);
   return !blocker.hit || blocker.distance >= pointDistance - 0.5 * volume.voxelSize;
 }
 
@@ -120,6 +120,7 @@ GatheredLight gatherLevel(uint level, vec3 position, vec3 normal, bool testVisib
   // Each kept probe's own reading: where the probes see a small bright source from different sides, one reading of
   // their mean SH is darker than the mean of their readings (QUALITY.md, "Cheaper passes").
   vec3 readings[kProbeCellCorners];
+  vec3 positions[kProbeCellCorners];
   float knownFractions[kProbeCellCorners];
   float blends[kProbeCellCorners];
   vec3 meanReading = vec3(0.0);
@@ -128,7 +129,9 @@ GatheredLight gatherLevel(uint level, vec3 position, vec3 normal, bool testVisib
   // wait for a trace at every corner some invocation keeps.
   for (uint left = kept; left != 0u; left &= left - 1u) {
     int corner = findLSB(left);
-    Probe stored = cornerProbe(level, cell, fraction, corner).stored;
+    CornerProbe probe = cornerProbe(level, cell, fraction, corner);
+    Probe stored = probe.stored;
+    positions[corner] = probe.position;
     readings[corner] = sh2IrradianceWithoutRinging(probeRadianceSh(stored), normal);
     knownFractions[corner] = probeKnownFraction(stored);
     blends[corner] = 1.0 / float(probeHistoryCount(stored.state) + 1u);
@@ -156,7 +159,7 @@ GatheredLight gatherLevel(uint level, vec3 position, vec3 normal, bool testVisib
     while (toTrace != 0u) {
       int corner = findLSB(toTrace);
       toTrace &= toTrace - 1u;
-      if (probeSeesPoint(cornerProbe(level, cell, fraction, corner), biased)) visible |= 1u << uint(corner);
+      if (probeSeesPoint(positions[corner], biased)) visible |= 1u << uint(corner);
       if (toTrace == 0u && agree) {  // the heaviest traced: all seen, or none yet and the rest to trace
         agree = false;
         if (visible != 0u)
