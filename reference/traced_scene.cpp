@@ -148,7 +148,7 @@ std::vector<shader::GpuLight> lightsOf(const renderer::Scene& scene) {
 TracedScene::TracedScene(gpu::OwnedDevice& device, const renderer::Scene& scene, const renderer::AnimatedState& state,
                          uint32_t width, uint32_t height, float exposure)
     : frameConstants_(device, "reference frame constants", sizeof(shader::FrameConstants),
-                      VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryUsage::HostUpload) {
+                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::HostUpload) {
   const SceneTriangles flat = flattenScene(scene, state);
   const Bvh bvh = buildBvh(flat.triangles);
   triangleCount_ = static_cast<uint32_t>(flat.triangles.size());

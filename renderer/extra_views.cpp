@@ -68,7 +68,7 @@ ssvgi::View toView(const shader::FrameConstants& frame, uint32_t size) {
 ExtraViews::Target::Target(Kind viewKind, gpu::Device& device, uint32_t viewSize)
     : kind(viewKind),
       size(viewSize),
-      frameConstants(device, "extra view constants", sizeof(shader::FrameConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+      frameConstants(device, "extra view constants", sizeof(shader::FrameConstants), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                      gpu::MemoryUsage::HostUpload),
       gbuffer(device, viewSize, viewSize),
       radiance(storageImage(device, "extra view radiance", VK_FORMAT_R16G16B16A16_SFLOAT,

@@ -65,7 +65,7 @@ Renderer::Renderer(gpu::OwnedDevice& device, const Scene& scene, const RendererS
       composite_(device),
       tonemap_(device),
       gbuffers_{GBuffer(device, settings.width, settings.height), GBuffer(device, settings.width, settings.height)},
-      frameConstants_(device, "frame constants", sizeof(shader::FrameConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+      frameConstants_(device, "frame constants", sizeof(shader::FrameConstants), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                       gpu::MemoryUsage::HostUpload),
       lights_(device, "local lights", std::max<size_t>(1, scene.lights.size()) * sizeof(shader::GpuLight),
               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::HostUpload),

@@ -115,7 +115,7 @@ class GatherFilters : public testing::GpuTest {
       : targets_(device(), kSize, kSize, 1),
         upsample_(device()),
         temporalFilter_(device()),
-        frame_(device(), "test gi frame", sizeof(shader::GiFrame), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+        frame_(device(), "test gi frame", sizeof(shader::GiFrame), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                gpu::MemoryUsage::HostUpload),
         depth_(device(), {"test depth", VK_FORMAT_R32_SFLOAT, kSize, kSize, 1, 1, VK_IMAGE_USAGE_SAMPLED_BIT}),
         normal_(device(), {"test normal", VK_FORMAT_R32G32B32A32_SFLOAT, kSize, kSize, 1, 1, VK_IMAGE_USAGE_SAMPLED_BIT}),

@@ -55,12 +55,12 @@ TEST_F(Scenario, withTheDoorRemovedTheDarkRoomReceivesTheLitRoomsLight) {
 
 // The room is lit only by a small sun patch, which few of a probe's rays meet. The bound's figures: docs/QUALITY.md,
 // "The views on by default" and "The temporal filter follows the probes". At the test size the room has settled by
-// frame 64; the drift bound checks that premise, since a view still settling would have its settling measured as
-// flicker.
+// frame 96 (still darkening by 0.095 % a frame at frame 64, 0.053 % at 96); the drift bound checks that premise, since
+// a view still settling would have its settling measured as flicker.
 TEST_F(Scenario, convergedDarkRoomChangesUnderOnePercentFromFrameToFrame) {
   const bench::ScenarioView view = builtinView("dark-room");
   const bench::FlickerResult flicker =
-      bench::measureFlicker(device(), testRendering(view.scene), view, {.convergenceFrames = 64});
+      bench::measureFlicker(device(), testRendering(view.scene), view, {.convergenceFrames = 96});
   EXPECT_EQ(flicker.pixels, uint64_t{kTestWidth * kTestHeight}) << "a closed room fills the view";
   EXPECT_LT(std::abs(flicker.driftPerFrame), 0.001) << "the view has not settled";
   EXPECT_LT(flicker.finalImageFlicker, 0.01) << "indirect alone: " << flicker.indirectFlicker;

@@ -2,7 +2,10 @@
 #define SSVGI_GI_FRAME_GLSL
 #include "shared/gi_frame.h"
 
-layout(binding = kBindGiFrame) uniform GiFrameBlock { GiFrame frame; };
+// Constants are std140 read-only storage blocks, never uniform blocks: lavapipe recompiles a shader on every bind when
+// its branches read a uniform block (docs/ARCHITECTURE.md, "The Vulkan layer"). The same holds for every constant
+// block of the library, the renderer and the reference.
+layout(binding = kBindGiFrame, std140) readonly buffer GiFrameBlock { GiFrame frame; };
 
 vec3 reconstructPosition(mat4 inverseViewProjection, vec2 pixel, vec2 size, float depth) {
   vec4 world = inverseViewProjection * vec4(ssvgiPixelToNdc(pixel, size), depth, 1.0);

@@ -5,7 +5,7 @@
 #include "shared/path_tracer_interface.h"
 #include "shared/renderer_interface.h"
 
-layout(binding = kBindTraceFrame) uniform Frame { FrameConstants frame; };
+layout(binding = kBindTraceFrame, std140) readonly buffer Frame { FrameConstants frame; };
 layout(binding = kBindTraceNodes) readonly buffer Nodes { BvhNode nodes[]; };
 layout(binding = kBindTraceTriangles) readonly buffer Triangles { TraceTriangle triangles[]; };
 layout(binding = kBindTraceShading) readonly buffer Shading { TriangleShading shading[]; };

@@ -13,7 +13,7 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(binding = kBindCompositeFrame) uniform Frame { FrameConstants frame; };
+layout(binding = kBindCompositeFrame, std140) readonly buffer Frame { FrameConstants frame; };
 layout(binding = kBindCompositeDepth) uniform sampler2D depthBuffer;
 layout(binding = kBindCompositeAlbedo) uniform sampler2D albedoBuffer;
 layout(binding = kBindCompositeEmission) uniform sampler2D emissionBuffer;

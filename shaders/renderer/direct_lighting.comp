@@ -5,7 +5,7 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(binding = kBindLightingFrame) uniform Frame { FrameConstants frame; };
+layout(binding = kBindLightingFrame, std140) readonly buffer Frame { FrameConstants frame; };
 layout(binding = kBindLightingLights) readonly buffer Lights { GpuLight lights[]; };
 layout(binding = kBindLightingShadowViews) readonly buffer ShadowViews { ShadowView shadowViews[]; };
 layout(binding = kBindLightingDepth) uniform sampler2D depthBuffer;

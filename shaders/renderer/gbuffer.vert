@@ -5,7 +5,7 @@ layout(location = 0) in vec3 inPosition;
 layout(location = 1) in vec3 inNormal;
 layout(location = 2) in vec2 inUv;
 
-layout(binding = kBindDrawFrame) uniform Frame { FrameConstants frame; };
+layout(binding = kBindDrawFrame, std140) readonly buffer Frame { FrameConstants frame; };
 layout(binding = kBindDrawInstances) readonly buffer Instances { GpuInstance instances[]; };
 layout(push_constant) uniform Push { DrawPush draw; };
 

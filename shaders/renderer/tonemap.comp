@@ -4,7 +4,7 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(binding = kBindTonemapFrame) uniform Frame { FrameConstants frame; };
+layout(binding = kBindTonemapFrame, std140) readonly buffer Frame { FrameConstants frame; };
 layout(binding = kBindTonemapInput, rgba32f) readonly uniform image2D hdr;
 layout(binding = kBindTonemapOutput, rgba8) writeonly uniform image2D ldr;
 

@@ -276,7 +276,7 @@ class ContextImplementation final : public Context {
     PerFrame(gpu::Device& device, const gi::ContextBufferBytes& bytes)
         : descriptors(device),
           profiler(device),
-          frameConstants(device, "ssvgi frame constants", bytes.viewConstants, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+          frameConstants(device, "ssvgi frame constants", bytes.viewConstants, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                          gpu::MemoryUsage::HostUpload),
           statsReadback(device, "ssvgi stats readback", bytes.statsReadback, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                         gpu::MemoryUsage::HostReadback),
@@ -286,7 +286,7 @@ class ContextImplementation final : public Context {
                        gpu::MemoryUsage::HostReadback) {
       for (uint32_t i = 0; i < kMaxExtraViews; ++i)
         extraViewConstants.emplace_back(device, "ssvgi extra view constants", bytes.viewConstants,
-                                        VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryUsage::HostUpload);
+                                        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::HostUpload);
     }
     gpu::DescriptorArena descriptors;
     gpu::Profiler profiler;

@@ -6,7 +6,7 @@
 #include "shared/gather_interface.h"
 #include "ssvgi/resolve.glsl"
 
-layout(binding = kBindGatherConstants) uniform GatherConstantsBlock { GatherConstants gather; };
+layout(binding = kBindGatherConstants, std140) readonly buffer GatherConstantsBlock { GatherConstants gather; };
 layout(binding = kBindGatherDepth) uniform sampler2D depthBuffer;
 layout(binding = kBindGatherNormal) uniform sampler2D normalBuffer;
 layout(binding = kBindGatherTileIrradiance, rgba16f) readonly uniform image2D tileIrradiance;

@@ -7,7 +7,7 @@
 #include "gi/voxels/voxel_trace.glsl"
 #include "shared/gather_interface.h"
 
-layout(binding = kBindGatherConstants) uniform GatherConstantsBlock { GatherConstants gather; };
+layout(binding = kBindGatherConstants, std140) readonly buffer GatherConstantsBlock { GatherConstants gather; };
 layout(binding = kBindGatherProbes) readonly buffer Probes { Probe probes[]; };
 
 // How far a point lies inside the cells of a level, in spacings; negative when some of its 8 probes are outside it.

@@ -16,7 +16,7 @@
 
 layout(local_size_x = 64) in;  // one block of kProbeBlockSize³ probes
 
-layout(binding = kBindProbeUpdate) uniform ProbeUpdateBlock { ProbeUpdate update; };
+layout(binding = kBindProbeUpdate, std140) readonly buffer ProbeUpdateBlock { ProbeUpdate update; };
 layout(binding = kBindProbeBlocks) readonly buffer ProbeBlocks { uint offeredBlocks[]; };
 layout(binding = kBindProbeList) buffer ProbeList {
   IndirectList list;

@@ -49,7 +49,7 @@
 
 layout(local_size_x = kProbeTraceGroupSize) in;
 
-layout(binding = kBindProbeUpdate) uniform ProbeUpdateBlock { ProbeUpdate update; };
+layout(binding = kBindProbeUpdate, std140) readonly buffer ProbeUpdateBlock { ProbeUpdate update; };
 layout(binding = kBindProbes) buffer Probes { Probe probes[]; };
 layout(binding = kBindProbeList) readonly buffer ProbeList {
   IndirectList list;

@@ -18,7 +18,7 @@
 #define SSVGI_OCCUPANCY_GRID_ACCESS readonly
 #endif
 
-layout(binding = kBindVoxelVolume) uniform VolumeBlock { VoxelVolume volume; };
+layout(binding = kBindVoxelVolume, std140) readonly buffer VolumeBlock { VoxelVolume volume; };
 layout(binding = kBindBrickLookup) SSVGI_VOXEL_ACCESS buffer BrickLookup { uint brickLookup[]; };
 layout(binding = kBindBricks) SSVGI_VOXEL_ACCESS buffer Bricks { Brick bricks[]; };
 layout(binding = kBindVoxels) SSVGI_VOXEL_ACCESS buffer Voxels { Voxel voxels[]; };

@@ -41,7 +41,7 @@ GatherTargets::GatherTargets(gpu::Device& device, uint32_t maxWidth, uint32_t ma
   for (gpu::Image& output : outputs_) output = gpu::Image(device, sizes.output);
   confidence_ = gpu::Image(device, sizes.confidence);
   for (uint32_t i = 0; i < framesInFlight; ++i)
-    constants_.emplace_back(device, "ssvgi gather constants", sizes.constants, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+    constants_.emplace_back(device, "ssvgi gather constants", sizes.constants, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                             gpu::MemoryUsage::HostUpload);
 }
 

@@ -45,7 +45,7 @@ ProbeVolume::ProbeVolume(gpu::Device& device, const Settings& settings, uint32_t
       reservoirs_(device, "ssvgi probe reservoirs", bytes.reservoirs, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT),
       changes_(device, "ssvgi probe change statistics", bytes.changes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT) {
   for (uint32_t i = 0; i < framesInFlight; ++i) {
-    updates_.emplace_back(device, "ssvgi probe update", bytes.update, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+    updates_.emplace_back(device, "ssvgi probe update", bytes.update, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                           gpu::MemoryUsage::HostUpload);
     blocks_.emplace_back(device, "ssvgi probe blocks offered", bytes.offeredBlocks, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                          gpu::MemoryUsage::HostUpload);

@@ -54,7 +54,7 @@ VoxelScene::VoxelScene(gpu::Device& device, const Settings& settings, uint32_t f
                     kStorage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT),
       workCounters_(device, "ssvgi work counters", bytes.workCounters, kStorage) {
   for (uint32_t i = 0; i < framesInFlight; ++i)
-    volumes_.emplace_back(device, "ssvgi voxel volume", bytes.volume, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+    volumes_.emplace_back(device, "ssvgi voxel volume", bytes.volume, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                           gpu::MemoryUsage::HostUpload);
   const glm::uvec3 dimensions(settings.volumeBricks[0], settings.volumeBricks[1], settings.volumeBricks[2]);
   current_.dimensionsBricks = glm::ivec3(dimensions);
