@@ -33,9 +33,8 @@ SSVGI_CONSTANT(float, kGatherOccludedProbeWeight, 0.02f);
 // A probe whose weight before the visibility test is at most this share of the 8 probes' is left out untraced.
 SSVGI_CONSTANT(float, kGatherNegligibleProbeShare, 0.03f);
 // Kept probes whose readings at the normal all lie within this share of their weighted mean (of its largest channel)
-// are not traced for visibility: leaving any of them out would change E by less than that. At 20 % rather than 10 %
-// the gather traces a third fewer rays and no figure moved beyond its noise (docs/QUALITY.md, "The gather's
-// agreement at 20 %"): where the probes differ by 10–20 %, the visibility test rarely drops one.
+// are not traced for visibility: leaving any of them out would change E by less than that. The share trades traces for
+// that bound on E; what it does to the figures and the cost: docs/QUALITY.md, "The gather's agreement at 20 %".
 SSVGI_CONSTANT(float, kGatherAgreement, 0.2f);
 // Levels blend over the last this-many probe spacings inside a level's boundary: the gather picks the coarser level
 // with a probability that grows toward the boundary ("Noise + Light Gather Temporal Filter", the talk), so the seam
