@@ -27,12 +27,15 @@ constexpr double kLagFraction = 0.9;
 LagResult measureLag(gpu::OwnedDevice& device, const ScenarioRendering& rendering, const ScenarioView& view,
                      const LagOptions& options) {
   requireLocalLight(view.scene, options.light, "lag");
-  if (options.steadyFrames == 0 || options.steadyFrames > std::min(options.convergenceFrames, options.framesAfterSwitch))
-    throw std::runtime_error("scenario lag: the steady frames must be 1 to the frames before and after the switch");
+  if (options.steadyFrames == 0 || options.steadyFrames > options.convergenceFrames)
+    throw std::runtime_error("scenario lag: the steady frames must be 1 to the frames before the switch");
+  const uint32_t frames = options.convergenceFrames + options.framesAfterSwitch;
+  if (options.settledMeanFrames == 0 || options.settledMeanFrames > std::max(frames, options.settledRunFrames))
+    throw std::runtime_error("scenario lag: the settled run's averaged frames must be 1 to the frames it renders");
 
   // Two runs side by side, frame for frame: the switched one, and the settled one with the light as the switch leaves
-  // it all along, whose last frames are the new steady state (the loop converges over many frames, so the switched
-  // run's own last frames would still be on their way).
+  // it all along, which then goes on alone until it has converged: its last frames are the new steady state (the
+  // loop converges over many frames, so the switched run's own last frames would still be on their way).
   renderer::Scene switchedScene = view.scene;  // the renderer reads its lights every frame: the switch reaches it
   renderer::Scene settledScene = view.scene;
   const glm::vec3 intensityOn = view.scene.lights[options.light].intensity;
@@ -46,7 +49,6 @@ LagResult measureLag(gpu::OwnedDevice& device, const ScenarioRendering& renderin
 
   std::vector<bool> surface;
   std::vector<double> switchedIrradiance, settledIrradiance;
-  const uint32_t frames = options.convergenceFrames + options.framesAfterSwitch;
   for (uint32_t frame = 0; frame < frames; ++frame) {
     if (frame == options.convergenceFrames) light.intensity = intensityAfter;
     switched.render(view.camera, 1);
@@ -55,13 +57,18 @@ LagResult measureLag(gpu::OwnedDevice& device, const ScenarioRendering& renderin
     switchedIrradiance.push_back(meanWhere(luminance(switched.renderer().indirectIrradiance()), surface));
     settledIrradiance.push_back(meanWhere(luminance(settled.renderer().indirectIrradiance()), surface));
   }
-  // The mean of `steadyFrames` frames of a run, the last of them `end` − 1.
-  const auto steadyMean = [&](const std::vector<double>& irradiance, size_t end) {
-    return std::accumulate(irradiance.begin() + ptrdiff_t(end - options.steadyFrames),
-                           irradiance.begin() + ptrdiff_t(end), 0.0) / double(options.steadyFrames);
+  // The mean of `count` frames of a run, the last of them `end` − 1.
+  const auto meanOfFrames = [](const std::vector<double>& irradiance, size_t end, size_t count) {
+    return std::accumulate(irradiance.begin() + ptrdiff_t(end - count), irradiance.begin() + ptrdiff_t(end), 0.0) /
+           double(count);
   };
-  const double before = steadyMean(switchedIrradiance, options.convergenceFrames);
-  const double after = steadyMean(settledIrradiance, frames);
+  while (settledIrradiance.size() < options.settledRunFrames) {
+    settled.render(view.camera, 1);
+    settledIrradiance.push_back(meanWhere(luminance(settled.renderer().indirectIrradiance()), surface));
+  }
+  const size_t settledFrames = settledIrradiance.size();
+  const double before = meanOfFrames(switchedIrradiance, options.convergenceFrames, options.steadyFrames);
+  const double after = meanOfFrames(settledIrradiance, settledFrames, options.settledMeanFrames);
   if (options.switchOff ? !(after < before) : !(after > before))
     throw std::runtime_error(options.switchOff
                                  ? "scenario lag: switching the light off did not lower the indirect irradiance"
@@ -70,17 +77,20 @@ LagResult measureLag(gpu::OwnedDevice& device, const ScenarioRendering& renderin
   LagResult result;
   result.irradianceBefore = before;
   result.irradianceAfter = after;
+  result.settledRunFrames = uint32_t(settledFrames);
   result.targetFrames = kTargetProbeUpdates * kFramesPerProbeUpdate;
   for (size_t frame = options.convergenceFrames; frame < frames; ++frame) {
     result.progress.push_back((switchedIrradiance[frame] - before) / (after - before));
     if (!result.framesToNinetyPercent && result.progress.back() >= kLagFraction)
       result.framesToNinetyPercent = uint32_t(result.progress.size());
   }
-  for (size_t frame = 0; frame < frames && !result.settledRunFramesToNinetyPercent; ++frame)
+  for (size_t frame = 0; frame < settledFrames && !result.settledRunFramesToNinetyPercent; ++frame)
     if (std::abs(settledIrradiance[frame] - after) <= (1.0 - kLagFraction) * after)
       result.settledRunFramesToNinetyPercent = uint32_t(frame + 1);
-  if (frames >= 2 * options.steadyFrames)
-    result.steadyDrift = after / steadyMean(settledIrradiance, frames - options.steadyFrames) - 1.0;
+  if (settledFrames >= 2 * options.settledMeanFrames)
+    result.steadyDrift =
+        after / meanOfFrames(settledIrradiance, settledFrames - options.settledMeanFrames, options.settledMeanFrames) -
+        1.0;
   return result;
 }
 
@@ -92,6 +102,7 @@ nlohmann::json toJson(const LagResult& result) {
                                                   ? nlohmann::json(*result.settledRunFramesToNinetyPercent)
                                                   : nlohmann::json(nullptr)},
           {"steadyDrift", result.steadyDrift},
+          {"settledRunFrames", result.settledRunFrames},
           {"irradianceBefore", result.irradianceBefore},
           {"irradianceAfter", result.irradianceAfter},
           {"progress", result.progress}};

@@ -86,20 +86,28 @@ struct LagOptions {
   bool switchOff = false;            // the light is on before the switch and off after it (issue 14's switch-off)
   uint32_t convergenceFrames = 64;   // frames before the switch
   uint32_t framesAfterSwitch = 96;   // frames rendered after it
-  uint32_t steadyFrames = 16;        // frames averaged for a steady state: the last before the switch, and the last of
-                                     // the settled run (the light as the switch leaves it, all along)
+  uint32_t steadyFrames = 16;        // frames averaged for the steady state before the switch: its last
+  uint32_t settledMeanFrames = 64;   // frames averaged at the end of the settled run (the light as the switch leaves it,
+                                     // all along) for the new steady state: its probes' noise wanders by ±0.3 % over
+                                     // 16 frames
+  // Frames the settled run renders in all, going on alone after the switched run ends (at least as many as that run).
+  // The loop's later bounces converge over hundreds of frames (cornell at 128×72: within 0.5 % of its end after about
+  // 500): a settled run cut short puts the new steady state too low, and a rule that brings those bounces in sooner
+  // then reads as slower (docs/QUALITY.md, "The lag against a converged end").
+  uint32_t settledRunFrames = 512;
 };
 
 struct LagResult {
   double irradianceBefore = 0.0;  // mean luminance of E_indirect over the surface pixels before the switch (W/m²): the
                                   // other lights, emissive surfaces and the sky still light the scene
   double irradianceAfter = 0.0;   // the same in the settled run, at its last frames
+  uint32_t settledRunFrames = 0;  // how many frames the settled run rendered
   std::vector<double> progress;   // per frame after the switch: (E − before) / (after − before)
   std::optional<uint32_t> framesToNinetyPercent;  // the first frame (1 = the switch frame) whose progress ≥ 0.9
   // For comparison, the first frame of the settled run whose E is within 10 % of `after`: how long the GI takes to
   // build up from nothing (each bounce goes once round the voxel → probe loop).
   std::optional<uint32_t> settledRunFramesToNinetyPercent;
-  // How far that run still moved: its last steadyFrames' mean over the mean of the steadyFrames before those, − 1.
+  // How far that run still moved: its last settledMeanFrames' mean over the mean of as many before those, − 1.
   // Far from 0, `after` is not yet a steady state and the frame counts above are too low.
   double steadyDrift = 0.0;
   // SPEC §6.2's target, 90 % within 8 updates of each probe, in frames: one probe level is updated per frame

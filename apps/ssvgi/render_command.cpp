@@ -42,7 +42,11 @@ nlohmann::json giStatsJson(const ssvgi::Stats& gi) {
           {"bricksAllocatedLastFrame", gi.bricksAllocatedLastFrame},
           {"bricksReleasedLastFrame", gi.bricksReleasedLastFrame},
           {"bricksInjectedLastFrame", gi.bricksVisibleLastFrame},
-          {"voxelsValid", gi.voxelsValid}};
+          {"voxelsValid", gi.voxelsValid},
+          {"probesUpdatedLastFrame", gi.probesUpdatedLastFrame},
+          {"probesWatchedForChange", gi.probesWatchedForChange},
+          {"probesCutByChange", gi.probesCutByChange},
+          {"sharedChangeRecovery", gi.sharedChangeRecovery}};
 }
 
 nlohmann::json statsJson(const gpu::OwnedDevice& device, const RenderOptions& options, const ResolvedScene& resolved,

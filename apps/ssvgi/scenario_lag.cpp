@@ -20,10 +20,19 @@ CommandRunner addLagScenario(CLI::App& scenario) {
       ->capture_default_str()
       ->check(CLI::Range(1u, 100000u));
   command->add_option("--steady-frames", lag->steadyFrames,
+                      "The last frames before the switch, averaged as the old steady state")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 100000u));
+  command->add_option("--settled-mean-frames", lag->settledMeanFrames,
                       "The last frames of the run with the light as the switch leaves it all along, averaged as the "
                       "new steady state")
       ->capture_default_str()
       ->check(CLI::Range(1u, 100000u));
+  command->add_option("--settled-frames", lag->settledRunFrames,
+                      "Frames the run with the light as the switch leaves it all along renders in all (at least as "
+                      "many as the switched run): its last steady frames are the new steady state")
+      ->capture_default_str()
+      ->check(CLI::Range(0u, 1000000u));
   return [options, lag] {
     return runScenario("lag", *options, [&](gpu::OwnedDevice& device, const ResolvedScene& resolved,
                                             const bench::ScenarioRendering& rendering) {
@@ -33,6 +42,8 @@ CommandRunner addLagScenario(CLI::App& scenario) {
       figures["frames"] = lag->convergenceFrames;
       figures["framesAfterSwitch"] = lag->framesAfterSwitch;
       figures["steadyFrames"] = lag->steadyFrames;
+      figures["settledFrames"] = lag->settledRunFrames;
+      figures["settledMeanFrames"] = lag->settledMeanFrames;
       return figures;
     });
   };

@@ -169,6 +169,9 @@ void countersSection(const ssvgi::Stats& stats) {
       {"voxels valid", stats.voxelsValid},
       {"probe level updated", stats.probeLevelUpdatedLastFrame},
       {"probes updated", stats.probesUpdatedLastFrame},
+      {"probes watched for change", stats.probesWatchedForChange},
+      {"probes cut by a change", stats.probesCutByChange},
+      {"shared change recovery", uint32_t(stats.sharedChangeRecovery)},
   };
   for (const auto& [name, value] : counters) ImGui::Text("%-28s %" PRIu32, name, value);
 }

@@ -95,6 +95,12 @@ struct Settings {
   // deviations of its usual difference shortens the probe's history in proportion (shared/probe_interface.h), so a
   // light switched on or off is followed in a few updates. 0: off (plain α = 1/(m+1)).
   float probeChangeThreshold = 2.0f;
+  // A change many probes see at once is not their noise (shared/probe_interface.h, ProbeChangeTally): where at least
+  // this share of the probes a frame traces with some history had it cut by a change (a light switched on or off),
+  // every probe updated in the next three frames starts a recovery, so that the bounces after the first, whose steps
+  // no single probe can tell from its noise, come round the loop quickly too. By chance a still scene's cuts reach
+  // about one probe in a hundred. 0: off (each probe on its own). Needs probeChangeThreshold.
+  float probeSharedChangeShare = 0.125f;
   // Unknown is not sky (SPEC §6.4): ssvgi keeps which brick cells of its volume the camera and the extra views have
   // seen through or into. A probe ray that meets no voxel after crossing one no view has observed has found neither
   // a surface nor the sky: it stands for the mean of what the update's other rays found on surfaces (of all they
@@ -304,6 +310,12 @@ struct Stats {
   uint32_t voxelsValid = 0;            // counted before the last frame's lit-frame injection (after its extra views')
   uint32_t probeLevelUpdatedLastFrame = 0;  // the clipmap level the last frame updated (frame index % 3)
   uint32_t probesUpdatedLastFrame = 0;      // probes it traced: in view, near voxels, within the budget
+  // Less lag (Settings::probeSharedChangeShare), as the last frame's preparation saw it: the probes that frame
+  // framesInFlight before it traced with a history to tell a change by, those whose history a change cut, and whether
+  // it started a recovery in every probe it updated.
+  uint32_t probesWatchedForChange = 0;
+  uint32_t probesCutByChange = 0;
+  bool sharedChangeRecovery = false;
   std::vector<PassTime> passes;        // the last completed frame's GPU times
   WorkCounts work;                     // what its passes did, where it counted (FrameDesc::countWork)
 };

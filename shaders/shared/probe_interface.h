@@ -80,7 +80,7 @@ struct ProbeUpdate {
   uint frameIndex;               // seeds the reservoirs' random choices and the probes' dither
   float sampleClamp;             // Settings::probeSampleClamp (0: off)
   float changeThreshold;         // Settings::probeChangeThreshold (0: off)
-  uint padding0;                 // std140: the sky's SH starts on 16 bytes
+  uint startsSharedRecovery;     // 1: every probe with a history starts a recovery (ProbeChangeTally)
   uint padding1;
   uint padding2;
   Sh2Rgb skyRadiance;            // the host's sky (FrameDesc::skyRadianceSh): what a ray that leaves the voxel volume sees
@@ -202,9 +202,11 @@ SSVGI_INLINE vec3 probeRayDirection(uint firstDirection, uint ray) {
 }
 
 // SH2 with half-float coefficients, two per uint.
+// The nearest half floats (nearestHalf): the probes' running average is stored in them.
 SSVGI_INLINE uvec2 packSh2Half(vec4 coefficients) {
-  return uvec2(packHalf2x16(vec2(finiteHalf(coefficients.x), finiteHalf(coefficients.y))),
-               packHalf2x16(vec2(finiteHalf(coefficients.z), finiteHalf(coefficients.w))));
+  vec4 stored = vec4(nearestHalf(finiteHalf(coefficients.x)), nearestHalf(finiteHalf(coefficients.y)),
+                     nearestHalf(finiteHalf(coefficients.z)), nearestHalf(finiteHalf(coefficients.w)));
+  return uvec2(packHalf2x16(vec2(stored.x, stored.y)), packHalf2x16(vec2(stored.z, stored.w)));
 }
 SSVGI_INLINE vec4 unpackSh2Half(uvec2 packed) {
   vec2 low = unpackHalf2x16(packed.x);
@@ -260,6 +262,7 @@ SSVGI_CONSTANT(uint, kProbeStratumDirectionCount, 128u);
 SSVGI_CONSTANT(float, kProbeStratumSolidAngle, 4.0f * kPi / 8.0f);
 SSVGI_CONSTANT(uint, kBindProbeReservoirs, kBindFirstPassSlot + 4u);  // uint[probes of level 0 · kProbeStrata]
 SSVGI_CONSTANT(uint, kBindProbeChanges, kBindFirstPassSlot + 5u);     // uint[kProbeLevels · probes per level]
+SSVGI_CONSTANT(uint, kBindProbeChangeTally, kBindFirstPassSlot + 6u);  // ProbeChangeTally of this frame
 
 SSVGI_INLINE uvec2 probeStratumCell(uint stratum) { return uvec2(stratum % kProbeStrataZ, stratum / kProbeStrataZ); }
 
@@ -367,6 +370,21 @@ SSVGI_CONSTANT(uint, kProbeChangeRecoveryUpdates, 15u);
 SSVGI_CONSTANT(uint, kProbeChangeRecoveryHistory, 1u);
 // The drift is stored in steps of this many deviations (its magnitude in 3 bits, below the limit).
 SSVGI_CONSTANT(float, kProbeDriftStep, kProbeDriftLimit / 7.0f);
+
+// A change many probes see at once is not their noise. A light switched on cuts the history of a fifth of the probes
+// an update traces, the probes near it; by chance a still scene's cuts reach about one probe in a hundred. After the
+// first bounce the later ones come in steps too small for any probe to tell from its noise, and each probe would trail
+// them at its own pace, bounce after bounce. So ProbeTrace counts, each frame, the probes that can tell (a history of
+// at least kProbeChangeMinimumHistory updates) and those whose history a large change cut; where at least
+// Settings::probeSharedChangeShare of at least kProbeSharedChangeMinimumProbes were cut, ProbeVolume has every probe
+// updated in the next kProbeLevels frames (an update of each level) start a recovery, as a drift does
+// (startsSharedRecovery): the whole loop then follows the light at α = 1/2 for kProbeChangeRecoveryUpdates updates.
+struct ProbeChangeTally {
+  uint watchedProbes;  // traced with a history of at least kProbeChangeMinimumHistory, change detection on
+  uint cutProbes;      // of those, whose history a large change cut
+};
+SSVGI_CHECK_SIZE(ProbeChangeTally, 8);
+SSVGI_CONSTANT(uint, kProbeSharedChangeMinimumProbes, 32u);
 
 // A probe's word of the change buffer: bits 0–15 the trimmed mean H (half float); bits 16–23 the rms of d, √(mean
 // d²), in 8-bit fixed point over [0, 1] (|d| ≤ 1), rounded with `dither` as packProbeUnitSh rounds (the variance

@@ -265,6 +265,9 @@ class ContextImplementation final : public Context {
     std::memcpy(&probeList, slot.probeListReadback.mapped(), sizeof(probeList));
     stats.probeLevelUpdatedLastFrame = slot.probeLevel;
     stats.probesUpdatedLastFrame = probeList.count;
+    stats.probesWatchedForChange = probes_.lastTally().watchedProbes;
+    stats.probesCutByChange = probes_.lastTally().cutProbes;
+    stats.sharedChangeRecovery = probes_.current().startsSharedRecovery != 0u;
     stats.work = workCounts(slot);
     for (const auto& timing : slot.profiler.resolve()) stats.passes.push_back({timing.name, timing.milliseconds});
     return stats;
@@ -482,6 +485,7 @@ class ContextImplementation final : public Context {
       const shader::IndirectList empty{0, 1, 1, 0};
       commands.updateBuffer(scene_.changedCells(), 0, &empty, sizeof(empty));
       commands.updateBuffer(probes_.list(), 0, &empty, sizeof(empty));
+      commands.fillBuffer(probes_.changeTally(), 0);
     }
 
     if (scrolled)                                                                       // 2. VolumeScroll
@@ -539,6 +543,8 @@ class ContextImplementation final : public Context {
     commands.use(slot.statsReadback, gpu::Usage::HostRead);
     commands.copyBuffer(probes_.list(), slot.probeListReadback, sizeof(shader::IndirectList));
     commands.use(slot.probeListReadback, gpu::Usage::HostRead);
+    commands.copyBuffer(probes_.changeTally(), probes_.changeTallyReadback(), sizeof(shader::ProbeChangeTally));
+    commands.use(probes_.changeTallyReadback(), gpu::Usage::HostRead);
     // The tracker last saw the counters written by compute (FrameSetup's use()): the copy waits for every dispatch.
     if (desc.countWork) {
       commands.copyBuffer(scene_.workCounters(), slot.workReadback, sizeof(shader::WorkCounters));

@@ -64,6 +64,7 @@ std::span<const SettingInfo> settingInfos() {
       {"probeReservoirHistoryCap", &Settings::probeReservoirHistoryCap, 1.0, 252.0},
       {"probeSampleClamp", &Settings::probeSampleClamp, 1.0, kUnlimited, false, 1, false, true},
       {"probeChangeThreshold", &Settings::probeChangeThreshold},
+      {"probeSharedChangeShare", &Settings::probeSharedChangeShare, 0.0, 1.0},
       {"skyOnlyThroughObservedSpace", &Settings::skyOnlyThroughObservedSpace},
       {"voxelRelightPeriod", &Settings::voxelRelightPeriod, 1.0, 64.0},
   };

@@ -59,6 +59,7 @@ layout(binding = kBindProbeList) readonly buffer ProbeList {
 // level keeps reservoirs.
 layout(binding = kBindProbeReservoirs) buffer Reservoirs { uint reservoirs[]; };
 layout(binding = kBindProbeChanges) buffer Changes { uint changes[]; };
+layout(binding = kBindProbeChangeTally) buffer ChangeTally { ProbeChangeTally tally; };
 
 // Per thread: its sample times the basis, for the SH2 of a probe: radiance, distance, normal-dot.
 shared Sh2Rgb radianceSums[kProbeTraceGroupSize];
@@ -206,8 +207,9 @@ float probeDither(uint probeIndex) { return hashToUnitCube(uvec3(probeIndex, upd
 // Less lag (SPEC §6.2; shared/probe_interface.h): an update whose trimmed mean strays from its history's by more than
 // its usual noise shortens the history in proportion. Its deviation is then not learnt as noise, so that a change does
 // not teach the probe to expect changes. Light that keeps growing (or fading) — a drift summed over updates past
-// kProbeDriftLimit deviations — holds the history short for a while. Updates the probe's change statistics; returns
-// the history count this update blends with.
+// kProbeDriftLimit deviations, or a change many probes saw at once (ProbeChangeTally) — holds the history short for
+// a while. Counts the probe in this frame's tally, updates its change statistics and returns the history count this
+// update blends with.
 uint followChange(uint probeIndex, uint storedCount, float trimmedMean) {
   uint historyCount = storedCount;
   float threshold = update.changeThreshold;
@@ -217,6 +219,7 @@ uint followChange(uint probeIndex, uint storedCount, float trimmedMean) {
   float squaredDeviation = deviation * deviation;
   float drift = 0.0;
   if (threshold > 0.0 && storedCount >= kProbeChangeMinimumHistory) {
+    atomicAdd(tally.watchedProbes, 1u);
     float noise = max(change.variance, kProbeChangeVarianceFloor);
     float expected = threshold * threshold * noise;
     drift = accumulateProbeDrift(change.drift, deviation / sqrt(noise));
@@ -227,7 +230,12 @@ uint followChange(uint probeIndex, uint storedCount, float trimmedMean) {
     if (squaredDeviation > expected) {
       historyCount = uint(float(storedCount) * expected / squaredDeviation);
       squaredDeviation = change.variance;
+      atomicAdd(tally.cutProbes, 1u);
     }
+  }
+  if (update.startsSharedRecovery != 0u && storedCount > 0u) {  // many probes saw a change at once
+    change.recoveryUpdates = kProbeChangeRecoveryUpdates;
+    drift = 0.0;
   }
   change.drift = drift;
   if (change.recoveryUpdates > 0u) {

@@ -11,7 +11,8 @@ void ProbeTrace::record(gpu::CommandList& commands, const VoxelScene& scene, con
   const gpu::Bindings bindings =
       probes.listedProbeBindings(scene.bindings())
           .buffer(shader::kBindProbeReservoirs, probes.reservoirs())
-          .buffer(shader::kBindProbeChanges, probes.changes());
+          .buffer(shader::kBindProbeChanges, probes.changes())
+          .buffer(shader::kBindProbeChangeTally, probes.changeTally());
   commands.dispatchIndirect(pipeline_, bindings, probes.list(), 0);  // one workgroup per listed probe
 }
 

@@ -18,7 +18,7 @@ glm::uvec3 gridOf(const Settings& settings) {
 
 // The bytes of each buffer of a volume of `settings`: what the constructor allocates and bytes() counts.
 struct ProbeVolume::BufferBytes {
-  VkDeviceSize probes, list, reservoirs, changes, update, offeredBlocks;
+  VkDeviceSize probes, list, reservoirs, changes, update, offeredBlocks, changeTally;
 };
 
 ProbeVolume::BufferBytes ProbeVolume::bufferBytes(const Settings& settings) {
@@ -30,7 +30,8 @@ ProbeVolume::BufferBytes ProbeVolume::bufferBytes(const Settings& settings) {
           settings.probeReservoirs ? perLevel * shader::kProbeStrata * sizeof(uint32_t) : sizeof(uint32_t),
           shader::kProbeLevels * perLevel * sizeof(uint32_t),
           sizeof(shader::ProbeUpdate),
-          VkDeviceSize(blocks.x) * blocks.y * blocks.z * 4};
+          VkDeviceSize(blocks.x) * blocks.y * blocks.z * 4,
+          sizeof(shader::ProbeChangeTally)};
 }
 
 ProbeVolume::ProbeVolume(gpu::Device& device, const Settings& settings, uint32_t framesInFlight)
@@ -43,8 +44,12 @@ ProbeVolume::ProbeVolume(gpu::Device& device, const Settings& settings, uint32_t
       list_(device, "ssvgi probe list", bytes.list,
             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT),
       reservoirs_(device, "ssvgi probe reservoirs", bytes.reservoirs, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT),
-      changes_(device, "ssvgi probe change statistics", bytes.changes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT) {
+      changes_(device, "ssvgi probe change statistics", bytes.changes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT),
+      changeTally_(device, "ssvgi probe change tally", bytes.changeTally, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT) {
   for (uint32_t i = 0; i < framesInFlight; ++i) {
+    tallyReadbacks_.emplace_back(device, "ssvgi probe change tally readback", bytes.changeTally,
+                                 VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::MemoryUsage::HostReadback);
+    std::memset(tallyReadbacks_.back().mapped(), 0, bytes.changeTally);  // no frame has counted into it yet
     updates_.emplace_back(device, "ssvgi probe update", bytes.update, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                           gpu::MemoryUsage::HostUpload);
     blocks_.emplace_back(device, "ssvgi probe blocks offered", bytes.offeredBlocks, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
@@ -54,8 +59,8 @@ ProbeVolume::ProbeVolume(gpu::Device& device, const Settings& settings, uint32_t
 
 VkDeviceSize ProbeVolume::bytes(const Settings& settings, uint32_t framesInFlight) {
   const BufferBytes bytes = bufferBytes(settings);
-  return bytes.probes + bytes.list + bytes.reservoirs + bytes.changes +
-         framesInFlight * (bytes.update + bytes.offeredBlocks);
+  return bytes.probes + bytes.list + bytes.reservoirs + bytes.changes + bytes.changeTally +
+         framesInFlight * (bytes.update + bytes.offeredBlocks + bytes.changeTally);
 }
 
 uint32_t ProbeVolume::probesPerLevel() const {
@@ -99,11 +104,18 @@ OfferedProbeBlocks ProbeVolume::prepare(uint32_t frameIndex, glm::vec3 cameraPos
   current_.frameIndex = frameIndex;
   current_.sampleClamp = settings_.probeSampleClamp;
   current_.changeThreshold = settings_.probeChangeThreshold;
+  currentFrame_ = frameIndex % updates_.size();
+  std::memcpy(&lastTally_, tallyReadbacks_[currentFrame_].mapped(), sizeof(lastTally_));
+  const float sharedShare = settings_.probeSharedChangeShare;
+  if (sharedShare > 0.0f && lastTally_.watchedProbes >= shader::kProbeSharedChangeMinimumProbes &&
+      float(lastTally_.cutProbes) >= sharedShare * float(lastTally_.watchedProbes))
+    sharedRecoveryFramesLeft_ = shader::kProbeLevels;
+  current_.startsSharedRecovery = sharedRecoveryFramesLeft_ > 0 ? 1u : 0u;
+  if (sharedRecoveryFramesLeft_ > 0) --sharedRecoveryFramesLeft_;
   std::memcpy(&current_.skyRadiance, skyRadianceSh.data(), sizeof(current_.skyRadiance));
 
   // SPEC §4.5: "the CPU culls the level's volume against the frustum coarsely" — per block, the union of its probes'
   // ranges (one spacing around each).
-  currentFrame_ = frameIndex % updates_.size();
   std::memcpy(updates_[currentFrame_].mapped(), &current_, sizeof(current_));
   auto* offered = static_cast<uint32_t*>(blocks_[currentFrame_].mapped());
   const glm::uvec3 blocks = gridOf(settings_) / shader::kProbeBlockSize;

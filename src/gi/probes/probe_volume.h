@@ -28,7 +28,8 @@ class ProbeVolume {
   // Prepares this frame's update and uploads its ProbeUpdate and block list: level frameIndex % kProbeLevels, centred
   // on the camera, its blocks of kProbeBlockSize³ probes whose ranges reach into the frustum (planes pointing inwards,
   // as GiFrame's), then the next Settings::probeBlocksBeyondView of the others in turn, the sky, and rays traced as far
-  // as the voxel volume reaches.
+  // as the voxel volume reaches. Reads back the change tally of the frame that last used this frame's slot (the host
+  // has waited for it) and starts a recovery in every probe where many probes saw a change at once.
   OfferedProbeBlocks prepare(uint32_t frameIndex, glm::vec3 cameraPosition, const glm::vec4 frustumPlanes[6],
                    const std::array<float, 12>& skyRadianceSh, const shader::VoxelVolume& voxels);
 
@@ -38,6 +39,12 @@ class ProbeVolume {
   const gpu::Buffer& reservoirs() const { return reservoirs_; }
   // Per probe, how far its updates usually stray from its history (shared/probe_interface.h, "Less lag").
   const gpu::Buffer& changes() const { return changes_; }
+  // This frame's ProbeChangeTally, which ProbeTrace counts into, and the host copy of it that this frame's slot keeps
+  // until prepare() reads it framesInFlight frames later.
+  const gpu::Buffer& changeTally() const { return changeTally_; }
+  const gpu::Buffer& changeTallyReadback() const { return tallyReadbacks_[currentFrame_]; }
+  // The tally prepare() last read back (of the frame framesInFlight before its own): for Stats.
+  const shader::ProbeChangeTally& lastTally() const { return lastTally_; }
   const gpu::Buffer& update() const { return updates_[currentFrame_]; }  // this frame's ProbeUpdate
   // `bindings` plus what a pass over the listed probes binds: this frame's update, the probes, the list.
   gpu::Bindings listedProbeBindings(gpu::Bindings bindings) const {
@@ -63,6 +70,10 @@ class ProbeVolume {
   gpu::Buffer changes_;
   std::vector<gpu::Buffer> updates_;
   std::vector<gpu::Buffer> blocks_;
+  gpu::Buffer changeTally_;
+  std::vector<gpu::Buffer> tallyReadbacks_;
+  shader::ProbeChangeTally lastTally_{};
+  uint32_t sharedRecoveryFramesLeft_ = 0;  // frames to come that start a recovery in every probe they update
   size_t currentFrame_ = 0;
   // Per level, where the turn of the blocks beyond the view stands (an index into those beyond it, in grid order).
   std::array<uint32_t, shader::kProbeLevels> beyondViewTurn_{};
