@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -35,7 +36,8 @@ LagResult measureLag(gpu::OwnedDevice& device, const ScenarioRendering& renderin
 
   // Two runs side by side, frame for frame: the switched one, and the settled one with the light as the switch leaves
   // it all along, which then goes on alone until it has converged: its last frames are the new steady state (the
-  // loop converges over many frames, so the switched run's own last frames would still be on their way).
+  // loop converges over many frames, so the switched run's own last frames would still be on their way). Where that
+  // state is known, the switched run alone.
   renderer::Scene switchedScene = view.scene;  // the renderer reads its lights every frame: the switch reaches it
   renderer::Scene settledScene = view.scene;
   const glm::vec3 intensityOn = view.scene.lights[options.light].intensity;
@@ -45,30 +47,34 @@ LagResult measureLag(gpu::OwnedDevice& device, const ScenarioRendering& renderin
   light.intensity = intensityBefore;
   settledScene.lights[options.light].intensity = intensityAfter;
   ScenarioRenderer switched(device, switchedScene, rendering);
-  ScenarioRenderer settled(device, settledScene, rendering);
+  std::optional<ScenarioRenderer> settled;
+  if (!options.knownIrradianceAfter) settled.emplace(device, settledScene, rendering);
 
   std::vector<bool> surface;
   std::vector<double> switchedIrradiance, settledIrradiance;
   for (uint32_t frame = 0; frame < frames; ++frame) {
     if (frame == options.convergenceFrames) light.intensity = intensityAfter;
     switched.render(view.camera, 1);
-    settled.render(view.camera, 1);
-    if (surface.empty()) surface = surfacePoints(view.camera, settled.renderer().viewDistance()).isSurface;
+    if (surface.empty()) surface = surfacePoints(view.camera, switched.renderer().viewDistance()).isSurface;
     switchedIrradiance.push_back(meanWhere(luminance(switched.renderer().indirectIrradiance()), surface));
-    settledIrradiance.push_back(meanWhere(luminance(settled.renderer().indirectIrradiance()), surface));
+    if (!settled) continue;
+    settled->render(view.camera, 1);
+    settledIrradiance.push_back(meanWhere(luminance(settled->renderer().indirectIrradiance()), surface));
   }
   // The mean of `count` frames of a run, the last of them `end` − 1.
   const auto meanOfFrames = [](const std::vector<double>& irradiance, size_t end, size_t count) {
     return std::accumulate(irradiance.begin() + ptrdiff_t(end - count), irradiance.begin() + ptrdiff_t(end), 0.0) /
            double(count);
   };
-  while (settledIrradiance.size() < options.settledRunFrames) {
-    settled.render(view.camera, 1);
-    settledIrradiance.push_back(meanWhere(luminance(settled.renderer().indirectIrradiance()), surface));
+  while (settled && settledIrradiance.size() < options.settledRunFrames) {
+    settled->render(view.camera, 1);
+    settledIrradiance.push_back(meanWhere(luminance(settled->renderer().indirectIrradiance()), surface));
   }
   const size_t settledFrames = settledIrradiance.size();
   const double before = meanOfFrames(switchedIrradiance, options.convergenceFrames, options.steadyFrames);
-  const double after = meanOfFrames(settledIrradiance, settledFrames, options.settledMeanFrames);
+  const double after = options.knownIrradianceAfter
+                           ? *options.knownIrradianceAfter
+                           : meanOfFrames(settledIrradiance, settledFrames, options.settledMeanFrames);
   if (options.switchOff ? !(after < before) : !(after > before))
     throw std::runtime_error(options.switchOff
                                  ? "scenario lag: switching the light off did not lower the indirect irradiance"

@@ -95,6 +95,10 @@ struct LagOptions {
   // 500): a settled run cut short puts the new steady state too low, and a rule that brings those bounces in sooner
   // then reads as slower (docs/QUALITY.md, "The lag against a converged end").
   uint32_t settledRunFrames = 512;
+  // The new steady state (LagResult::irradianceAfter) of an earlier measurement of the same scene and view whose
+  // settled run saw no change: given, no settled run is rendered (a test that compares settings of the change
+  // detection, which a run without a change does not exercise, measures it once).
+  std::optional<double> knownIrradianceAfter;
 };
 
 struct LagResult {
