@@ -15,6 +15,7 @@
 #include "gi/voxels/voxel_access.glsl"
 #include "gi/work_counting.glsl"
 #include "shared/sampling.h"
+#include "shared/ray_box.h"
 
 layout(local_size_x = 64) in;
 
@@ -79,6 +80,20 @@ ViewSample viewSampleAt(ivec2 texel, vec2 litSize) {
   seen.normal = normalize(texelFetch(litNormal, texel, 0).xyz);
   seen.held = heldSurfacePoint(seen.surface, seen.normal);
   return seen;
+}
+
+// Whether the line of sight through the centre of the sample's texel — the line along which the view measured its
+// depth — crosses the voxel's box and leaves it more than `margin` before the surface the texel shows (or crosses it
+// at all, where the texel shows none). A texel is as wide as a voxel or wider, and its depth says nothing of the space
+// beside that line: a random point of a voxel that projects into the texel may lie off it, hidden behind an edge the
+// line passes (a wall's top under a roof's rim, seen from above past the rim).
+bool sightCrossesVoxel(ViewSample seen, vec3 voxelMin, float voxelSize, vec2 litSize, float margin) {
+  vec2 centre = vec2(seen.texel);
+  vec3 nearPoint = reconstructPosition(frame.litInverseViewProjection, centre, litSize, 1.0);
+  vec3 direction = viewRayDirection(frame.litInverseViewProjection, ssvgiPixelToNdc(centre, litSize));
+  vec2 span = intersectBounds(nearPoint, safeInverseDirection(direction), voxelMin, voxelMin + voxelSize);
+  float surfaceDistance = seen.depth <= 0.0 ? 1e30 : dot(seen.surface - nearPoint, direction);
+  return span.y > max(span.x, 0.0) && span.y < surfaceDistance - margin;
 }
 
 // Valid (SPEC §4.3): the surface seen lies inside the voxel. A wall one voxel thick, seen from inside by the camera and
@@ -255,12 +270,13 @@ void main() {
       occupied = true;
     }
     seenThrough = !holdsSurface && !refreshesColour && (nearestDepth <= 0.0 || (inFront && !cutBySurfacePlane));
-    // Observed empty (Brick::observed) takes less: the point's own texel sees past it, the surface that texel shows
-    // does not cut the voxel, and none of the four around shows a surface inside it. The rim of an opening, whose
-    // voxels lie wholly in the opening, is then observed, and a rim's own voxels, and the holes a view leaves in a
-    // wall it grazes, are not.
+    // Observed empty (Brick::observed) takes less: the line of sight of the point's own texel crosses the voxel and
+    // leaves it before the surface it shows (sightCrossesVoxel), that surface does not cut the voxel, and none of the
+    // four texels around shows a surface inside it. The rim of an opening, whose voxels lie wholly in the opening, is
+    // then observed, and a rim's own voxels, the holes a view leaves in a wall it grazes, and a wall's voxels hidden
+    // beside a line of sight that passes them are not.
     // Once observed, a voxel stays so (the mask is sticky): only one not yet observed is looked at again.
-    bool seesPast = seen.depth <= 0.0 || dot(seen.surface - samplePoint, viewDirection) > clearMargin;
+    bool seesPast = sightCrossesVoxel(seen, voxelMin, voxelSize, litSize, clearMargin);
     observedNow = !wasObserved && !holdsSurface && !refreshesColour && seesPast && !cutBySurfacePlane &&
                   !surfaceAround(firstTexel, litSize, voxelMin);
     if (occupied && seenThrough) {
