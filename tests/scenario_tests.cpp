@@ -73,8 +73,10 @@ TEST_F(Scenario, cornellLightSwitchedOnArrivesSoonerWhenManyProbesSeeTheChange) 
   // triples. Change detection (SPEC §6.2) lets the probes near the light take the first bounce at once; a change that
   // a share of the probes see at once (Settings::probeSharedChangeShare) also has every probe follow the bounces after
   // it quickly, whose steps no probe can tell from its own noise. Progress is measured against the run with the light
-  // on all along, converged (LagOptions::settledRunFrames). The bounds lie between the progress with and without the
-  // shared change, 24 and 48 frames after the switch (docs/QUALITY.md, "What the scenario tests' bounds rest on").
+  // on all along, converged (LagOptions::settledRunFrames). Issue 14's target is the bound at 24 frames: 90 % of the
+  // way (measured 98 %; 72 % without the shared change). A recovering probe takes each update whole, so the light
+  // overshoots its end state a little while the later bounces come round (1.08 at 48 frames, 1.11 at most; docs/
+  // QUALITY.md, "A recovery takes each update whole, turned at random").
   const bench::ScenarioView view = builtinView("cornell");
   bench::LagOptions options;
   options.framesAfterSwitch = 48;
@@ -99,10 +101,10 @@ TEST_F(Scenario, cornellLightSwitchedOnArrivesSoonerWhenManyProbesSeeTheChange) 
               "%.0f %% / %.0f %% with each probe on its own\n",
               100.0 * progressAt(shared, 24), 100.0 * progressAt(shared, 48), 100.0 * progressAt(alone, 24),
               100.0 * progressAt(alone, 48));
-  EXPECT_GT(progressAt(shared, 24), 0.75);
+  EXPECT_GT(progressAt(shared, 24), 0.9);
   EXPECT_GT(progressAt(shared, 48), 0.9);
   EXPECT_GT(progressAt(shared, 24), progressAt(alone, 24) + 0.05);
-  EXPECT_LT(progressAt(shared, 48), 1.1) << "and does not overshoot far";
+  EXPECT_LT(progressAt(shared, 48), 1.15) << "and does not overshoot far";
 }
 
 TEST_F(Scenario, aStillRoomStartsNoSharedRecovery) {
@@ -132,7 +134,8 @@ TEST_F(Scenario, cornellLightSwitchedOffFadesWithChangeDetection) {
   // The same light switched off after 96 frames on: the indirect light falls to about a third. Change detection lets
   // the probes drop the light's bounces within a few updates instead of 1/33 of them per update; 80 % of the way 48
   // frames after the switch lies between the progress with it and without it (docs/QUALITY.md, "What the scenario
-  // tests' bounds rest on"). 96 frames, because the run with the light off all along, against which the progress is
+  // tests' bounds rest on"), and issue 14's target, 90 % of the way 24 frames after it, is the other bound (measured
+  // 95 %). 96 frames, because the run with the light off all along, against which the progress is
   // measured, is still losing the light of its first frames after 112 (docs/QUALITY.md, "Air the views saw only
   // askew").
   const bench::ScenarioView view = builtinView("cornell");
@@ -145,8 +148,9 @@ TEST_F(Scenario, cornellLightSwitchedOffFadesWithChangeDetection) {
   ASSERT_EQ(lag.progress.size(), options.framesAfterSwitch);
   for (const double progress : lag.progress) EXPECT_TRUE(std::isfinite(progress));
   EXPECT_LT(std::abs(lag.steadyDrift), 0.02) << "the run with the light off all along has settled";
-  std::printf("switch-off: %.0f %% of the way after %u frames\n", 100.0 * lag.progress.back(),
-              options.framesAfterSwitch);
+  std::printf("switch-off: %.0f %% / %.0f %% of the way after 24 / %u frames\n", 100.0 * lag.progress[23],
+              100.0 * lag.progress.back(), options.framesAfterSwitch);
+  EXPECT_GT(lag.progress[23], 0.9) << "issue 14's target";
   EXPECT_GT(lag.progress.back(), 0.8);
   EXPECT_LT(lag.progress.back(), 1.05) << "and does not overshoot";
 }

@@ -3,6 +3,7 @@
 #include "sky.h"
 #include "white_and_colour.h"
 
+#include "shared/probe_interface.h"
 #include "shared/sampling.h"
 
 #include <gtest/gtest.h>
@@ -180,10 +181,10 @@ glm::vec4 deltaSourceCoefficients(float intensity, glm::vec3 direction) {
 std::vector<glm::vec3> sphereOfNormals() {
   std::vector<glm::vec3> normals;
   for (int row = 0; row < 24; ++row) {
-    const float cosAngle = -1.0f + 2.0f * (row + 0.5f) / 24.0f;
+    const float cosAngle = -1.0f + 2.0f * (float(row) + 0.5f) / 24.0f;
     const float sinAngle = std::sqrt(1.0f - cosAngle * cosAngle);
     for (int column = 0; column < 48; ++column) {
-      const float phi = 2.0f * shader::kPi * (column + 0.5f) / 48.0f;
+      const float phi = 2.0f * shader::kPi * (float(column) + 0.5f) / 48.0f;
       normals.emplace_back(sinAngle * std::cos(phi), cosAngle, sinAngle * std::sin(phi));
     }
   }
@@ -324,6 +325,33 @@ TEST(SamplingTest, radicalInverseMirrorsDigitsAboutTheRadixPoint) {
   EXPECT_FLOAT_EQ(shader::radicalInverse(2u, 3u), 2.0f / 3.0f);
   EXPECT_FLOAT_EQ(shader::radicalInverse(3u, 3u), 1.0f / 9.0f);
   EXPECT_FLOAT_EQ(shader::radicalInverse(5u, 3u), 2.0f / 3.0f + 1.0f / 9.0f);  // 12 in base 3 -> 0.21
+}
+
+// A probe that follows a change turns its directions by a random rotation per update (probeRecoveryRotation), so that
+// an update's estimate is unbiased on its own: any fixed direction, turned by them, must be spread evenly over the
+// sphere — mean 0 and second moment I/3 — and each turn must keep lengths and angles.
+TEST(SamplingTest, randomRotationsTurnAFixedDirectionEvenlyOverTheSphereAndKeepAngles) {
+  constexpr uint32_t kRotations = 4096;
+  const glm::vec3 fixed = glm::normalize(glm::vec3(0.3f, 1.0f, -0.2f));
+  const glm::vec3 other = glm::normalize(glm::vec3(-1.0f, 0.1f, 0.4f));
+  glm::dvec3 mean(0.0);
+  glm::dmat3 secondMoment(0.0);
+  for (uint32_t frame = 0; frame < kRotations; ++frame) {
+    const glm::vec4 rotation = shader::probeRecoveryRotation(frame, frame % shader::kProbeLevels);
+    ASSERT_NEAR(glm::length(rotation), 1.0f, 1e-5f);
+    const glm::vec3 turned = shader::rotateByQuaternion(fixed, rotation);
+    ASSERT_NEAR(glm::length(turned), 1.0f, 1e-5f);
+    ASSERT_NEAR(glm::dot(turned, shader::rotateByQuaternion(other, rotation)), glm::dot(fixed, other), 1e-5f);
+    mean += glm::dvec3(turned) / double(kRotations);
+    secondMoment += glm::outerProduct(glm::dvec3(turned), glm::dvec3(turned)) / double(kRotations);
+  }
+  // Uniform directions: each mean component has a standard error of √(1/3 / 4096) ≈ 0.009, each second moment of
+  // about 0.005; the bounds are four to five of them.
+  for (int axis = 0; axis < 3; ++axis) {
+    EXPECT_NEAR(mean[axis], 0.0, 0.04) << "axis " << axis;
+    for (int column = 0; column < 3; ++column)
+      EXPECT_NEAR(secondMoment[axis][column], axis == column ? 1.0 / 3.0 : 0.0, 0.025) << axis << ", " << column;
+  }
 }
 
 TEST(SamplingTest, haltonDirectionsPairBases2And3AndMapThemAsSpecified) {

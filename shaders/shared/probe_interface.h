@@ -201,6 +201,19 @@ SSVGI_INLINE vec3 probeRayDirection(uint firstDirection, uint ray) {
   return haltonSphereDirection((firstDirection + ray) % kProbeRayDirectionCount);
 }
 
+// The turn of the direction set in an update of a probe that follows a change (a recovery, "Less lag" below): one
+// uniformly random rotation per update of a level, the same for all its probes. A settled probe's estimate averages
+// its updates' 32-direction subsets of the fixed set, which together cover the sphere evenly; a recovering probe's is
+// its last update, and one subset alone is uneven in a way of its own (the share of its directions within 45° of
+// straight up ranges from 0.06 to 0.22 over the 32 subsets) that every probe shares, since all walk the same subsets
+// in step: the whole image's light rose and stalled with the subset they traced (docs/QUALITY.md, "The lag's steps are
+// the direction subsets"). Turned at random, an update's estimate is unbiased on its own; shared by the level's probes,
+// its error is smooth on screen, which the temporal filter hides.
+SSVGI_CONSTANT(uint, kProbeRecoveryRotationSeed, 0x5bd1e995u);
+SSVGI_INLINE vec4 probeRecoveryRotation(uint frameIndex, uint level) {
+  return uniformRandomRotation(hashToUnitCube(uvec3(frameIndex, level, kProbeRecoveryRotationSeed)));
+}
+
 // SH2 with half-float coefficients, two per uint.
 // The nearest half floats (nearestHalf): the probes' running average is stored in them.
 SSVGI_INLINE uvec2 packSh2Half(vec4 coefficients) {
@@ -360,14 +373,15 @@ SSVGI_CONSTANT(uint, kProbeChangeMinimumHistory, 4u);
 // update's deviation in standard deviations less kProbeDriftAllowance, on the side it leans, and never crosses zero
 // but to start again on the other. Noise wanders back to zero; a history that falls behind light that keeps growing
 // strays further each update and climbs. Past kProbeDriftLimit deviations it starts a recovery: for
-// kProbeChangeRecoveryUpdates updates the history count stays at most kProbeChangeRecoveryHistory, so the probe
-// follows the light while it grows (or fades). The allowance is one deviation because a smaller one shortened the
-// lag further but let noise start recoveries in still scenes, which flicker (docs/QUALITY.md, "Drift summed over
-// updates").
+// kProbeChangeRecoveryUpdates updates the history count is kProbeChangeRecoveryHistory — each update is taken whole
+// (α = 1), so that every bounce goes round voxel → probe → voxel at the pace of the probes' updates, not of their
+// blend — and the update's directions are turned (probeRecoveryRotation), so the probe follows the light while it
+// grows (or fades). The allowance is one deviation because a smaller one shortened the lag further but let noise start
+// recoveries in still scenes, which flicker (docs/QUALITY.md, "Drift summed over updates").
 SSVGI_CONSTANT(float, kProbeDriftAllowance, 1.0f);
 SSVGI_CONSTANT(float, kProbeDriftLimit, 4.0f);
 SSVGI_CONSTANT(uint, kProbeChangeRecoveryUpdates, 15u);
-SSVGI_CONSTANT(uint, kProbeChangeRecoveryHistory, 1u);
+SSVGI_CONSTANT(uint, kProbeChangeRecoveryHistory, 0u);
 // The drift is stored in steps of this many deviations (its magnitude in 3 bits, below the limit).
 SSVGI_CONSTANT(float, kProbeDriftStep, kProbeDriftLimit / 7.0f);
 
@@ -378,7 +392,7 @@ SSVGI_CONSTANT(float, kProbeDriftStep, kProbeDriftLimit / 7.0f);
 // at least kProbeChangeMinimumHistory updates) and those whose history a large change cut; where at least
 // Settings::probeSharedChangeShare of at least kProbeSharedChangeMinimumProbes were cut, ProbeVolume has every probe
 // updated in the next kProbeLevels frames (an update of each level) start a recovery, as a drift does
-// (startsSharedRecovery): the whole loop then follows the light at α = 1/2 for kProbeChangeRecoveryUpdates updates.
+// (startsSharedRecovery): the whole loop then follows the light at α = 1 for kProbeChangeRecoveryUpdates updates.
 struct ProbeChangeTally {
   uint watchedProbes;  // traced with a history of at least kProbeChangeMinimumHistory, change detection on
   uint cutProbes;      // of those, whose history a large change cut

@@ -46,6 +46,20 @@ SSVGI_INLINE vec3 haltonSphereDirection(uint index) {
   return uniformSphereDirection(halton23(index));
 }
 
+// A uniformly distributed random rotation, as a unit quaternion (xyz, w), from a point of the unit cube (Shoemake,
+// "Uniform random rotations", Graphics Gems III, 1992).
+SSVGI_INLINE vec4 uniformRandomRotation(vec3 unitCubePoint) {
+  float lower = sqrt(1.0f - unitCubePoint.x), upper = sqrt(unitCubePoint.x);
+  float first = 2.0f * kPi * unitCubePoint.y, second = 2.0f * kPi * unitCubePoint.z;
+  return vec4(lower * sin(first), lower * cos(first), upper * sin(second), upper * cos(second));
+}
+
+// `direction` turned by the unit quaternion `rotation`.
+SSVGI_INLINE vec3 rotateByQuaternion(vec3 direction, vec4 rotation) {
+  vec3 axis = vec3(rotation.x, rotation.y, rotation.z);
+  return direction + 2.0f * cross(axis, cross(axis, direction) + rotation.w * direction);
+}
+
 // A well-mixed hash of three integers (PCG3D: Jarzynski and Olano, "Hash Functions for GPU Rendering", JCGT 2020):
 // per-voxel, per-frame random numbers that the host can reproduce exactly.
 SSVGI_INLINE uvec3 pcg3d(uvec3 v) {

@@ -8,7 +8,8 @@
 // flicker of new probes while moving: "initialise from the higher-level probe volume").
 //
 // Without reservoirs (Settings::probeReservoirs off, and levels 1 and 2 always) the rays are the next raysPerProbe of
-// the fixed 1024 directions. With them (level 0) the sphere is split into kProbeStrata strata, each with a reservoir
+// the fixed 1024 directions, turned by the update's random rotation while the probe follows a change
+// (probeRecoveryRotation). With them (level 0) the sphere is split into kProbeStrata strata, each with a reservoir
 // (probe_interface.h); per stratum, raysPerProbe/8 − 1 rays are the next directions of its own Halton set (uniform
 // candidates) and the last one re-traces the direction its reservoir holds (ray guiding: a bright direction found
 // before keeps being sampled). The reservoir update is merged into this pass rather than being a pass of its own: it
@@ -260,6 +261,7 @@ struct ListedProbe {
   uint offsetCode;
   uint placement;
   vec3 origin;           // where its rays leave from: its position plus its virtual offset
+  bool recovering;       // following a change (a recovery, or one many probes start now): its directions are turned
 };
 
 // History, offset and placement count only if this slot has held this probe (a slot that scrolled to another probe
@@ -279,6 +281,8 @@ ListedProbe readProbe(uint probeIndex) {
   probe.offsetCode = ownsSlot ? probeOffsetCode(state) : 0u;
   probe.placement = ownsSlot ? probePlacement(state) : kProbeStateActive;
   probe.origin = probeWorldPosition(probe.coordinate, update.spacing, ownsSlot ? state : 0u);
+  probe.recovering = probe.historyCount > 0u && (unpackProbeChange(changes[probeIndex]).recoveryUpdates > 0u ||
+                                                 update.startsSharedRecovery != 0u);
   return probe;
 }
 
@@ -319,6 +323,9 @@ ProbeRay chooseRay(ListedProbe probe, uint ray) {
     chosen.uniformWeight = chosen.reusesReservoir ? 0.0 : kProbeStratumSolidAngle / float(rays.candidates);
   } else {
     chosen.direction = probeRayDirection(probe.firstDirection, ray);
+    if (probe.recovering)
+      chosen.direction =
+          normalize(rotateByQuaternion(chosen.direction, probeRecoveryRotation(update.frameIndex, uint(update.level))));
     chosen.uniformWeight = update.projectionWeight;
   }
   return chosen;
