@@ -805,9 +805,7 @@ class GatherConfidence : public testing::GpuTest {};
 
 // A closed box, interior 4 × 2.5 × 4 m, lit by a point light, the camera inside. The capture around the camera (SPEC
 // §6.3) shows every wall within a few frames: nothing inside the box is unobserved, so every probe ray that stays in
-// it finds something known. Today ProbeTrace counts every ray as known (the known fraction is 1), so this holds as
-// soon as the gather finds probes for a pixel; it becomes a test of unknown-is-not-sky when ProbeTrace measures the
-// fraction (the probes outside the walls know little, and the gather must not lean on them).
+// it finds something known, while the probes outside the walls know little, and the gather must not lean on them.
 TEST_F(GatherConfidence, aFullyObservedClosedBoxIsConfidentEverywhere) {
   renderer::Scene scene;
   scene.name = "closed box";
