@@ -275,9 +275,10 @@ void main() {
     // four texels around shows a surface inside it. The rim of an opening, whose voxels lie wholly in the opening, is
     // then observed, and a rim's own voxels, the holes a view leaves in a wall it grazes, and a wall's voxels hidden
     // beside a line of sight that passes them are not.
-    // Once observed, a voxel stays so (the mask is sticky): only one not yet observed is looked at again.
-    bool seesPast = sightCrossesVoxel(seen, voxelMin, voxelSize, litSize, clearMargin);
-    observedNow = !wasObserved && !holdsSurface && !refreshesColour && seesPast && !cutBySurfacePlane &&
+    // Once observed, a voxel stays so (the mask is sticky): only one not yet observed is looked at again, and the
+    // cheap tests come first.
+    observedNow = !wasObserved && !holdsSurface && !refreshesColour && !cutBySurfacePlane &&
+                  sightCrossesVoxel(seen, voxelMin, voxelSize, litSize, clearMargin) &&
                   !surfaceAround(firstTexel, litSize, voxelMin);
     if (occupied && seenThrough) {
       uint lastHit = min(voxelSeenThroughCount(voxel) + 1u, kVoxelMaxLastHit);
