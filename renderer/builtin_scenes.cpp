@@ -85,6 +85,7 @@ class SceneAssembly {
       movingMotion_->instance = addInstancedMesh(std::move(movingShape_), movingMaterial_, movingPlacement_);
       scene_.movingObject = movingMotion_;
     }
+    scene_.giDetailScale = giDetailScaleFor(worldBounds(scene_));
     return std::move(scene_);
   }
 
@@ -151,9 +152,6 @@ Scene makeCornell(const BuiltinSceneOptions& options) {
   panel.addBox({-0.25f, 1.98f, -0.2f}, {0.25f, 2.0f, 0.2f});
 
   assembly.scene().lights.push_back({.name = "ceiling", .position = {0.0f, 1.9f, 0.0f}, .intensity = glm::vec3(3.0f)});
-  // 0.125 m voxels and 0.5 m probes: four probes across the box, so that the short box's shadow and each wall's
-  // colour are resolved (with 1 m probes the floor beside the red wall keeps only a sixth of the reference's bleed).
-  assembly.scene().giDetailScale = 0.5f;
   assembly.addCamera("front", {0.0f, 1.0f, 3.4f}, {0.0f, 1.0f, 0.0f}, 40.0f);
   assembly.setCameraLoop({{{0.0f, 1.0f, 3.4f}, {0.0f, 1.0f, 0.0f}},
                           {{0.6f, 1.3f, 3.0f}, {0.0f, 0.9f, 0.0f}},

@@ -23,6 +23,17 @@ Bounds worldBounds(const Scene& scene) {
   return {low, high};
 }
 
+float giDetailScaleFor(const Bounds& bounds) {
+  constexpr float kTierProbeSpacing = 1.0f;  // metres, every tier's (ssvgi::settingsForTier)
+  constexpr float kFinestScale = 0.25f;
+  const glm::vec3 extent = bounds.max - bounds.min;
+  const float middleExtent =
+      std::max(std::min(extent.x, extent.y), std::min(std::max(extent.x, extent.y), extent.z));
+  float scale = 1.0f;
+  while (scale > kFinestScale && middleExtent < kGiProbeSpacingsAcrossScene * kTierProbeSpacing * scale) scale *= 0.5f;
+  return scale;
+}
+
 glm::vec3 sunDirection(float azimuthDegrees, float elevationDegrees) {
   const float azimuth = glm::radians(azimuthDegrees);
   const float elevation = glm::radians(elevationDegrees);

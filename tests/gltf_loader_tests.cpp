@@ -60,6 +60,7 @@ TEST(GltfCornellBox, loadsEveryPrimitiveMaterialAndTheCamera) {
   const Bounds bounds = worldBounds(scene);
   expectNear(bounds.min, {-1.02f, 0.0f, -1.04f}, 1e-3f);
   expectNear(bounds.max, {1.0f, 1.99f, 0.99f}, 1e-3f);
+  EXPECT_EQ(scene.giDetailScale, 0.5f);  // a 2 m box, as the built-in cornell
 
   ASSERT_EQ(scene.cameras.size(), 1u);
   const Camera& camera = scene.cameras[0];

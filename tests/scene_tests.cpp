@@ -134,6 +134,19 @@ TEST(SceneBounds, coverEveryInstanceTransformedVertex) {
   expectNear(bounds.max, {11.0f, 2.0f, 0.5f});
 }
 
+// Scene::giDetailScale follows the middle of the bounds' three extents: at least three 1 m probe spacings across it.
+TEST(SceneDetail, halvesTheGiDetailUntilThreeProbeSpacingsSpanTheMiddleExtent) {
+  const auto scaleFor = [](glm::vec3 extent) { return giDetailScaleFor({glm::vec3(-1.0f), glm::vec3(-1.0f) + extent}); };
+  EXPECT_EQ(scaleFor({5.0f, 3.0f, 5.0f}), 1.0f);     // a room
+  EXPECT_EQ(scaleFor({3.0f, 3.0f, 3.0f}), 1.0f);     // just three spacings
+  EXPECT_EQ(scaleFor({2.9f, 2.9f, 2.9f}), 0.5f);
+  EXPECT_EQ(scaleFor({2.0f, 2.0f, 2.0f}), 0.5f);     // a Cornell box
+  EXPECT_EQ(scaleFor({80.0f, 0.3f, 80.0f}), 1.0f);   // a wide, flat scene: its middle extent is 80 m
+  EXPECT_EQ(scaleFor({0.5f, 40.0f, 2.0f}), 0.5f);    // a thin tall wall: 2 m
+  EXPECT_EQ(scaleFor({1.2f, 1.2f, 1.2f}), 0.25f);
+  EXPECT_EQ(scaleFor({0.1f, 0.1f, 0.1f}), 0.25f);    // no finer than a quarter
+}
+
 Scene sceneWithAnimation() {
   Scene scene;
   scene.instances.push_back({0, glm::translate(glm::mat4(1.0f), {1.0f, 2.0f, 3.0f})});
@@ -382,6 +395,7 @@ TEST(BuiltinCornell, leftWallIsRedAndRightWallIsGreen) {
   expectNear(scene.materials[right->material].baseColor, {0.14f, 0.45f, 0.09f});
   EXPECT_EQ(scene.sky.kind, SkyKind::None);
   EXPECT_FALSE(scene.sun.enabled);
+  EXPECT_EQ(scene.giDetailScale, 0.5f);  // a 2.2 m box: 0.125 m voxels and 0.5 m probes at every tier
 }
 
 TEST(BuiltinCornell, shadowedPointLightHangsJustBelowTheGlowingPanel) {
