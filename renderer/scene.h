@@ -136,8 +136,7 @@ Bounds worldBounds(const Scene& scene);
 
 // Scene::giDetailScale for a scene of these bounds. The tiers' sizes (0.25 m voxels, 1 m probes) suit rooms and
 // streets; in a smaller scene most of its probes would sit in its walls, and the few left inside could not resolve
-// its light (the 2 m Cornell box with 1 m probes: 31 % from the reference against 18 % with 0.5 m ones,
-// docs/QUALITY.md). So the scale halves, down to a quarter, until the bounds' middle extent spans at least
+// its light (docs/QUALITY.md, "A scene's GI detail follows its size"). So the scale halves, down to a quarter, until the bounds' middle extent spans at least
 // kGiProbeSpacingsAcrossScene spacings of the tiers' 1 m probes: two probes or more inside the scene along its two
 // larger axes. The middle extent, not the smallest: a wide, flat scene keeps the tiers' volume.
 constexpr float kGiProbeSpacingsAcrossScene = 3.0f;
