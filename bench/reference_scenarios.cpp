@@ -79,19 +79,13 @@ shader::Sh2Rgb averageOf(const shader::Sh2Rgb& a, const shader::Sh2Rgb& b) {
   return {0.5f * (a.r + b.r), 0.5f * (a.g + b.g), 0.5f * (a.b + b.b)};
 }
 
-glm::vec3 axisNormal(uint32_t index) {
-  glm::vec3 normal(0.0f);
-  normal[int(index / 2)] = index % 2 == 0 ? 1.0f : -1.0f;
-  return normal;
-}
-
 using AxisIrradiance = std::array<glm::vec3, kAxisNormals>;
 
 // E(n) for the six axis normals, read from the SH2 as the gather reads a probe's (shared/sh.h), on both sides.
 AxisIrradiance axisIrradiance(const shader::Sh2Rgb& radiance) {
   AxisIrradiance irradiance;
   for (uint32_t i = 0; i < kAxisNormals; ++i)
-    irradiance[i] = shader::sh2IrradianceWithoutRinging(radiance, axisNormal(i));
+    irradiance[i] = shader::sh2IrradianceWithoutRinging(radiance, shader::pointAxisNormal(i));
   return irradiance;
 }
 
@@ -111,6 +105,21 @@ double relativeMeanAbsoluteError(const std::vector<AxisIrradiance>& test, const 
   const double referenceTotal = total(reference);
   if (referenceTotal <= 0.0) throw std::runtime_error("the reference irradiance at the probes is black");
   return absoluteError / referenceTotal;
+}
+
+IrradianceAgreement agreement(const std::vector<AxisIrradiance>& test, const std::vector<AxisIrradiance>& against) {
+  IrradianceAgreement result;
+  result.relativeMeanAbsoluteError = relativeMeanAbsoluteError(test, against);
+  result.meanRatio = total(test) / total(against);
+  for (uint32_t n = 0; n < kAxisNormals; ++n) {
+    double testSum = 0.0, againstSum = 0.0;
+    for (size_t i = 0; i < test.size(); ++i) {
+      testSum += double(test[i][n].r) + test[i][n].g + test[i][n].b;
+      againstSum += double(against[i][n].r) + against[i][n].g + against[i][n].b;
+    }
+    result.ratioByNormal[n] = againstSum > 0.0 ? testSum / againstSum : 0.0;
+  }
+  return result;
 }
 
 // Whether the camera sees into the space around `position`: inside the frustum and nearer than the surface drawn at
@@ -260,24 +269,31 @@ ProbeIrradianceResult measureProbeIrradiance(gpu::OwnedDevice& device, Converged
   if (positions.empty()) throw std::runtime_error("no usable probe lies in the space the camera sees");
 
   const uint32_t halfDirections = half(options.referenceDirections, "directions per point");
-  std::array<std::vector<shader::Sh2Rgb>, 2> halves;
+  std::array<std::vector<shader::PointRadianceSums>, 2> halves;
   for (uint32_t i = 0; i < 2; ++i) {
     reference::PointRadianceTracer tracer(device, view.scene, state, positions, {.seed = options.seed + i});
     tracer.trace(halfDirections);
-    halves[i] = tracer.radiance();
+    halves[i] = tracer.measurements();
     result.referenceDirections += tracer.directionsPerPoint();
   }
-  std::vector<AxisIrradiance> referenceIrradiance, firstHalf, secondHalf;
+  std::vector<AxisIrradiance> referenceIrradiance, exactIrradiance, firstHalf, secondHalf;
   for (size_t i = 0; i < positions.size(); ++i) {
-    referenceIrradiance.push_back(axisIrradiance(averageOf(halves[0][i], halves[1][i])));
-    firstHalf.push_back(axisIrradiance(halves[0][i]));
-    secondHalf.push_back(axisIrradiance(halves[1][i]));
+    referenceIrradiance.push_back(axisIrradiance(averageOf(halves[0][i].radiance, halves[1][i].radiance)));
+    firstHalf.push_back(axisIrradiance(halves[0][i].radiance));
+    secondHalf.push_back(axisIrradiance(halves[1][i].radiance));
+    AxisIrradiance exact;
+    for (uint32_t n = 0; n < kAxisNormals; ++n)
+      exact[n] = 0.5f * glm::vec3(halves[0][i].axisIrradiance[n] + halves[1][i].axisIrradiance[n]);
+    exactIrradiance.push_back(exact);
     result.probes[i].gi = giIrradiance[i];
     result.probes[i].reference = referenceIrradiance[i];
+    result.probes[i].exact = exact;
   }
   result.relativeMeanAbsoluteError = relativeMeanAbsoluteError(giIrradiance, referenceIrradiance);
   result.meanRatio = total(giIrradiance) / total(referenceIrradiance);
   result.referenceNoiseFloor = relativeMeanAbsoluteError(firstHalf, secondHalf) / 2.0;
+  result.againstExact = agreement(giIrradiance, exactIrradiance);
+  result.readingOfReference = agreement(referenceIrradiance, exactIrradiance);
   return result;
 }
 
@@ -288,6 +304,12 @@ nlohmann::json toJson(const Convergence& convergence) {
 }
 
 nlohmann::json toJson(glm::vec3 value) { return nlohmann::json::array({value.x, value.y, value.z}); }
+
+nlohmann::json toJson(const IrradianceAgreement& agreement) {
+  return {{"relativeMeanAbsoluteError", agreement.relativeMeanAbsoluteError},
+          {"meanRatio", agreement.meanRatio},
+          {"ratioByNormal", agreement.ratioByNormal}};
+}
 
 }  // namespace
 
@@ -306,23 +328,28 @@ nlohmann::json toJson(const IndirectErrorResult& result) {
 nlohmann::json toJson(const ProbeIrradianceResult& result) {
   nlohmann::json probes = nlohmann::json::array();
   for (const ProbeIrradiance& probe : result.probes) {
-    nlohmann::json gi = nlohmann::json::array(), reference = nlohmann::json::array();
+    nlohmann::json gi = nlohmann::json::array(), reference = nlohmann::json::array(), exact = nlohmann::json::array();
     for (uint32_t n = 0; n < kAxisNormals; ++n) {
       gi.push_back(toJson(probe.gi[n]));
       reference.push_back(toJson(probe.reference[n]));
+      exact.push_back(toJson(probe.exact[n]));
     }
     probes.push_back({{"probe", {probe.probe.x, probe.probe.y, probe.probe.z}},
                       {"position", toJson(probe.position)},
                       {"irradiance", gi},
-                      {"referenceIrradiance", reference}});
+                      {"referenceIrradiance", reference},
+                      {"exactReferenceIrradiance", exact}});
   }
   return {{"relativeMeanAbsoluteError", result.relativeMeanAbsoluteError},
           {"meanRatio", result.meanRatio},
           {"referenceNoiseFloor", result.referenceNoiseFloor},
           {"referenceDirections", result.referenceDirections},
+          {"againstExactReference", toJson(result.againstExact)},
+          {"readingOfReference", toJson(result.readingOfReference)},
           {"usableProbes", result.usableProbes},
           {"comparedProbes", result.probes.size()},
-          // irradiance and referenceIrradiance: E(n) in RGB (W/m²) for each of these normals, in this order
+          // irradiance, referenceIrradiance (both read from SH2) and exactReferenceIrradiance: E(n) in RGB (W/m²) for
+          // each of these normals, in this order; ratioByNormal in the same order
           {"normals", {"+x", "-x", "+y", "-y", "+z", "-z"}},
           {"probes", probes},
           {"convergence", toJson(result.convergence)}};

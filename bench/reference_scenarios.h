@@ -8,6 +8,7 @@
 #include "image_compare.h"
 #include "scenario_rendering.h"
 #include "scenarios.h"
+#include "shared/path_tracer_interface.h"
 
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
@@ -93,14 +94,22 @@ struct ProbeIrradianceOptions {
   uint32_t seed = 0;                     // the reference's halves use seed and seed + 1
 };
 
-// The six axis normals E(n) is compared for: +X, −X, +Y, −Y, +Z, −Z.
-inline constexpr uint32_t kAxisNormals = 6;
+// The six axis normals E(n) is compared for: +X, −X, +Y, −Y, +Z, −Z (shader::pointAxisNormal).
+inline constexpr uint32_t kAxisNormals = shader::kPointAxisNormals;
 
 struct ProbeIrradiance {
   glm::ivec3 probe{0};        // world probe coordinate on level 0
   glm::vec3 position{0.0f};   // where its rays leave: the grid position plus its virtual offset
   std::array<glm::vec3, kAxisNormals> gi{};         // E(n) of its radiance SH2 (SPEC §2), clamped at 0 as gathers do
   std::array<glm::vec3, kAxisNormals> reference{};  // the same of the path-traced SH2 at its position
+  std::array<glm::vec3, kAxisNormals> exact{};      // the path-traced E(n) itself, summed over its directions
+};
+
+// Two irradiances over the probes, the six normals and the colour channels.
+struct IrradianceAgreement {
+  double relativeMeanAbsoluteError = 0.0;  // Σ|E_test − E_against| / Σ E_against
+  double meanRatio = 0.0;                  // Σ E_test / Σ E_against
+  std::array<double, kAxisNormals> ratioByNormal{};  // the same for each normal alone
 };
 
 struct ProbeIrradianceResult {
@@ -111,6 +120,11 @@ struct ProbeIrradianceResult {
   double meanRatio = 0.0;            // Σ E_probe / Σ E_reference
   double referenceNoiseFloor = 0.0;  // as IndirectErrorResult's, between the two halves of the reference
   uint32_t referenceDirections = 0;  // per point, both halves together
+  // The probes' E(n), read as the gather reads them, against the reference's exact E(n): what the gather starts from.
+  IrradianceAgreement againstExact;
+  // The reference's own SH2 read the same way against its exact E(n): what the SH2 reading alone loses, whatever the
+  // probes hold.
+  IrradianceAgreement readingOfReference;
   Convergence convergence;
 };
 

@@ -32,7 +32,7 @@ PointRadianceTracer::PointRadianceTracer(gpu::OwnedDevice& device, const rendere
   const std::vector<glm::vec4> positions = pointPositions(points);
   points_ = gpu::Buffer(device, "reference points", positions.size() * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
   gpu::uploadBuffer(device, points_, std::as_bytes(std::span(positions)));
-  sums_ = gpu::Buffer(device, "reference point radiance sums", VkDeviceSize(pointCount_) * sizeof(shader::Sh2Rgb),
+  sums_ = gpu::Buffer(device, "reference point radiance sums", VkDeviceSize(pointCount_) * sizeof(shader::PointRadianceSums),
                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
   device.submitAndWait([&](VkCommandBuffer commandBuffer) {
     gpu::CommandList commands(device, commandBuffer, descriptors_);
@@ -66,10 +66,19 @@ void PointRadianceTracer::trace(uint32_t directions) {
   }
 }
 
-std::vector<shader::Sh2Rgb> PointRadianceTracer::radiance() {
-  std::vector<shader::Sh2Rgb> radiance = gpu::readBufferAs<shader::Sh2Rgb>(device_, sums_);
+std::vector<shader::PointRadianceSums> PointRadianceTracer::measurements() {
+  std::vector<shader::PointRadianceSums> points = gpu::readBufferAs<shader::PointRadianceSums>(device_, sums_);
   const float weight = rounds_ > 0 ? 4.0f * shader::kPi / float(directionsPerPoint()) : 0.0f;
-  for (shader::Sh2Rgb& point : radiance) point = shader::sh2Scale(point, weight);
+  for (shader::PointRadianceSums& point : points) {
+    point.radiance = shader::sh2Scale(point.radiance, weight);
+    for (glm::vec4& irradiance : point.axisIrradiance) irradiance *= weight;
+  }
+  return points;
+}
+
+std::vector<shader::Sh2Rgb> PointRadianceTracer::radiance() {
+  std::vector<shader::Sh2Rgb> radiance;
+  for (const shader::PointRadianceSums& point : measurements()) radiance.push_back(point.radiance);
   return radiance;
 }
 

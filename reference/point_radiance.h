@@ -33,8 +33,11 @@ class PointRadianceTracer {
   void trace(uint32_t directions);
   uint32_t directionsPerPoint() const { return rounds_ * shader::kPointRadianceDirectionsPerRound; }
 
-  // Per point, its incoming radiance as SH2 of each colour channel: L_lm = (4π/N) Σ L(ω_i) Y_lm(ω_i) over the N
-  // directions traced so far (SPEC §2). Irradiance on a surface facing n there is shader::sh2Irradiance(·, n).
+  // Per point, over the N directions traced so far, each sum scaled by 4π/N (shared/path_tracer_interface.h): its
+  // incoming radiance as SH2 of each colour channel, L_lm = (4π/N) Σ L(ω_i) Y_lm(ω_i) (SPEC §2), and the irradiance
+  // E(n) = (4π/N) Σ L(ω_i)·max(0, ω_i·n) on the six axis-facing surfaces through it, which SH2 holds only in part.
+  std::vector<shader::PointRadianceSums> measurements();
+  // Their radiance SH2 alone.
   std::vector<shader::Sh2Rgb> radiance();
 
  private:

@@ -75,6 +75,16 @@ TEST_F(PointRadiance, insideAClosedEmissiveSphereEveryDirectionBringsTheSameRadi
   }
 }
 
+// A black 200 m slab under a uniform sky, and points 1 cm above it.
+Scene blackFloorUnderUniformSky(glm::vec3 sky) {
+  renderer::MeshBuilder slab;
+  slab.addBox(glm::vec3(-100.0f, -0.1f, -100.0f), glm::vec3(100.0f, 0.0f, 100.0f));
+  Scene scene = sceneOf("black floor", {"black", glm::vec3(0.0f)}, std::move(slab));
+  scene.sky = {renderer::SkyKind::Uniform, sky, 1.0f};
+  return scene;
+}
+const std::vector<glm::vec3> kPointsAboveTheFloor{{0.0f, 0.01f, 0.0f}, {-5.0f, 0.01f, 3.0f}, {7.0f, 0.01f, -2.0f}};
+
 TEST_F(PointRadiance, aboveABlackFloorUnderAUniformSkyTheUpperHalfHoldsTheSky) {
   // Points 1 cm above a black 200 m slab under a uniform sky L: the upper hemisphere brings L, the lower nothing (the
   // slab's edge, 100 m away, hides all but 1e-4 rad below the horizon). Analytically L00 = 2π·Y00·L, the y coefficient
@@ -84,11 +94,8 @@ TEST_F(PointRadiance, aboveABlackFloorUnderAUniformSkyTheUpperHalfHoldsTheSky) {
   // with N directions, the y coefficient has a standard deviation of 1.77·L/√(2N) and x, z 3.54·L/√(2N), i.e. E(up)
   // and E(down) 0.23 % and E(sideways) 0.45 % of π·L at N = 32768. The tolerances are 5 σ.
   const glm::vec3 sky(1.0f, 0.5f, 0.25f);
-  renderer::MeshBuilder slab;
-  slab.addBox(glm::vec3(-100.0f, -0.1f, -100.0f), glm::vec3(100.0f, 0.0f, 100.0f));
-  Scene scene = sceneOf("black floor", {"black", glm::vec3(0.0f)}, std::move(slab));
-  scene.sky = {renderer::SkyKind::Uniform, sky, 1.0f};
-  const std::vector<glm::vec3> points{{0.0f, 0.01f, 0.0f}, {-5.0f, 0.01f, 3.0f}, {7.0f, 0.01f, -2.0f}};
+  const Scene scene = blackFloorUnderUniformSky(sky);
+  const std::vector<glm::vec3>& points = kPointsAboveTheFloor;
   reference::PointRadianceTracer tracer(device(), scene, stillState(scene), points);
   tracer.trace(32768);
   const std::vector<shader::Sh2Rgb> radiance = tracer.radiance();
@@ -105,6 +112,30 @@ TEST_F(PointRadiance, aboveABlackFloorUnderAUniformSkyTheUpperHalfHoldsTheSky) {
       for (const glm::vec3 sideways : {glm::vec3(1, 0, 0), glm::vec3(0, 0, -1)})
         EXPECT_NEAR(shader::sh2Irradiance(radiance[point], sideways)[c], 0.5f * kPi * sky[c], 0.023f * kPi * sky[c])
             << "point " << point << " channel " << c;
+    }
+  }
+}
+
+TEST_F(PointRadiance, aboveABlackFloorUnderAUniformSkyTheIrradianceItselfIsPiLUpHalfOfItSidewaysAndNoneDown) {
+  // The exact E(n) the tracer sums beside the SH2, which holds E only to its first band (here exactly: a hemisphere of
+  // sky is band 0 and 1 alone for irradiance, so the two agree; elsewhere they need not). Each antithetic pair has
+  // one direction above the floor, u: E(up) sums L·|u_y|, whose relative standard deviation is 0.577/√P over P pairs,
+  // and E(sideways) sums L·max(u_x, 0), 1.29/√P; E(down) is 0 but for the pairs over the slab's edge (as above).
+  // With P = 65536 pairs: 0.23 % and 0.50 %; the tolerances are 5 σ.
+  const glm::vec3 sky(1.0f, 0.5f, 0.25f);
+  const Scene scene = blackFloorUnderUniformSky(sky);
+  reference::PointRadianceTracer tracer(device(), scene, stillState(scene), kPointsAboveTheFloor);
+  tracer.trace(131072);
+  const std::vector<shader::PointRadianceSums> points = tracer.measurements();
+  ASSERT_EQ(points.size(), kPointsAboveTheFloor.size());
+  for (size_t point = 0; point < points.size(); ++point) {
+    for (uint32_t axis = 0; axis < shader::kPointAxisNormals; ++axis) {
+      const glm::vec3 normal = shader::pointAxisNormal(axis);
+      const float share = normal.y > 0.0f ? 1.0f : (normal.y < 0.0f ? 0.0f : 0.5f);
+      const float tolerance = normal.y > 0.0f ? 0.0115f : (normal.y < 0.0f ? 1e-3f : 0.025f);
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(points[point].axisIrradiance[axis][c], share * kPi * sky[c], tolerance * kPi * sky[c])
+            << "point " << point << " normal " << axis << " channel " << c;
     }
   }
 }

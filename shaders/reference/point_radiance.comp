@@ -20,9 +20,9 @@ layout(local_size_x = kPointRadianceLanes) in;
 layout(push_constant) uniform Push { PointRadiancePush push; };
 
 layout(binding = kBindPointPositions) readonly buffer Points { vec4 points[]; };
-layout(binding = kBindPointRadianceSums) buffer Sums { Sh2Rgb sums[]; };
+layout(binding = kBindPointRadianceSums) buffer Sums { PointRadianceSums sums[]; };
 
-shared Sh2Rgb laneSums[kPointRadianceLanes];
+shared PointRadianceSums laneSums[kPointRadianceLanes];
 
 // The radiance arriving at `origin` from `direction` (the path runs the other way, from the point outwards).
 vec3 arrivingRadiance(vec3 origin, vec3 direction, uint random) {
@@ -32,27 +32,37 @@ vec3 arrivingRadiance(vec3 origin, vec3 direction, uint random) {
   return path.radiance;
 }
 
-void addSample(inout Sh2Rgb sum, vec3 radiance, vec3 direction) {
-  sum = sh2Add(sum, sh2Project(radiance, sh2Basis(direction)));
+void addSample(inout PointRadianceSums sum, vec3 origin, vec3 direction, uint random) {
+  vec3 radiance = arrivingRadiance(origin, direction, random);
+  sum.radiance = sh2Add(sum.radiance, sh2Project(radiance, sh2Basis(direction)));
+  for (uint axis = 0u; axis < kPointAxisNormals; ++axis)
+    sum.axisIrradiance[axis].rgb += radiance * max(dot(direction, pointAxisNormal(axis)), 0.0);
+}
+
+void addSums(inout PointRadianceSums total, PointRadianceSums part) {
+  total.radiance = sh2Add(total.radiance, part.radiance);
+  for (uint axis = 0u; axis < kPointAxisNormals; ++axis) total.axisIrradiance[axis] += part.axisIrradiance[axis];
 }
 
 void main() {
   uint point = gl_WorkGroupID.x;
   uint lane = gl_LocalInvocationID.x;
   vec3 origin = points[point].xyz;
-  Sh2Rgb sum = sh2Zero();
+  PointRadianceSums sum;
+  sum.radiance = sh2Zero();
+  for (uint axis = 0u; axis < kPointAxisNormals; ++axis) sum.axisIrradiance[axis] = vec4(0.0);
   for (uint roundIndex = push.firstRound; roundIndex < push.firstRound + push.roundCount; ++roundIndex) {
     // Each path of the pair has random numbers of its own: sample indices 2·pair and 2·pair + 1.
     uint pair = roundIndex * kPointRadianceLanes + lane;
     uint random = sampleRandomState(point, 2u * pair, push.seed);
     vec3 direction = uniformSphereDirection(nextRandom2(random));
-    addSample(sum, arrivingRadiance(origin, direction, random), direction);
-    addSample(sum, arrivingRadiance(origin, -direction, sampleRandomState(point, 2u * pair + 1u, push.seed)), -direction);
+    addSample(sum, origin, direction, random);
+    addSample(sum, origin, -direction, sampleRandomState(point, 2u * pair + 1u, push.seed));
   }
   laneSums[lane] = sum;
   barrier();
   if (lane != 0u) return;
-  Sh2Rgb total = sums[point];
-  for (uint i = 0u; i < kPointRadianceLanes; ++i) total = sh2Add(total, laneSums[i]);
+  PointRadianceSums total = sums[point];
+  for (uint i = 0u; i < kPointRadianceLanes; ++i) addSums(total, laneSums[i]);
   sums[point] = total;
 }

@@ -6,6 +6,7 @@
 
 #include "shared/glsl_cpp.h"
 #include "shared/ray_box.h"
+#include "shared/sh.h"
 
 SSVGI_SHARED_BEGIN
 
@@ -108,6 +109,23 @@ struct PointRadiancePush {
 };
 SSVGI_CHECK_SIZE(PointRadiancePush, 24);
 
+// The six axis normals in the order PointRadianceSums keeps them: +x, −x, +y, −y, +z, −z.
+SSVGI_CONSTANT(uint, kPointAxisNormals, 6u);
+SSVGI_INLINE vec3 pointAxisNormal(uint index) {
+  vec3 normal = vec3(0.0f);
+  normal[int(index / 2u)] = index % 2u == 0u ? 1.0f : -1.0f;
+  return normal;
+}
+
+// What PointRadiance sums per point over its directions ω (the host scales each by 4π/N):
+struct PointRadianceSums {
+  Sh2Rgb radiance;                 // Σ L(ω)·Y(ω): the SH2 projection of the radiance arriving there
+  // Σ L(ω)·max(0, ω·n) for the axis normals n (pointAxisNormal; rgb, w unused): the irradiance E(n) itself, which the
+  // SH2 holds only to its first band — what any reading of SH2 is judged against
+  vec4 axisIrradiance[kPointAxisNormals];
+};
+SSVGI_CHECK_SIZE(PointRadianceSums, 48 + 96);
+
 // Binding slots (descriptor set 0). The scene, read by every pass:
 SSVGI_CONSTANT(uint, kBindTraceFrame, 0u);         // FrameConstants (uniform): camera, sun, sky, light count
 SSVGI_CONSTANT(uint, kBindTraceNodes, 1u);         // BvhNode[]
@@ -131,7 +149,7 @@ SSVGI_CONSTANT(uint, kBindTraceIndirect, 15u);     // out: rgb: their mean, E_in
 SSVGI_CONSTANT(uint, kBindTraceFinal, 16u);        // out: rgb: final radiance
 // PointRadiance's points and its accumulation:
 SSVGI_CONSTANT(uint, kBindPointPositions, 17u);    // vec4[]: xyz: world position of each point
-SSVGI_CONSTANT(uint, kBindPointRadianceSums, 18u); // Sh2Rgb[]: per point, Σ L(ω)·Y(ω) over its directions so far
+SSVGI_CONSTANT(uint, kBindPointRadianceSums, 18u); // PointRadianceSums[]: per point, over its directions so far
 
 // Where a ray meets a triangle: (t, u, v) with the hit at origin + t·direction = vertex0 + u·edge1 + v·edge2, or
 // t = -1 when it misses (Möller & Trumbore 1997). t may be negative or beyond the ray's end: the caller checks it.
