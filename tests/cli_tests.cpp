@@ -171,7 +171,7 @@ TEST(Cli, benchReportsTheWorkOfSsvgisPassesInOneMoreFrame) {
   EXPECT_GT(tiles, 0u);
   EXPECT_LE(tiles, 8u * 8u);  // 4×4-pixel tiles of 32×32
   EXPECT_GT(work["SceneVoxelization"]["voxels"].get<uint32_t>(), 0u);
-  EXPECT_EQ(work["Upsample"]["pixels"], 16 * 16);
+  EXPECT_EQ(work["TemporalUpsample"]["pixels"], 16 * 16);
 }
 
 TEST(Cli, debugViewsAreSeenFromTheDebugCamera) {

@@ -1,4 +1,4 @@
-// Final gather, upsample and temporal filter (SPEC §4.6): the jitter pattern on the CPU; Upsample and TemporalFilter
+// Final gather, upsample and temporal filter (SPEC §4.6): the jitter pattern on the CPU; TemporalUpsample
 // on hand-made inputs (a constant field stays exactly constant, a depth edge stays sharp); FinalGather through the
 // public API on a probe volume written by the test (constant SH gives the analytic irradiance); and the whole loop in
 // the renderer: the Cornell box's shadowed floor gets indirect light with GI on and none with GI off.
@@ -47,7 +47,7 @@ TEST(GatherJitter, anySixteenConsecutiveFramesSampleEveryPixelOfATile) {
 }
 
 TEST(HalfFloatStore, nearestHalfIsTheNearestHalfFloatWhateverTheConversionRounds) {
-  // TemporalFilter's running average is stored through nearestHalf; a value one step off would bias it.
+  // TemporalUpsample's running average is stored through nearestHalf; a value one step off would bias it.
   for (float magnitude = 1e-9f; magnitude < 7e4f; magnitude *= 1.0137f)
     for (float value : {magnitude, -magnitude}) {
       const float finite = shader::finiteHalf(value);
@@ -64,7 +64,7 @@ TEST(HalfFloatStore, nearestHalfIsTheNearestHalfFloatWhateverTheConversionRounds
 }
 
 // ---------------------------------------------------------------------------------------------------------------------
-// Upsample and TemporalFilter on their own: a camera at the origin looking along −Z at a near wall (x < 0, at z = −2)
+// TemporalUpsample on its own: a camera at the origin looking along −Z at a near wall (x < 0, at z = −2)
 // in front of a far wall (z = −8).
 
 constexpr uint32_t kSize = 32;
@@ -113,8 +113,7 @@ class GatherFilters : public testing::GpuTest {
  protected:
   GatherFilters()
       : targets_(device(), kSize, kSize, 1),
-        upsample_(device()),
-        temporalFilter_(device()),
+        temporalUpsample_(device()),
         frame_(device(), "test gi frame", sizeof(shader::GiFrame), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                gpu::MemoryUsage::HostUpload),
         depth_(device(), {"test depth", VK_FORMAT_R32_SFLOAT, kSize, kSize, 1, 1, VK_IMAGE_USAGE_SAMPLED_BIT}),
@@ -143,8 +142,9 @@ class GatherFilters : public testing::GpuTest {
     targets_.prepare(0, view.viewProjection, kSize, kSize, {});
   }
 
-  // The tile images as FinalGather writes them: `irradiance` of each tile's sample pixel (whose geometry Upsample
-  // reads from the depth and normal), and the probe blend of every tile (r8: rounded to the nearest 1/255).
+  // The tile images as FinalGather writes them: `irradiance` of each tile's sample pixel (whose geometry
+  // TemporalUpsample reads from the depth and normal), and the probe blend of every tile (r8: rounded to the nearest
+  // 1/255).
   template <typename Irradiance>
   void writeTiles(Irradiance irradiance, float probeBlend = kSettledProbeBlend) {
     const uint32_t tiles = kSize / shader::kGatherTileSize;
@@ -159,15 +159,12 @@ class GatherFilters : public testing::GpuTest {
     gpu::uploadImage(device(), targets_.tileProbeBlend(), std::as_bytes(std::span(blend)));
   }
 
-  void runUpsample() {
-    record([&](gpu::CommandList& commands) { upsample_.record(commands, inputs(), targets_); });
-  }
-  void runTemporalFilter() {
-    record([&](gpu::CommandList& commands) { temporalFilter_.record(commands, inputs(), targets_); });
+  void runTemporalUpsample() {
+    record([&](gpu::CommandList& commands) { temporalUpsample_.record(commands, inputs(), targets_); });
   }
 
-  // The half-resolution result, one value per texel (the red channel; the filters treat channels alike): after
-  // Upsample, the upsampled frame; after TemporalFilter, the filtered output.
+  // The half-resolution output, one value per texel (the red channel; the filters treat channels alike): the
+  // upsampled frame where there is no history yet, else the filtered one.
   std::vector<float> output() {
     const auto bytes = gpu::readImage(device(), targets_.output());
     std::vector<float> values;
@@ -195,8 +192,7 @@ class GatherFilters : public testing::GpuTest {
     });
   }
 
-  gi::Upsample upsample_;
-  gi::TemporalFilter temporalFilter_;
+  gi::TemporalUpsample temporalUpsample_;
   gpu::Buffer frame_;
   gpu::Image depth_;
   gpu::Image normal_;
@@ -228,17 +224,14 @@ TEST_F(GatherFilters, upsampleAndTemporalFilterKeepAConstantField) {
   const TestView view = viewFrom(position);
   setFrame(view, position);
   writeTiles([](size_t) { return kConstant; });
-  runUpsample();
-  for (float value : output()) ASSERT_NEAR(value, kConstant, kConstant * kHalfStep);
-  runTemporalFilter();  // no history yet: the output is the upsampled frame
+  runTemporalUpsample();  // no history yet: the output is the upsampled frame
   for (float value : output()) ASSERT_NEAR(value, kConstant, kConstant * kHalfStep);
   // A second frame from a slightly moved camera: the history is reprojected, clamped and blended.
   const glm::vec3 moved(0.05f, 0.02f, 0.0f);
   const TestView next = viewFrom(moved);
   setFrame(next, moved);
   writeTiles([](size_t) { return kConstant; });
-  runUpsample();
-  runTemporalFilter();
+  runTemporalUpsample();
   for (float value : output()) ASSERT_NEAR(value, kConstant, kConstant * kHalfStep);
 }
 
@@ -248,7 +241,7 @@ TEST_F(GatherFilters, upsampleAndTemporalFilterDoNotBlurAcrossADepthEdge) {
   const TestView view = viewFrom(position);
   setFrame(view, position);
   writeTiles([&](size_t pixel) { return view.onNearWall[pixel] ? kNearValue : kFarValue; });
-  runUpsample();
+  runTemporalUpsample();
   const std::vector<float> values = output();
   uint32_t near = 0;
   for (size_t texel = 0; texel < values.size(); ++texel) {
@@ -259,15 +252,13 @@ TEST_F(GatherFilters, upsampleAndTemporalFilterDoNotBlurAcrossADepthEdge) {
   }
   ASSERT_GT(near, 0u);
   ASSERT_LT(near, values.size());
-  runTemporalFilter();
   // A camera moved by a fraction of a texel sideways: the history's bilinear taps straddle the edge, and parallax
   // moves the walls apart. The history must still come from the texel's own wall.
   const glm::vec3 moved(0.03f, 0.0f, 0.0f);
   const TestView next = viewFrom(moved);
   setFrame(next, moved);
   writeTiles([&](size_t pixel) { return next.onNearWall[pixel] ? kNearValue : kFarValue; });
-  runUpsample();
-  runTemporalFilter();
+  runTemporalUpsample();
   // Blur across the edge would move a value by the walls' difference (1.0) times its weight: any weight above 1/700
   // shows.
   const std::vector<float> filtered = output();
@@ -286,12 +277,10 @@ TEST_F(GatherFilters, temporalFilterAveragesWhereTheProbesAreSettledAndFollowsPr
   for (float probeBlend : {kSettledProbeBlend, 1.0f}) {
     setFrame(view, position);
     writeTiles([](size_t) { return kNearValue; }, probeBlend);
-    runUpsample();
-    runTemporalFilter();
+    runTemporalUpsample();
     setFrame(view, position);
     writeTiles([](size_t) { return kFarValue; }, probeBlend);
-    runUpsample();
-    runTemporalFilter();
+    runTemporalUpsample();
     const float expected =
         probeBlend < shader::kTemporalBlend ? glm::mix(kNearValue, kFarValue, shader::kTemporalBlend) : kFarValue;
     for (float value : output()) ASSERT_NEAR(value, expected, expected * kHalfStep) << "probe blend " << probeBlend;
@@ -302,19 +291,17 @@ TEST_F(GatherFilters, temporalFilterKeepsTheHistoryOfASurfaceNoSampleOfTheFrameL
   // A first frame sees the far wall everywhere the near one is not, and its tiles give it kFarValue. In the second
   // frame, from the same camera, every tile's sample pixel (frame index 0: the tile's top-left) lies 1 m in front of
   // the far wall and the pixels between them still on it — a surface seen only between the samples, as the top of a
-  // block seen edge-on is. Upsample finds no sample on those pixels' surface; their light is unknown this frame, and
+  // block seen edge-on is. The upsampling finds no sample on those pixels' surface; their light is unknown this frame, and
   // the history must stay, not turn black.
   const glm::vec3 position(0.0f);
   const TestView view = viewFrom(position);
   setFrame(view, position);
   writeTiles([](size_t) { return kFarValue; });
-  runUpsample();
-  runTemporalFilter();
+  runTemporalUpsample();
   const TestView samplesInFront = withFarWallTileSamplesInFront(view, [](uint32_t) { return true; });
   setFrame(samplesInFront, position);
   writeTiles([](size_t) { return kNearValue; });
-  runUpsample();
-  runTemporalFilter();
+  runTemporalUpsample();
   const std::vector<float> filtered = output();
   uint32_t between = 0;
   for (size_t texel = 0; texel < filtered.size(); ++texel) {
@@ -340,7 +327,7 @@ TEST_F(GatherFilters, upsampleReadsTheTilesAroundTheBilinearFourWhereNoneOfThemL
   const auto sampleOnWall = [&](size_t pixel) { return view.depth[pixel] == unchanged.depth[pixel]; };
   setFrame(view, position);
   writeTiles([&](size_t pixel) { return sampleOnWall(pixel) ? kFarValue : kNearValue; });
-  runUpsample();
+  runTemporalUpsample();
   const std::vector<float> values = output();
   uint32_t fromOuterTiles = 0;
   for (size_t texel = 0; texel < values.size(); ++texel) {
@@ -500,7 +487,7 @@ TEST_F(GatherOverConstantProbes, finalGatherCountsTheTilesWhoseSampleShowsASurfa
   EXPECT_FALSE(stats.work.counted);  // its frames do not count
   EXPECT_EQ(stats.work.finalGather.tiles, 0u);
   EXPECT_EQ(stats.work.finalGather.visibility.rays, 0u);
-  EXPECT_EQ(stats.work.upsample.pixels, 0u);
+  EXPECT_EQ(stats.work.temporalUpsample.pixels, 0u);
 
   const uint32_t surfaceTiles = dispatchCountedFrame(context, position);
   stats = context.stats();
@@ -513,8 +500,7 @@ TEST_F(GatherOverConstantProbes, finalGatherCountsTheTilesWhoseSampleShowsASurfa
   EXPECT_GT(stats.work.finalGather.visibility.reads, 0u);  // not ≥ rays: a probe outside the voxel volume reads none
   // The passes of one thread per pixel, counted from their dispatch sizes: the half-resolution output, and the Hi-Z
   // pyramid from half resolution down to one texel.
-  EXPECT_EQ(stats.work.upsample.pixels, (kSize / 2) * (kSize / 2));
-  EXPECT_EQ(stats.work.temporalFilter.pixels, (kSize / 2) * (kSize / 2));
+  EXPECT_EQ(stats.work.temporalUpsample.pixels, (kSize / 2) * (kSize / 2));
   uint32_t hizTexels = 0;
   for (uint32_t side = kSize / 2; side >= 1; side /= 2) hizTexels += side * side;
   EXPECT_EQ(stats.work.hizBuild.texels, hizTexels);
@@ -601,7 +587,7 @@ TEST_F(GatherOverConstantProbes, theConfidenceIsTheProbesKnownFractionWhereTheyA
 TEST_F(GatherOverConstantProbes, theConfidenceFollowsTheProbesThatKnowAcrossAWall) {
   // The far wall (z = −8) 4 m ahead fills the view, x in [−1.8, 2.8] m; the probes at x ≤ 0 know everything, those at
   // x ≥ 1 nothing. A point with x < 0 has only knowing probes around it, one with x > 1 only unknowing ones, and the
-  // gather's weights and Upsample's blend are symmetric about x = 0.5 between them. 16 probes in y keep every point
+  // gather's weights and the upsampling's blend are symmetric about x = 0.5 between them. 16 probes in y keep every point
   // of the wall well inside level 0 (no dither into level 1).
   const glm::vec3 position(0.5f, 0.5f, -4.0f);
   dispatchOverConstantProbes(position, [](uint32_t, glm::ivec3 probe) { return probe.x <= 0 ? 1.0f : 0.0f; },

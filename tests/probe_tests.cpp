@@ -940,8 +940,7 @@ void expectNoWorkCounted(const WorkCounts& work) {
                              work.finalGather.tiles,
                              work.finalGather.visibility.rays,
                              work.finalGather.visibility.reads,
-                             work.upsample.pixels,
-                             work.temporalFilter.pixels};
+                             work.temporalUpsample.pixels};
   for (size_t i = 0; i < std::size(counts); ++i) EXPECT_EQ(counts[i], 0u) << "count " << i;
 }
 

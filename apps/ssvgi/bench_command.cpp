@@ -69,8 +69,7 @@ nlohmann::json workJson(const ssvgi::Stats& gi, uint32_t frame, size_t extraView
                            {"ProbeTrace", {{"probes", work.probeTrace.probes}}},
                            {"ProbeRelocate", nlohmann::json::object()},
                            {"FinalGather", {{"tiles", work.finalGather.tiles}}},
-                           {"Upsample", {{"pixels", work.upsample.pixels}}},
-                           {"TemporalFilter", {{"pixels", work.temporalFilter.pixels}}}};
+                           {"TemporalUpsample", {{"pixels", work.temporalUpsample.pixels}}}};
   addVoxelRays(report["VoxelRelight"], work.voxelRelight.visibility);
   addVoxelRays(report["ProbeTrace"], work.probeTrace.rays);
   addVoxelRays(report["ProbeTrace"], work.probeTrace.seedVisibility, "seed");

@@ -5,7 +5,7 @@
 // The 2×2 texels around the pixel (texel h holds full-resolution pixel 2h), each weighted bilinearly times how well
 // its pixel lies on this pixel's surface (ssvgiPlaneWeight × ssvgiNormalWeight) — so that light does not bleed across
 // silhouettes. A pixel whose texels all lie on other surfaces (a one-pixel sliver) takes the texel of the 2×2 block it
-// belongs to. ssvgi's own half-resolution filters (Upsample, TemporalFilter) weigh their neighbours with the same two
+// belongs to. ssvgi's own half-resolution filter (TemporalUpsample) weighs its neighbours with the same two
 // functions, so that what they keep apart the resolve keeps apart too.
 #ifndef SSVGI_RESOLVE_GLSL
 #define SSVGI_RESOLVE_GLSL

@@ -288,9 +288,8 @@ struct WorkCounts {
   // FinalGather: the tiles of 4×4 pixels whose sample shows a surface (those showing nothing gather nothing), and its
   // visibility rays.
   struct { uint32_t tiles = 0; VoxelRays visibility; } finalGather;
-  // Upsample and TemporalFilter: the pixels of the half-resolution output.
-  struct { uint32_t pixels = 0; } upsample;
-  struct { uint32_t pixels = 0; } temporalFilter;
+  // TemporalUpsample: the pixels of the half-resolution output.
+  struct { uint32_t pixels = 0; } temporalUpsample;
 };
 
 struct Stats {

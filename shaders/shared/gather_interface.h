@@ -1,8 +1,8 @@
 // Final gather, upsample and temporal filter (SPEC §4.6; the talk's "Part3 Shading"): layouts, binding slots,
 // constants and the sample pattern shared by the gather shaders and the host.
 //
-// Resolutions: the gather takes one sample per kGatherTileSize² pixel tile ("1/4 resolution"), Upsample and
-// TemporalFilter work at half resolution. A half-resolution pixel p stands for full-resolution pixel 2p: it takes that
+// Resolutions: the gather takes one sample per kGatherTileSize² pixel tile ("1/4 resolution"),
+// TemporalUpsample works at half resolution. A half-resolution pixel p stands for full-resolution pixel 2p: it takes that
 // pixel's depth and normal, so every filter weight compares real G-buffer samples. A tile's geometry is likewise that
 // of the pixel it sampled, read from the host's depth and normal rather than stored (SPEC §5's 10 MB for the gather's
 // images: at 1920×1080 the tile irradiance and probe blend, the two half-resolution images, output and history, and
@@ -10,8 +10,8 @@
 //
 // Confidence (SPEC §6.4): beside E, the gather carries how much the probes it used know of their surroundings — their
 // known fraction (probeKnownFraction), weighted exactly as their light is. FinalGather writes it into the tile
-// irradiance's alpha, Upsample blends it with E's joint-bilateral weights into an R8 half-resolution image, and
-// TemporalFilter leaves it: it has no history (see temporal_filter.comp).
+// irradiance's alpha, and TemporalUpsample blends it with E's joint-bilateral weights into an R8 half-resolution
+// image, with no history (see temporal_upsample.comp).
 #ifndef SSVGI_SHARED_GATHER_INTERFACE_H
 #define SSVGI_SHARED_GATHER_INTERFACE_H
 
@@ -41,7 +41,7 @@ SSVGI_CONSTANT(float, kGatherAgreement, 0.2f);
 // becomes noise that the temporal filter averages.
 SSVGI_CONSTANT(float, kGatherLevelBlendSpacings, 2.0f);
 
-// TemporalFilter: the weight of the new frame. 1/16 spans the 16 frames the gather's jitter needs to visit a tile's
+// TemporalUpsample's temporal filter: the weight of the new frame. 1/16 spans the 16 frames the gather's jitter needs to visit a tile's
 // every pixel.
 SSVGI_CONSTANT(float, kTemporalBlend, 1.0f / 16.0f);
 // History whose geometry weight (summed over its bilinear taps) falls below this is rejected.

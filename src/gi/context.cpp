@@ -200,8 +200,7 @@ class ContextImplementation final : public Context {
         probeRelocate_(device_),
         probeDilate_(device_),
         finalGather_(device_),
-        upsample_(device_),
-        temporalFilter_(device_),
+        temporalUpsample_(device_),
         voxelDebugView_(device_),
         probeDebugView_(device_),
         confidenceDebugView_(device_) {
@@ -300,7 +299,7 @@ class ContextImplementation final : public Context {
     gpu::Buffer workReadback;       // WorkCounters, copied at the end of a frame that counts its work
     uint32_t probeLevel = 0;        // the probe level the frame updated
     // Whether the frame counted its work (FrameDesc::countWork), and what its dispatch sizes tell of it: the camera's
-    // Hi-Z texels, the half-resolution pixels of Upsample and TemporalFilter.
+    // Hi-Z texels, the half-resolution pixels of TemporalUpsample.
     bool countsWork = false;
     uint32_t hizTexels = 0;
     uint32_t halfResolutionPixels = 0;
@@ -324,7 +323,7 @@ class ContextImplementation final : public Context {
     work.probeRelocate = {counted.relocateRays, counted.relocateReads};
     work.finalGather = {counted.gatherTiles, {counted.gatherRays, counted.gatherReads}};
     work.hizBuild.texels = slot.hizTexels;
-    work.upsample.pixels = work.temporalFilter.pixels = slot.halfResolutionPixels;
+    work.temporalUpsample.pixels = slot.halfResolutionPixels;
     return work;
   }
 
@@ -534,8 +533,7 @@ class ContextImplementation final : public Context {
     probeDilate_.record(commands, probes_);                                             //    ProbeDilate
     const gi::GatherInputs gatherInputs{slot.frameConstants, pointSampler_.handle(), desc.depth.view, desc.normal.view};
     finalGather_.record(commands, gatherInputs, gather_, scene_, probes_.probes());    // 10. FinalGather
-    upsample_.record(commands, gatherInputs, gather_);                                 // 11. Upsample
-    temporalFilter_.record(commands, gatherInputs, gather_);                           // 12. TemporalFilter
+    temporalUpsample_.record(commands, gatherInputs, gather_);                         // 11.–12. TemporalUpsample
     commands.use(gather_.output(), gpu::Usage::ComputeSampled);  // the outputs' contract (OutputImage)
     commands.use(gather_.confidence(), gpu::Usage::ComputeSampled);
 
@@ -579,8 +577,7 @@ class ContextImplementation final : public Context {
   gi::ProbeRelocate probeRelocate_;
   gi::ProbeDilate probeDilate_;
   gi::FinalGather finalGather_;
-  gi::Upsample upsample_;
-  gi::TemporalFilter temporalFilter_;
+  gi::TemporalUpsample temporalUpsample_;
   gi::VoxelDebugView voxelDebugView_;
   gi::ProbeDebugView probeDebugView_;
   gi::ConfidenceDebugView confidenceDebugView_;

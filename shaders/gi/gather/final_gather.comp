@@ -2,7 +2,7 @@
 // FinalGather (SPEC §4.6; the talk's "DownSample: Probe Volume sampling with custom weights, 1 sample per 4x4 pixels,
 // temporal jitter; output indirect light + normal + depth"): one thread per 4×4 tile samples the probe volume at one
 // pixel of its tile, a different one each frame (gatherSampleOffset), with the talk's three leak remedies and a voxel
-// visibility test. The tile's normal and depth are that pixel's in the host's G-buffer, where Upsample reads them.
+// visibility test. The tile's normal and depth are that pixel's in the host's G-buffer, where TemporalUpsample reads them.
 // Beside E it stores the tile's confidence (SPEC §6.4): the known fraction of the probes it used, weighted as their
 // light is; 0 where no probe contributed or nothing was drawn.
 #include "gi/gi_frame.glsl"
@@ -22,7 +22,7 @@ void main() {
   uint frameIndex = gather.frameIndex;
   ivec2 pixel = ivec2(min(tile * kGatherTileSize + gatherSampleOffset(frameIndex), frame.size - 1u));
   float depth = texelFetch(depthBuffer, pixel, 0).r;
-  if (depth <= 0.0) {  // nothing drawn (Upsample skips the tile)
+  if (depth <= 0.0) {  // nothing drawn (TemporalUpsample skips the tile)
     imageStore(tileIrradiance, ivec2(tile), vec4(0.0));
     imageStore(tileProbeBlend, ivec2(tile), vec4(1.0));
     return;

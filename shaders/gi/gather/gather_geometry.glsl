@@ -1,7 +1,7 @@
 #ifndef SSVGI_GATHER_GEOMETRY_GLSL
 #define SSVGI_GATHER_GEOMETRY_GLSL
-// What Upsample and TemporalFilter share: the frame's inputs, the geometry test (how much a neighbouring sample belongs
-// to a pixel's surface) and the tile samples around a pixel.
+// TemporalUpsample's geometry: the frame's inputs, the geometry test (how much a neighbouring sample belongs to a
+// pixel's surface) and the tile samples around a pixel.
 #include "gi/gi_frame.glsl"
 #include "shared/gather_interface.h"
 #include "ssvgi/resolve.glsl"
@@ -43,17 +43,17 @@ float normalWeight(Surface pixel, vec3 neighbourNormal) { return ssvgiNormalWeig
 // all lie on other surfaces (a thin object, a silhouette), so that such a pixel borrows from its own surface a tile
 // further away instead of going dark; everywhere else a pixel reads four tiles, not sixteen.
 const float kOuterTapWeight = 1e-3;
-// A tap whose geometry weight reaches this lies on the pixel's surface for TemporalFilter's neighbourhood clamp.
+// A tap whose geometry weight reaches this lies on the pixel's surface for the temporal filter's neighbourhood clamp.
 const float kSameSurfaceWeight = 0.5;
 
 // This frame's tile samples around a surface pixel (FinalGather sampled pixel t·4 + offset of tile t).
 struct TileNeighbourhood {
-  vec3 blended;  // Upsample's result: bilinear in the sample grid × geometry weights (joint bilateral)
+  vec3 blended;  // the upsampled light: bilinear in the sample grid × geometry weights (joint bilateral)
   float confidence;  // the tiles' confidence blended with the same weights (0 where no tile's sample is on the surface)
   vec3 lowest;   // the range of the bilinear taps on the pixel's surface (none: lowest > highest)
   vec3 highest;
   // Their probe blend (GatheredLight::probeBlend), weighted as `blended` weighs them; 1 (start afresh) when none is on
-  // the surface. Only TemporalFilter reads it, with the range.
+  // the surface. Only the temporal filter reads it, with the range.
   float probeBlend;
   // Some tap's sample lies on the pixel's surface. A sliver a few pixels wide (the top of a block seen edge-on) can
   // miss all sixteen samples of a frame; its light is then unknown this frame, not zero.

@@ -38,22 +38,12 @@ class FinalGather {
   gpu::ComputePipeline pipeline_;
 };
 
-// Upsample: joint bilateral upsampling of the tile irradiance to half resolution, into the output image, and of the
-// tiles' confidence, with the same weights, into the confidence image.
-class Upsample {
+// TemporalUpsample (SPEC §4 steps 11 and 12): joint bilateral upsampling of the tile irradiance to half resolution,
+// blended into its reprojected, geometry-tested, neighbourhood-clamped history → the output image; the tiles'
+// confidence upsampled with the same weights → the confidence image.
+class TemporalUpsample {
  public:
-  explicit Upsample(gpu::Device& device);
-  void record(gpu::CommandList& commands, const GatherInputs& inputs, const GatherTargets& targets);
-
- private:
-  gpu::ComputePipeline pipeline_;
-};
-
-// TemporalFilter: reprojected, geometry-tested, neighbourhood-clamped history blended into the upsampled frame, in
-// place in the output image.
-class TemporalFilter {
- public:
-  explicit TemporalFilter(gpu::Device& device);
+  explicit TemporalUpsample(gpu::Device& device);
   void record(gpu::CommandList& commands, const GatherInputs& inputs, const GatherTargets& targets);
 
  private:

@@ -30,13 +30,13 @@ class GatherTargets {
 
   const gpu::Buffer& constants() const { return constants_[currentFrame_]; }
   const gpu::Image& tileIrradiance() const { return tileIrradiance_; }  // rgba16f, 1/4: rgb E; a: confidence
-  // r8, 1/4: how fast the tile's probes are following a change (GatheredLight::probeBlend): TemporalFilter's history
-  // follows as fast.
+  // r8, 1/4: how fast the tile's probes are following a change (GatheredLight::probeBlend): TemporalUpsample's
+  // history follows as fast.
   const gpu::Image& tileProbeBlend() const { return tileProbeBlend_; }
   const gpu::Image& history() const { return outputs_[1 - currentOutput_]; }
-  // rgba16f, 1/2: rgb E; a: depth. Upsample writes it, TemporalFilter filters it in place.
+  // rgba16f, 1/2: rgb E; a: depth. TemporalUpsample writes it.
   const gpu::Image& output() const { return outputs_[currentOutput_]; }
-  // r8, 1/2: the confidence (SPEC §6.4) of the output's E. Upsample writes it; one image, no history.
+  // r8, 1/2: the confidence (SPEC §6.4) of the output's E. TemporalUpsample writes it; one image, no history.
   const gpu::Image& confidence() const { return confidence_; }
   glm::uvec2 tiles() const { return current_.tiles; }
   glm::uvec2 halfSize() const { return current_.halfSize; }

@@ -3,15 +3,16 @@
 
 namespace ssvgi::gi {
 
-TemporalFilter::TemporalFilter(gpu::Device& device) : pipeline_(device, shaders::temporal_filter_comp) {}
+TemporalUpsample::TemporalUpsample(gpu::Device& device) : pipeline_(device, shaders::temporal_upsample_comp) {}
 
-void TemporalFilter::record(gpu::CommandList& commands, const GatherInputs& inputs, const GatherTargets& targets) {
-  auto scope = commands.scope("ssvgi: TemporalFilter");
+void TemporalUpsample::record(gpu::CommandList& commands, const GatherInputs& inputs, const GatherTargets& targets) {
+  auto scope = commands.scope("ssvgi: TemporalUpsample");
   const gpu::Bindings bindings = inputs.bindings(targets)
                                      .image(shader::kBindGatherTileIrradiance, targets.tileIrradiance())
                                      .image(shader::kBindGatherTileProbeBlend, targets.tileProbeBlend())
                                      .image(shader::kBindGatherHistory, targets.history())
-                                     .image(shader::kBindGatherOutput, targets.output());
+                                     .image(shader::kBindGatherOutput, targets.output())
+                                     .image(shader::kBindGatherConfidence, targets.confidence());
   commands.dispatch(pipeline_, bindings, glm::uvec3(targets.halfSize(), 1));  // one thread per half-resolution pixel
 }
 

@@ -1,0 +1,93 @@
+#version 450
+// TemporalUpsample (SPEC §4 steps 11 and 12 in one pass; the talk's "UpSample to 1/2 render resolution, bilateral
+// filter with depth and normal weights" and "Temporal Filter on the upsampled result"). Each half-resolution pixel
+//   - upsamples: blends the tile samples around it, bilinear in the jittered sample grid, weighted by how well each
+//     sample's depth and normal match its own (joint bilateral upsampling, Kopf et al. 2007), and the tiles'
+//     confidence (SPEC §6.4) with the same weights: 0 where nothing was drawn or no tile sample lies on the surface;
+//   - filters: finds its surface in the last output through the last dispatch's camera, keeps that history where its
+//     geometry matches, and blends the upsampled frame in.
+// One pass, because the filter's neighbourhood clamp needs the same tile neighbourhood the upsampling has just found:
+// as two passes the second recomputed it, and its geometry was most of the filter's cost (PERFORMANCE.md).
+// The result is ssvgi's output: rgb E(n), alpha the depth the history test needs next frame.
+//
+// How much history to keep is the probes' call. Their change detection (probe_trace.comp) tells noise from a change
+// of light, which a screen filter cannot: a probe's update moves every tile around it alike, so this frame's tile
+// samples agree with each other however far the probes' noise moved them. The tiles carry the weight the probes'
+// next updates give new light (GatheredLight::probeBlend). Where it is above kTemporalBlend — the probes are new or
+// follow a change — the filter follows as fast, and clamps its history to the range of this frame's tile samples on
+// the pixel's surface, fully where the probes start afresh; where the probes are settled, the difference between
+// history and this frame is their noise, which the history is there to average, and nothing is clamped.
+//
+// The confidence is not filtered over time. What E gains from its history is the average of noisy probe estimates and
+// of the 16 jittered sample pixels; the confidence is made of the probes' known fractions, which the probes already
+// blend over their updates as they blend their SH (probe_interface.h), so it lacks the first noise and varies smoothly
+// over a surface, where the second does not matter (near a probe level's boundary, where the gather dithers between
+// two levels that know different amounts, it stays noisy). A history would also cost more than SPEC §5 leaves: 8 bits
+// cannot hold a 1/16 blend (a change below 8/255 would never move the stored value), and two R16 images would take the
+// gather's images from 9.98 MB to 11.5 MB at 1920×1080 (10 allowed).
+#include "gather_geometry.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(binding = kBindGatherHistory, rgba16f) readonly uniform image2D history;
+layout(binding = kBindGatherOutput, rgba16f) writeonly uniform image2D outputIrradiance;
+layout(binding = kBindGatherConfidence, r8) writeonly uniform image2D confidence;
+
+// The history at the surface point, bilinear over the taps whose stored surface lies on the pixel's tangent plane
+// (a depth test; a crease fails it as a normal test would). a = 0: no usable history.
+vec4 reprojectHistory(Surface surface, vec2 size) {
+  vec4 clip = gather.historyViewProjection * vec4(surface.position, 1.0);
+  if (clip.w <= 0.0) return vec4(0.0);
+  // Half-resolution texel h holds full-resolution pixel 2h, centred at 2h + 0.5.
+  vec2 texelCoordinate = (ssvgiNdcToPixel(clip.xy / clip.w, size) - 0.5) / 2.0;
+  ivec2 firstTexel = ivec2(floor(texelCoordinate));
+  vec2 fraction = texelCoordinate - vec2(firstTexel);
+  vec3 sum = vec3(0.0);
+  float totalWeight = 0.0;
+  for (int corner = 0; corner < 4; ++corner) {
+    ivec2 offset = ivec2(corner & 1, corner >> 1);
+    ivec2 texel = firstTexel + offset;
+    if (any(lessThan(texel, ivec2(0))) || any(greaterThanEqual(texel, ivec2(gather.halfSize)))) continue;
+    vec4 stored = imageLoad(history, texel);
+    if (stored.a <= 0.0) continue;
+    vec3 storedPosition = reconstructPosition(gather.historyInverseViewProjection, vec2(2 * texel), size, stored.a);
+    vec2 bilinear = mix(vec2(1.0) - fraction, fraction, vec2(offset));
+    float weight = bilinear.x * bilinear.y * planeWeight(surface, storedPosition);
+    sum += weight * stored.rgb;
+    totalWeight += weight;
+  }
+  return totalWeight >= kTemporalMinimumHistoryWeight ? vec4(sum / totalWeight, 1.0) : vec4(0.0);
+}
+
+// The upsampled frame blended into the surface's history, where it has one.
+vec3 filtered(Surface surface, TileNeighbourhood tiles) {
+  if (gather.historyUsable == 0u) return tiles.blended;
+  vec4 reprojected = reprojectHistory(surface, vec2(frame.size));
+  if (reprojected.a <= 0.0) return tiles.blended;
+  vec3 lowest = min(tiles.lowest, tiles.blended), highest = max(tiles.highest, tiles.blended);
+  // Where no sample of this frame lies on the surface, the upsampled 0 is not light: the history stays as it is
+  // (blend 0, unclamped).
+  float blend = tiles.sampled ? max(kTemporalBlend, tiles.probeBlend) : 0.0;
+  // 1 where the probes are settled, kTemporalBlend where they start afresh.
+  float unclamped = tiles.sampled ? kTemporalBlend / blend : 1.0;
+  vec3 kept = mix(clamp(reprojected.rgb, lowest, highest), reprojected.rgb, unclamped);
+  return mix(kept, tiles.blended, blend);
+}
+
+void main() {
+  ivec2 halfPixel = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(halfPixel, ivec2(gather.halfSize)))) return;
+  ivec2 pixel = 2 * halfPixel;
+  float depth = texelFetch(depthBuffer, pixel, 0).r;
+  if (depth <= 0.0) {  // nothing drawn: no light, no depth for the next frame's history test
+    imageStore(outputIrradiance, halfPixel, vec4(0.0));
+    imageStore(confidence, halfPixel, vec4(0.0));
+    return;
+  }
+  Surface surface = currentSurface(pixel, depth);
+  TileNeighbourhood tiles = tileNeighbourhood(surface, pixel);
+  // Stored as the nearest half float: a conversion that rounds toward zero would sink the running average.
+  vec3 irradiance = nearestHalf(finiteHalf(filtered(surface, tiles)));
+  imageStore(outputIrradiance, halfPixel, vec4(irradiance, finiteHalf(depth)));
+  imageStore(confidence, halfPixel, vec4(tiles.confidence));
+}
