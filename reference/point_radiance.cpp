@@ -32,8 +32,8 @@ PointRadianceTracer::PointRadianceTracer(gpu::OwnedDevice& device, const rendere
   const std::vector<glm::vec4> positions = pointPositions(points);
   points_ = gpu::Buffer(device, "reference points", positions.size() * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
   gpu::uploadBuffer(device, points_, std::as_bytes(std::span(positions)));
-  sums_ = gpu::Buffer(device, "reference point radiance sums", VkDeviceSize(pointCount_) * sizeof(shader::PointRadianceSums),
-                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  sums_ = gpu::Buffer(device, "reference point radiance sums",
+                      VkDeviceSize(pointCount_) * sizeof(shader::PointRadianceSums), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
   device.submitAndWait([&](VkCommandBuffer commandBuffer) {
     gpu::CommandList commands(device, commandBuffer, descriptors_);
     commands.fillBuffer(sums_, 0);  // 0.0f
