@@ -545,6 +545,30 @@ TEST_F(ProbeCache, aProbeAmidSpaceNoViewHasObservedGetsNoSkyLightAndKnowsHalfIts
   }
 }
 
+// The scene of the test above with the wall sunlit: it sends out R = 1.5·L, of which D = L is direct light (the sun's
+// view gave it). A ray into space no view has observed stands for the surfaces' light less its direct part: no view
+// of a light saw a surface lit there. So E = π·(R − D) facing away from the wall and π·R facing it (SH2 holds each
+// half-space exactly; the strips past the wall's edges, 1.4 %, are within the tolerance).
+TEST_F(ProbeCache, aRayIntoSpaceNoViewHasObservedStandsForTheSurfacesLightLessItsDirectPart) {
+  createBesideTheBlackWallAmidUnobservedSpace();
+  std::vector<TestBrick> sunlitWall = blackWallBesideTheProbe();
+  for (TestBrick& brick : sunlitWall) {
+    brick.radiance = glm::vec3(1.5f * kSkyRadiance);
+    brick.directRadiance = glm::vec3(kSkyRadiance);
+  }
+  writeScene(sunlitWall);
+  runUpdates(32);
+  const std::vector<shader::Probe> probes = readProbes();
+  for (uint32_t level = 0; level < shader::kProbeLevels; ++level) {
+    SCOPED_TRACE("level " + std::to_string(level));
+    const shader::Probe probe = probeAt(probes, level, glm::vec3(kProbe));
+    ASSERT_TRUE(isActive(probe));
+    const glm::vec4 green = radianceSh(probe).g;
+    EXPECT_NEAR(shader::sh2Irradiance(green, {1, 0, 0}), kPi * 0.5f * kSkyRadiance, 0.05f * kPi * kSkyRadiance);
+    EXPECT_NEAR(shader::sh2Irradiance(green, {-1, 0, 0}), kPi * 1.5f * kSkyRadiance, 0.05f * kPi * kSkyRadiance);
+  }
+}
+
 // The scene of the test above, and a view that only observes (ExtraView without colour, SPEC §6.4): orthographic,
 // looking along −X over the whole volume, nothing drawn in it. Every brick cell it looks through is observed, so
 // the probe's rays that pass the wall see the sky again — E(+X) = π·L, as in the scene watched without observed

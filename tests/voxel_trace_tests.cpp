@@ -643,18 +643,18 @@ TEST_F(VoxelTrace, watchingObservedSpaceBothTracesAgreeOnTheHitAndOnWhereUnobser
   for (size_t i = 0; i < rays.size(); ++i) {
     const VoxelTraceHit& h = hierarchical.hits[i];
     const VoxelTraceHit& f = flat.hits[i];
-    const bool same = h.brick == f.brick && h.voxelBit == f.voxelBit && h.crossedUnobservedSpace == f.crossedUnobservedSpace &&
+    const bool same = h.brick == f.brick && h.voxelBit == f.voxelBit && h.unobserved == f.unobserved &&
                       std::abs(h.distance - f.distance) <= 1e-4f &&
                       std::abs(h.unobservedDistance - f.unobservedDistance) <= 1e-4f;
     if (!same && ++mismatches <= 10)
       ADD_FAILURE() << "ray " << i << ": hierarchical brick " << h.brick << " voxel " << h.voxelBit << " unobserved "
-                    << h.crossedUnobservedSpace << " from " << h.unobservedDistance << " at " << h.distance
+                    << h.unobserved << " from " << h.unobservedDistance << " at " << h.distance
                     << ", flat brick " << f.brick << " voxel " << f.voxelBit << " unobserved "
-                    << f.crossedUnobservedSpace << " from " << f.unobservedDistance << " at " << f.distance;
-    if (h.crossedUnobservedSpace != 0) (isHit(h) ? unobservedHits : unobservedMisses) += 1;
-    if (h.crossedUnobservedSpace == 0 && !isHit(h)) ++observedMisses;
+                    << f.unobserved << " from " << f.unobservedDistance << " at " << f.distance;
+    if (h.unobserved != shader::kTraceObserved) (isHit(h) ? unobservedHits : unobservedMisses) += 1;
+    if (h.unobserved == shader::kTraceObserved && !isHit(h)) ++observedMisses;
     // A ray that ends at an unobserved voxel: unknown from a point inside a brick holding voxels.
-    if (h.crossedUnobservedSpace != 0 && !isHit(h) && h.unobservedDistance > 0.0f) {
+    if (h.unobserved == shader::kTraceEndedBesideSurface && h.unobservedDistance > 0.0f) {
       const glm::vec3 at = glm::vec3(rays[i].origin) + glm::vec3(rays[i].direction) * (h.unobservedDistance + 1e-3f);
       const glm::ivec3 voxel = glm::ivec3(glm::floor((at - cpu_->minimumCorner()) / cpu_->voxelSize()));
       if (cpu_->maskAt(voxel / int(shader::kBrickSizeVoxels)) != 0) ++endsAtUnobservedVoxel;
@@ -814,13 +814,57 @@ TEST_F(VoxelTrace, watchingObservedSpaceARayFindsASurfaceBeyondUnobservedVoxelsO
     const TraceRun run = trace(*tracer, rays);
     const VoxelTraceHit& toTheFloor = run.hits[0];
     ASSERT_TRUE(isHit(toTheFloor));
-    EXPECT_EQ(toTheFloor.crossedUnobservedSpace, 0u);
+    EXPECT_EQ(toTheFloor.unobserved, shader::kTraceObserved);
     EXPECT_EQ(cpu_->voxelOf(toTheFloor.brick, toTheFloor.voxelBit), glm::ivec3(brick) * 4 + glm::ivec3(3, 0, 1));
     EXPECT_NEAR(toTheFloor.distance, 2.5f * std::sqrt(2.0f) * voxel, 1e-5f);  // where it enters the floor's layer
     const VoxelTraceHit& alongTheFloor = run.hits[1];
     EXPECT_FALSE(isHit(alongTheFloor));
-    EXPECT_EQ(alongTheFloor.crossedUnobservedSpace, 1u);
+    EXPECT_EQ(alongTheFloor.unobserved, shader::kTraceEndedBesideSurface);
     EXPECT_NEAR(alongTheFloor.unobservedDistance, 0.5f * voxel, 1e-5f);
+  }
+}
+
+TEST_F(VoxelTrace, watchingObservedSpaceARayThroughAHoleInASurfaceMeetsTheSurfaceAndOneAlongItEndsBesideIt) {
+  // The floor of the test above with a hole (1, 0, 1) that no view has seen, nor the air above it. A ray steeply down
+  // and along X through the hole, out of the brick below it, meets the floor voxel beside the hole on its side,
+  // (2, 0, 1) — the surface a grazing view left a hole in — with the floor's light, where it entered the hole;
+  // straight down through the hole no floor voxel lies on a side it moves towards: it ends unknown beside the floor,
+  // as does a ray along the floor.
+  const glm::vec3 radiance(1.0f, 0.5f, 0.25f);
+  const glm::ivec3 brick(6, 7, 8);
+  const uint64_t hole = uint64_t(1) << shader::voxelBit(glm::uvec3(1, 0, 1));
+  const uint64_t floorWithHole = bottomVoxelLayer() & ~hole;
+  const uint32_t index = cpu_->addBrick(brick, floorWithHole, radiance, glm::vec3(0.0f, 1.0f, 0.0f));
+  cpu_->setObserved(index, floorWithHole);
+  upload();
+  buildOctree(cpu_->allocatedCells());
+
+  const float voxel = cpu_->voxelSize();
+  const glm::vec3 brickMin = cpu_->minimumCorner() + glm::vec3(brick) * cpu_->volume().brickSize;
+  // From (1.05, 2.5, 1.5) voxels into the hole through the middle of its top face (1.5, 1, 1.5), 1.5·|(0.3, −1)|
+  // voxels on, and out through its bottom face at x = 1.8.
+  const glm::vec3 steeplyDown(0.3f, -1.0f, 0.0f);
+  std::vector<VoxelTraceRay> rays{
+      {brickMin + glm::vec3(1.05f, 2.5f, 1.5f) * voxel, 10.0f, glm::normalize(steeplyDown), 1u},
+      {brickMin + glm::vec3(1.5f, 3.5f, 1.5f) * voxel, 10.0f, glm::vec3(0.0f, -1.0f, 0.0f), 1u},
+      {brickMin + glm::vec3(0.5f, 2.5f, 1.5f) * voxel, 10.0f, glm::vec3(1.0f, 0.0f, 0.0f), 1u},
+  };
+  for (gi::TraceRays* tracer : {hierarchical_.get(), flat_.get()}) {
+    SCOPED_TRACE(tracer->method() == gi::TraceMethod::Flat ? "flat" : "hierarchical");
+    const TraceRun run = trace(*tracer, rays);
+    const VoxelTraceHit& throughTheHole = run.hits[0];
+    ASSERT_TRUE(isHit(throughTheHole));
+    EXPECT_EQ(throughTheHole.radiance, shader::unpackR11G11B10F(shader::packR11G11B10F(radiance)));
+    EXPECT_EQ(throughTheHole.unobserved, shader::kTraceObserved);
+    EXPECT_EQ(cpu_->voxelOf(throughTheHole.brick, throughTheHole.voxelBit),
+              glm::ivec3(brick) * 4 + glm::ivec3(2, 0, 1));
+    EXPECT_NEAR(throughTheHole.distance, 1.5f * glm::length(steeplyDown) * voxel, 1e-4f);
+    const VoxelTraceHit& straightDown = run.hits[1];
+    EXPECT_FALSE(isHit(straightDown));
+    EXPECT_EQ(straightDown.unobserved, shader::kTraceEndedBesideSurface);
+    const VoxelTraceHit& alongTheFloor = run.hits[2];
+    EXPECT_FALSE(isHit(alongTheFloor));
+    EXPECT_EQ(alongTheFloor.unobserved, shader::kTraceEndedBesideSurface);
   }
 }
 

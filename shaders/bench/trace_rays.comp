@@ -26,5 +26,7 @@ void main() {
                      ? traceVoxelsFlat(origin, direction, maxDistance, watchesObservedSpace)
                      : traceVoxelsHierarchical(origin, direction, maxDistance, watchesObservedSpace);
   hits[index] = VoxelTraceHit(hit.radiance, hit.distance, hit.normal, hit.brick, hit.voxelIndex, hit.reads,
-                              hit.unobserved ? 1u : 0u, hit.unobservedDistance);
+                              hit.endedBesideSurface ? kTraceEndedBesideSurface
+                                                     : (hit.unobserved ? kTraceCrossedUnobservedSpace : kTraceObserved),
+                              hit.unobservedDistance);
 }

@@ -29,10 +29,17 @@ struct VoxelTraceHit {
   uint brick;                   // pool index of the hit voxel's brick, kInvalidBrick for a miss
   uint voxelBit;                // the voxel's bit in its brick (voxelBit)
   uint reads;                   // buffer reads the trace made
-  uint crossedUnobservedSpace;  // 1 when the ray crossed unobserved space before its hit or its end
+  uint unobserved;              // kTraceObserved, kTraceCrossedUnobservedSpace or kTraceEndedBesideSurface (below)
   float unobservedDistance;     // m to where it first entered unobserved space; `distance` where it did not
 };
 SSVGI_CHECK_SIZE(VoxelTraceHit, 48);
+
+// VoxelTraceHit::unobserved, for a trace that watches observed space (SPEC §6.4): the ray crossed no unobserved
+// space; it crossed some before its hit or its end; it ended unknown at unobserved voxels beside seen surfaces
+// (voxel_trace.glsl).
+SSVGI_CONSTANT(uint, kTraceObserved, 0u);
+SSVGI_CONSTANT(uint, kTraceCrossedUnobservedSpace, 1u);
+SSVGI_CONSTANT(uint, kTraceEndedBesideSurface, 2u);
 
 SSVGI_SHARED_END
 

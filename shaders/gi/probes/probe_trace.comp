@@ -75,14 +75,19 @@ shared float clampScale[kProbeTraceGroupSize];
 shared float trimmedLuminance[kProbeTraceGroupSize];
 // The history count this update blends with (followChange), for every thread: the reservoirs forget as much.
 shared uint blendedHistoryCount;
-// Unknown is not sky (SPEC §6.4): which rays found neither a surface nor the sky, which met a surface, how many found
-// something known and the radiance the unknown ones stand for (averageKnownRays); and what the probe holds — its
-// history, or, for a probe that starts afresh, the coarser
-// level's radiance it starts from (black without one), which it keeps where none of its rays found anything known.
-shared bool rayUnknown[kProbeTraceGroupSize];
-shared bool rayMetSurface[kProbeTraceGroupSize];
+// Unknown is not sky (SPEC §6.4): what each ray found (below), the light of those that met a surface less its direct
+// part, how many found something known and the radiance the two kinds of unknown rays stand for (averageKnownRays);
+// and what the probe holds — its history, or, for a probe that starts afresh, the coarser level's radiance it starts
+// from (black without one), which it keeps where none of its rays found anything known.
+const uint kRayFoundSky = 0u;
+const uint kRayMetSurface = 1u;
+const uint kRayUnknownInSpace = 2u;          // it crossed space no view has observed and met nothing
+const uint kRayUnknownBesideSurface = 3u;    // it ended at unobserved voxels beside seen surfaces (voxel_trace.glsl)
+shared uint rayFound[kProbeTraceGroupSize];
+shared vec3 rayIndirectRadiance[kProbeTraceGroupSize];
 shared uint knownRays;
-shared vec3 knownMeanRadiance;
+shared vec3 surfacesMeanRadiance;
+shared vec3 surfacesMeanIndirectRadiance;
 shared Sh2Rgb heldRadiance;
 shared bool startsFromCoarserLevel;
 // The workgroup's rays and their reads, summed here on a frame that counts its work, then added once for the probe.
@@ -344,37 +349,51 @@ void holdRadiance(ListedProbe probe) {
 // found neither a surface nor the sky (SPEC §6.4).
 VoxelHit traceRay(ListedProbe probe, ProbeRay chosen, uint ray) {
   rayRadiance[ray] = vec3(0.0);
-  rayUnknown[ray] = false;
-  rayMetSurface[ray] = false;
+  rayFound[ray] = kRayFoundSky;
+  rayIndirectRadiance[ray] = vec3(0.0);
   VoxelHit hit;
   if (!chosen.traced) return hit;
   bool watchesObservedSpace = volume.skyOnlyThroughObservedSpace != 0u;
   hit = traceVoxelsHierarchical(probe.origin, chosen.direction, update.rayLength, watchesObservedSpace);
-  rayUnknown[ray] = !hit.hit && hit.unobserved;  // neither a surface nor the sky (SPEC §6.4)
-  rayMetSurface[ray] = hit.hit;
+  if (hit.hit) {
+    rayFound[ray] = kRayMetSurface;
+    vec3 direct = unpackR11G11B10F(voxels[hit.brick * kVoxelsPerBrick + hit.voxelIndex].directRadiance);
+    rayIndirectRadiance[ray] = max(hit.radiance - direct, vec3(0.0));  // black from behind
+  } else if (hit.unobserved) {  // neither a surface nor the sky (SPEC §6.4)
+    rayFound[ray] = hit.endedBesideSurface ? kRayUnknownBesideSurface : kRayUnknownInSpace;
+  }
   rayRadiance[ray] = hit.hit ? hit.radiance : skyRadiance(chosen.direction);
   return hit;
 }
 
-// Unknown is not sky (SPEC §6.4): the estimate is formed over the rays that found something known. A ray into
-// unobserved space stands for the mean of this update's rays that met a surface — space no view could see into is
-// mostly space a surface hides, and the few rays that find the sky through an opening would otherwise light the
-// whole unknown sphere — or, where none met one, of its known rays; for every direction of the probe alike, so that
-// what the probe learns does not depend on what it held before, which would keep a camera cut's old light in it for
-// good. A probe none of whose rays found anything known keeps what it holds. One thread.
+// Unknown is not sky (SPEC §6.4): the estimate is formed over the rays that found something known. An unknown ray
+// stands for the mean of this update's rays that met a surface — space no view could see into is mostly space a
+// surface hides, and the few rays that find the sky through an opening would otherwise light the whole unknown
+// sphere — or, where none met one, of its known rays; for every direction of the probe alike, so that what the probe
+// learns does not depend on what it held before, which would keep a camera cut's old light in it for good.
+// A ray into space no view has observed stands for that mean less its direct part: the sun's view covers the volume
+// and the local lights' views their reach, so a surface no view has seen is one no light's view saw lit (counting the
+// sunlit walls in gave the courtyard's probes sunlight behind its buildings: docs/QUALITY.md). A ray that
+// ended beside seen surfaces stands for the whole mean: what it would have met is most likely beside them, sunlit or
+// not (the sunlit wall past a pillar's edge in the gallery). A probe none of whose rays found anything known keeps what
+// it holds. One thread.
 void averageKnownRays() {
-  vec3 sum = vec3(0.0), surfaceSum = vec3(0.0);
+  vec3 sum = vec3(0.0), surfaceSum = vec3(0.0), surfaceIndirectSum = vec3(0.0);
   uint count = 0u, surfaces = 0u;
   for (uint other = 0u; other < update.raysPerProbe; ++other) {
-    if (rayUnknown[other]) continue;
+    uint found = rayFound[other];
+    if (found == kRayUnknownInSpace || found == kRayUnknownBesideSurface) continue;
     sum += rayRadiance[other];
     ++count;
-    if (!rayMetSurface[other]) continue;
+    if (found != kRayMetSurface) continue;
     surfaceSum += rayRadiance[other];
+    surfaceIndirectSum += rayIndirectRadiance[other];
     ++surfaces;
   }
   knownRays = count;
-  knownMeanRadiance = surfaces > 0u ? surfaceSum / float(surfaces) : (count > 0u ? sum / float(count) : vec3(0.0));
+  vec3 knownMean = count > 0u ? sum / float(count) : vec3(0.0);
+  surfacesMeanRadiance = surfaces > 0u ? surfaceSum / float(surfaces) : knownMean;
+  surfacesMeanIndirectRadiance = surfaces > 0u ? surfaceIndirectSum / float(surfaces) : knownMean;
 }
 
 // The thread's terms of the probe's three SH2, L_lm = (4π/N) Σ L(ω_i) Y_lm(ω_i) (SPEC §2).
@@ -384,9 +403,10 @@ void projectRay(ProbeRay chosen, VoxelHit hit, uint ray) {
   normalDotSums[ray] = vec4(0.0);
   if (!chosen.traced) return;
   vec3 radiance = rayRadiance[ray];
-  bool unknown = rayUnknown[ray];
+  uint found = rayFound[ray];
+  bool unknown = found == kRayUnknownInSpace || found == kRayUnknownBesideSurface;
   if (unknown && knownRays > 0u) {
-    radiance = knownMeanRadiance;
+    radiance = found == kRayUnknownInSpace ? surfacesMeanIndirectRadiance : surfacesMeanRadiance;
   } else if (unknown) {
     radiance = max(sh2Evaluate(heldRadiance, sh2Basis(chosen.direction)), vec3(0.0));
   }
