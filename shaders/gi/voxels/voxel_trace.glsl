@@ -160,9 +160,9 @@ bool isCached(CachedBrick cached, ivec3 brick) { return all(equal(cached.brick, 
 // has seen holding a surface or seen through. A view that meets a wall at a grazing angle, or has seen it only a few
 // times, leaves some of its voxels empty (SceneVoxelization fills a voxel only when a sample lands on its surface):
 // such a voxel is most likely wall not yet seen, and a probe ray through it would find the sky or the sunlit ground
-// behind the wall. A trace that watches observed space does not pass it (endAtUnobservedVoxels). Only in a brick
-// holding surface: an empty brick of the pool is one being filled or released, and a trace that steps over empty
-// bricks never looks in.
+// behind the wall. A trace that watches observed space looks on for a surface in the same brick and, finding none,
+// meets the surface beside the voxel or ends unknown (endAtUnobservedVoxels). Only in a brick holding surface: an
+// empty brick of the pool is one being filled or released, and a trace that steps over empty bricks never looks in.
 void loadBrick(inout CachedBrick cached, ivec3 brick, bool watchesVoxels, inout uint reads) {
   if (isCached(cached, brick)) return;
   cached.brick = brick;
