@@ -6,6 +6,7 @@
 #include "point_radiance.h"
 #include "scenario_rendering.h"
 #include "shared/probe_interface.h"
+#include "sky.h"
 
 #include <algorithm>
 #include <cmath>
@@ -81,7 +82,7 @@ shader::Sh2Rgb averageOf(const shader::Sh2Rgb& a, const shader::Sh2Rgb& b) {
 
 using AxisIrradiance = std::array<glm::vec3, kAxisNormals>;
 
-// E(n) for the six axis normals, read from the SH2 as the gather reads a probe's (shared/sh.h), on both sides.
+// E(n) for the six axis normals, read from the SH2 as the gather reads a probe's light without sky (shared/sh.h).
 AxisIrradiance axisIrradiance(const shader::Sh2Rgb& radiance) {
   AxisIrradiance irradiance;
   for (uint32_t i = 0; i < kAxisNormals; ++i)
@@ -250,6 +251,7 @@ ProbeIrradianceResult measureProbeIrradiance(gpu::OwnedDevice& device, Converged
       renderer::makeFrameConstants(view.scene, state, rendering.width, rendering.height, 1.0f);
   const FloatImage viewDistance = renderer.renderer().viewDistance();
   const renderer::Bounds bounds = renderer::worldBounds(view.scene);
+  const shader::Sh2Rgb sky = renderer::projectSkyToSh2(frame.sky);  // what the context's gather is given
 
   std::vector<glm::vec3> positions;
   std::vector<AxisIrradiance> giIrradiance;
@@ -264,7 +266,10 @@ ProbeIrradianceResult measureProbeIrradiance(gpu::OwnedDevice& device, Converged
       continue;
     result.probes.push_back({.probe = coordinate, .position = position});
     positions.push_back(position);
-    giIrradiance.push_back(axisIrradiance(shader::probeRadianceSh(probe)));
+    AxisIrradiance reading;  // as the gather reads the probe, its sky apart
+    for (uint32_t i = 0; i < kAxisNormals; ++i)
+      reading[i] = shader::readProbeIrradiance(probe, shader::pointAxisNormal(i), sky);
+    giIrradiance.push_back(reading);
   }
   if (positions.empty()) throw std::runtime_error("no usable probe lies in the space the camera sees");
 

@@ -392,7 +392,7 @@ class GatherOverConstantProbes : public GatherFilters {
       for (uint32_t slot = 0; slot < volume.probesPerLevel(); ++slot) {
         const glm::ivec3 coordinate = shader::probeWorldCoordinate(slot, volume.levelOrigin(level, position), dimensions);
         const glm::vec4 radiance(band0 * kRadiance * (brightness ? brightness(coordinate) : 1.0f), 0.0f, 0.0f, 0.0f);
-        probes_.push_back(shader::makeProbe({radiance, radiance, radiance}, unitSh, unitSh,
+        probes_.push_back(shader::makeProbe({radiance, radiance, radiance}, glm::vec4(0.0f), unitSh, unitSh,
                                             shader::packProbeState(1, 0, shader::kProbeStateActive),
                                             shader::packProbeTag(coordinate, known ? known(level, coordinate) : 1.0f,
                                                                  0.5f)));  // rounded to the nearest 1/255

@@ -214,6 +214,8 @@ TEST_F(MemoryBudget, withoutABudgetTheSettingsAndSizesAreTodays) {
             uint64_t(set.brickPoolCapacity) * shader::kVoxelsPerBrick * sizeof(shader::Voxel));
   EXPECT_EQ(memoryOf(stats, "ssvgi brick lookup"), cells(set.volumeBricks) * 4);
   EXPECT_EQ(memoryOf(stats, "ssvgi probe volume"), shader::kProbeLevels * cells(set.probeGrid) * sizeof(shader::Probe));
+  std::printf("no budget at 1920x1080: pool %u bricks, %llu bytes\n", stats.brickPoolCapacity,
+              static_cast<unsigned long long>(stats.totalBytes));  // docs/ARCHITECTURE.md's table
 }
 
 }  // namespace

@@ -790,11 +790,11 @@ TEST_F(VoxelTrace, aRayPassingInFrontOfAVoxelsSurfacePlaneGoesOnAndOneCrossingIt
   }
 }
 
-TEST_F(VoxelTrace, watchingObservedSpaceARayFindsASurfaceBeyondUnobservedVoxelsOfItsBrickAndIsUnknownLeavingItWithout) {
+TEST_F(VoxelTrace, watchingObservedSpaceARayDownThroughUnobservedAirMeetsTheFloorAndOneAlongItIsUnknown) {
   // A floor, the bottom layer of one brick, none of whose empty voxels a view has observed (the air in front of a
-  // floor that the views saw only at a grazing angle). A ray down through that air to the floor meets it: known. A ray
-  // along X through the same air leaves the brick without a surface: unknown from the first unobserved voxel it enters
-  // (the one it starts in does not count) — a hole a view left in a wall.
+  // floor that the views saw only at a grazing angle). A ray down through that air meets the floor: known, at the
+  // first unobserved voxel it enters with the floor below it (the one it starts in does not count). A ray along X
+  // through the same air leaves the brick without a surface: unknown from the first unobserved voxel it enters.
   const glm::vec3 radiance(1.0f, 0.5f, 0.25f);
   const glm::ivec3 brick(6, 7, 8);
   const uint64_t bottomLayer = bottomVoxelLayer();
@@ -806,7 +806,7 @@ TEST_F(VoxelTrace, watchingObservedSpaceARayFindsASurfaceBeyondUnobservedVoxelsO
   const float voxel = cpu_->voxelSize();
   const glm::vec3 brickMin = cpu_->minimumCorner() + glm::vec3(brick) * cpu_->volume().brickSize;
   std::vector<VoxelTraceRay> rays{
-      {brickMin + glm::vec3(0.5f, 3.5f, 1.5f) * voxel, 10.0f, glm::normalize(glm::vec3(1.0f, -1.0f, 0.0f)), 1u},
+      {brickMin + glm::vec3(0.5f, 3.3f, 1.5f) * voxel, 10.0f, glm::normalize(glm::vec3(1.0f, -1.0f, 0.0f)), 1u},
       {brickMin + glm::vec3(0.5f, 2.5f, 1.5f) * voxel, 10.0f, glm::vec3(1.0f, 0.0f, 0.0f), 1u},
   };
   for (gi::TraceRays* tracer : {hierarchical_.get(), flat_.get()}) {
@@ -815,8 +815,9 @@ TEST_F(VoxelTrace, watchingObservedSpaceARayFindsASurfaceBeyondUnobservedVoxelsO
     const VoxelTraceHit& toTheFloor = run.hits[0];
     ASSERT_TRUE(isHit(toTheFloor));
     EXPECT_EQ(toTheFloor.unobserved, shader::kTraceObserved);
-    EXPECT_EQ(cpu_->voxelOf(toTheFloor.brick, toTheFloor.voxelBit), glm::ivec3(brick) * 4 + glm::ivec3(3, 0, 1));
-    EXPECT_NEAR(toTheFloor.distance, 2.5f * std::sqrt(2.0f) * voxel, 1e-5f);  // where it enters the floor's layer
+    // It enters (1, 1, 1) through its top face at x = 1.8, 1.3·√2 voxels on: the floor voxel below it.
+    EXPECT_EQ(cpu_->voxelOf(toTheFloor.brick, toTheFloor.voxelBit), glm::ivec3(brick) * 4 + glm::ivec3(1, 0, 1));
+    EXPECT_NEAR(toTheFloor.distance, 1.3f * std::sqrt(2.0f) * voxel, 1e-5f);
     const VoxelTraceHit& alongTheFloor = run.hits[1];
     EXPECT_FALSE(isHit(alongTheFloor));
     EXPECT_EQ(alongTheFloor.unobserved, shader::kTraceEndedBesideSurface);
@@ -826,10 +827,10 @@ TEST_F(VoxelTrace, watchingObservedSpaceARayFindsASurfaceBeyondUnobservedVoxelsO
 
 TEST_F(VoxelTrace, watchingObservedSpaceARayThroughAHoleInASurfaceMeetsTheSurfaceAndOneAlongItEndsBesideIt) {
   // The floor of the test above with a hole (1, 0, 1) that no view has seen, nor the air above it. A ray steeply down
-  // and along X through the hole, out of the brick below it, meets the floor voxel beside the hole on its side,
-  // (2, 0, 1) — the surface a grazing view left a hole in — with the floor's light, where it entered the hole;
-  // straight down through the hole no floor voxel lies on a side it moves towards: it ends unknown beside the floor,
-  // as does a ray along the floor.
+  // and along X into the hole meets the floor voxel beside the hole on the side it moves towards, (2, 0, 1) — the
+  // surface a grazing view left a hole in — with the floor's light, where it entered the hole (it would otherwise
+  // leave the brick through the hole's bottom face); straight down through the hole no floor voxel lies on a side it
+  // moves towards: it ends unknown beside the floor, as does a ray along the floor.
   const glm::vec3 radiance(1.0f, 0.5f, 0.25f);
   const glm::ivec3 brick(6, 7, 8);
   const uint64_t hole = uint64_t(1) << shader::voxelBit(glm::uvec3(1, 0, 1));

@@ -57,7 +57,7 @@ struct Settings {
   float voxelSize = 0.25f;                            // metres; a brick is 4×4×4 voxels
   std::array<uint32_t, 3> volumeBricks{128, 48, 128};  // the voxel volume around the camera in bricks (X, Y, Z);
                                                       // each a multiple of 8
-  uint32_t brickPoolCapacity = 12288;                 // bricks that can hold voxels at once
+  uint32_t brickPoolCapacity = 11776;                 // bricks that can hold voxels at once
   uint32_t invalidFramesToClear = 8;                  // frames a voxel may be seen through before it is cleared, ≤ 63
   uint32_t emptyFramesToRelease = 8;                  // frames a brick may stay empty before it returns to the pool
   uint32_t allocationPixelStride = 2;                 // BrickAllocate reads every Nth pixel in X and Y
@@ -233,7 +233,8 @@ struct FrameDesc {
   // light changes (Settings::voxelRelightPeriod). Without it, `litColor` holds all of the frame's light.
   SampledImage litAlbedo;
   // The sky's radiance as SH2 (SPEC §2), W/(sr·m²): coefficients 0–3 red, 4–7 green, 8–11 blue, each in the order
-  // Y00, Y1,-1, Y1,0, Y1,1. Probe rays that leave the voxel volume see it (clamped at 0). All zero: a black sky.
+  // Y00, Y1,-1, Y1,0, Y1,1. Probe rays that leave the voxel volume see it (clamped at 0), and the gather reads the
+  // sky a probe sees with it, apart from the light of its surfaces. All zero: a black sky.
   std::array<float, 12> skyRadianceSh{};
   std::vector<ExtraView> extraViews;  // at most kMaxExtraViews; their images as the lit frame's (SampledImage)
   // The passes count their work this frame (Stats::work): what each did, which the device's speed does not change,

@@ -32,19 +32,20 @@ VoxelHit traceVoxelsFlat(vec3 origin, vec3 direction, float maxDistance, bool wa
       if (hit.hit) return withObservation(hit, unobserved, unobservedDistance);
       reads = hit.reads;
     } else if (countsAsUnobservedVoxel(walk, cached)) {
-      passed = passUnobservedVoxel(passed, walk, cached, direction, unobserved, unobservedDistance);
+      VoxelHit met;
+      if (meetsSurfaceBeside(walk, cached, direction, reads, met))
+        return withObservation(met, unobserved, unobservedDistance);
+      passed = passUnobservedVoxel(passed, walk, unobserved, unobservedDistance);
     }
     int axis = firstCrossingAxis(nextCrossing);
     if (nextCrossing[axis] > maxDistance) break;
     walk.distance = nextCrossing[axis];
     walk.voxel[axis] += walk.step[axis];
     if (walk.voxel[axis] < 0 || walk.voxel[axis] >= size[axis]) break;
-    if (leftUnobservedVoxelsBrick(passed, walk))
-      return endAtUnobservedVoxels(passed, direction, unobserved, unobservedDistance, maxDistance, reads);
+    if (leftUnobservedVoxelsBrick(passed, walk)) return unknownBesideSurface(passed, maxDistance, reads);
     nextCrossing[axis] = crossingDistance(walk, axis, exitPlane(walk.voxel[axis], kVoxelLevel, walk.step[axis]));
   }
-  if (passed.passed)
-    return endAtUnobservedVoxels(passed, direction, unobserved, unobservedDistance, maxDistance, reads);
+  if (passed.passed) return unknownBesideSurface(passed, maxDistance, reads);
   return withObservation(voxelMiss(maxDistance, reads), unobserved, unobservedDistance);
 }
 

@@ -80,8 +80,11 @@ struct GatherConstants {
   uint historyUsable;          // 1 when the history is usable (same size, dispatched before)
   uint padding0;
   uint padding1;
+  vec4 skyRadianceRed;         // FrameDesc::skyRadianceSh, for the sky part of the probes' light (readProbeIrradiance)
+  vec4 skyRadianceGreen;
+  vec4 skyRadianceBlue;
 };
-SSVGI_CHECK_SIZE(GatherConstants, 2 * 64 + 3 * 16 + 16 + 16 + 16);
+SSVGI_CHECK_SIZE(GatherConstants, 2 * 64 + 3 * 16 + 16 + 16 + 16 + 48);
 
 // The pixel a tile samples in frame `frameIndex`: the 4×4 Bayer order, so that consecutive frames sample far apart
 // and all 16 pixels are visited in any 16 consecutive frames (SPEC §4.6).

@@ -44,10 +44,9 @@ SSVGI_CONSTANT(uint, kProbeStateInvalid, 2u);
 SSVGI_CONSTANT(float, kProbeOffsetStepsPerSpacing, 16.0f);
 SSVGI_CONSTANT(int, kProbeMaxOffsetSteps, 7);
 
-// One probe, 40 bytes (uvec2 members only: a uvec4 would align the std430 array stride up to 48). Radiance SH2 (4
-// coefficients each, in sh.h's order) as half floats, two per uint. Distance and normal-dot SH2 are used only coarsely
-// (the gather's distance weight, ProbeRelocate's sign test), so they are 8-bit fixed point (packProbeUnitSh): 8 bytes
-// less per probe pay for the reservoirs of level 0 within SPEC §5's 30 MB (docs/ARCHITECTURE.md, "Probe memory").
+// One probe, 48 bytes. Radiance SH2 (4 coefficients each, in sh.h's order) as half floats, two per uint, and the
+// sky's visibility SH2 likewise. Distance and normal-dot SH2 are used only coarsely (the gather's distance weight,
+// ProbeRelocate's sign test), so they are 8-bit fixed point (packProbeUnitSh; docs/ARCHITECTURE.md, "Probe memory").
 // Read them through the accessors below, never through the fields.
 struct Probe {
   uvec2 radianceRed;    // red radiance SH2, half floats
@@ -58,8 +57,9 @@ struct Probe {
   uint state;           // the state word (below)
   uint tag;             // bits 0–23: tag of its world probe coordinate (probeCoordinateTag); bits 24–31: the share of
                         // its rays that found something known (probeKnownFraction)
+  uvec2 skyVisibility;  // SH2 of where its rays found the sky (1 there, 0 elsewhere), half floats: readProbeIrradiance
 };
-SSVGI_CHECK_SIZE(Probe, 40);
+SSVGI_CHECK_SIZE(Probe, 48);
 
 // What ProbePlacement and ProbeTrace need to know of this frame's update (uniform buffer, one per frame in flight).
 struct ProbeUpdate {
@@ -249,7 +249,8 @@ SSVGI_INLINE vec4 unpackProbeUnitSh(uint packed) {
 // How far a level's distance SH reaches: it records hit distances clamped to this (m).
 SSVGI_INLINE float probeDistanceRange(float spacing) { return kProbeDistanceRangeSpacings * spacing; }
 
-// The accessors of a probe's SH: radiance (W/(sr·m²)), hit distance (m) on a level of `spacing`, normal-dot.
+// The accessors of a probe's SH: radiance (W/(sr·m²)), hit distance (m) on a level of `spacing`, normal-dot, the
+// sky's visibility.
 SSVGI_INLINE Sh2Rgb probeRadianceSh(Probe probe) {
   return Sh2Rgb(unpackSh2Half(probe.radianceRed), unpackSh2Half(probe.radianceGreen), unpackSh2Half(probe.radianceBlue));
 }
@@ -257,9 +258,42 @@ SSVGI_INLINE vec4 probeDistanceSh(Probe probe, float spacing) {
   return unpackProbeUnitSh(probe.distanceSh) * probeDistanceRange(spacing);
 }
 SSVGI_INLINE vec4 probeNormalDotSh(Probe probe) { return unpackProbeUnitSh(probe.normalDotSh); }
-SSVGI_INLINE Probe makeProbe(Sh2Rgb radiance, uint distanceSh, uint normalDotSh, uint state, uint tag) {
+SSVGI_INLINE vec4 probeSkyVisibilitySh(Probe probe) { return unpackSh2Half(probe.skyVisibility); }
+SSVGI_INLINE Probe makeProbe(Sh2Rgb radiance, vec4 skyVisibility, uint distanceSh, uint normalDotSh, uint state,
+                             uint tag) {
   return Probe(packSh2Half(radiance.r), packSh2Half(radiance.g), packSh2Half(radiance.b), distanceSh, normalDotSh, state,
-               tag);
+               tag, packSh2Half(skyVisibility));
+}
+// The irradiance a probe gives a surface of `normal` (SPEC §6.4's sky, read apart). Its sky is read from where its
+// rays found it: the solid angle Ω (band 0 of the visibility) around their mean direction (band 1), as a uniform
+// round cap — the SH2 of a cap of sky through an opening, read as broad light, gives a surface facing it about 3/4
+// of its light. The mean direction's length tells how spread that sky is (a cap of half-angle α has (1 + cos α)/2,
+// the most any region of its solid angle can have): a band along the horizon or two openings apart are read as the
+// cap of that spread, dimmed to the solid angle found. The sky's radiance is the host's in the mean direction, and
+// the rest of the probe's light (its surfaces) is read from the SH2 left when that sky is taken out.
+SSVGI_INLINE vec3 readProbeIrradiance(Probe probe, vec3 normal, Sh2Rgb skyRadianceSh) {
+  Sh2Rgb total = probeRadianceSh(probe);
+  vec4 visibility = probeSkyVisibilitySh(probe);
+  float solidAngle = clamp(visibility.x / kSh2Band0Basis, 0.0f, 4.0f * kPi);
+  if (!(solidAngle > 1e-3f)) return sh2IrradianceWithoutRinging(total, normal);
+  vec3 meanDirectionSum = vec3(visibility.w, visibility.y, visibility.z);  // Ω · mean direction · Y1's factor
+  float meanLength = length(meanDirectionSum);
+  vec3 axis = meanLength > 1e-6f ? meanDirectionSum / meanLength : vec3(0.0f, 1.0f, 0.0f);
+  vec3 skyRadiance = max(sh2Evaluate(skyRadianceSh, sh2Basis(axis)), vec3(0.0f));
+  // The sky's part of the probe's light, no more than all of it (the two SH2 are blended and dilated alike, but
+  // rounded apart, and the host's sky may have changed since the probe saw it).
+  vec3 skyBand0 = skyRadiance * visibility.x;
+  vec3 totalBand0 = vec3(total.r.x, total.g.x, total.b.x);
+  for (int channel = 0; channel < 3; ++channel)
+    if (skyBand0[channel] > totalBand0[channel])
+      skyRadiance[channel] *= max(totalBand0[channel], 0.0f) / skyBand0[channel];
+  Sh2Rgb surfaces = Sh2Rgb(total.r - visibility * skyRadiance.x, total.g - visibility * skyRadiance.y,
+                           total.b - visibility * skyRadiance.z);
+  float meanCosine = meanLength / (kSh2Band1Basis * solidAngle);
+  float spreadCosine = clamp(min(2.0f * meanCosine - 1.0f, 1.0f - solidAngle / (2.0f * kPi)), -1.0f, 1.0f);
+  float spreadSolidAngle = max(2.0f * kPi * (1.0f - spreadCosine), solidAngle);
+  return sh2IrradianceWithoutRinging(surfaces, normal) +
+         skyRadiance * (solidAngle / spreadSolidAngle) * uniformConeIrradiance(spreadSolidAngle, dot(normal, axis));
 }
 
 // ---------------------------------------------------------------------------------------------------------------------

@@ -71,6 +71,32 @@ SSVGI_INLINE float sh2ConeIrradiance(vec4 radianceCoefficients, vec3 normal) {
   return mean * (a + (1.0f - a) * (p + 1.0f) * pow(q, p));
 }
 
+// Irradiance from a uniform cone of unit radiance and solid angle `solidAngle` (0..4π) on a surface whose normal
+// makes cosine `cosine` with the cone's axis: π·sin²α·cosθ where the whole cone is above the surface's horizon, none
+// where it is wholly below, and between, the horizon-clipped cap (Snyder's sphere-light form). A cone wider than a
+// hemisphere is the whole sphere less the opposite cone.
+SSVGI_INLINE float uniformConeIrradiance(float solidAngle, float cosine) {
+  bool wide = solidAngle > 2.0f * kPi;
+  float capAngle = wide ? 4.0f * kPi - solidAngle : solidAngle;
+  float cosTheta = wide ? -cosine : cosine;
+  float cosAlpha = clamp(1.0f - capAngle / (2.0f * kPi), 0.0f, 1.0f);
+  float sinSquared = 1.0f - cosAlpha * cosAlpha;
+  float sinAlpha = sqrt(sinSquared);
+  float cap;
+  if (cosTheta >= sinAlpha) {
+    cap = kPi * sinSquared * cosTheta;
+  } else if (cosTheta <= -sinAlpha) {
+    cap = 0.0f;
+  } else {
+    float sinTheta = sqrt(max(1.0f - cosTheta * cosTheta, 0.0f));
+    float cotAlpha = cosAlpha / max(sinAlpha, 1e-6f);
+    float y = clamp(-cotAlpha * cosTheta / max(sinTheta, 1e-6f), -1.0f, 1.0f);
+    float crossing = sinTheta * sqrt(max(1.0f - y * y, 0.0f));
+    cap = (cosTheta * acos(y) - cotAlpha * crossing) * sinSquared + atan(crossing, cotAlpha);
+  }
+  return wide ? kPi - cap : cap;
+}
+
 // How bright linear RGB looks: Rec. 709 luminance.
 SSVGI_INLINE float rec709Luminance(vec3 rgb) { return dot(rgb, vec3(0.2126f, 0.7152f, 0.0722f)); }
 

@@ -32,7 +32,8 @@ vec3 probeColour(Probe probe, vec3 normal) {
   if (probePlacement(state) == kProbeStateInvalid) return vec3(1.0, 0.0, 1.0);
   if (probeHistoryCount(state) == 0u) return vec3(1.0, 0.85, 0.0);
   Sh2Rgb radiance = probeRadianceSh(probe);
-  return sh2IrradianceWithoutRinging(radiance, normal) / kPi;  // as the gather reads it
+  // As the gather reads a probe without sky: this view has not the host's sky, which readProbeIrradiance reads apart.
+  return sh2IrradianceWithoutRinging(radiance, normal) / kPi;
 }
 
 void main() {

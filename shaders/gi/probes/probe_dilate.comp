@@ -17,6 +17,7 @@ layout(binding = kBindProbeList) readonly buffer ProbeList {
 
 shared Sh2Rgb neighbourRadiance[kProbeTraceGroupSize];
 shared float neighbourUsable[kProbeTraceGroupSize];
+shared vec4 neighbourSkyVisibility[kProbeTraceGroupSize];
 
 void main() {
   uint probeIndex = listedProbes[gl_WorkGroupID.x];
@@ -28,6 +29,7 @@ void main() {
   ivec3 probe = probeWorldCoordinate(probeIndex % uint(update.probesPerLevel), update.originProbe, update.probesPerAxis);
   neighbourRadiance[thread] = sh2Zero();
   neighbourUsable[thread] = 0.0;
+  neighbourSkyVisibility[thread] = vec4(0.0);
   if (thread < kProbeNeighbourCount) {
     ivec3 coordinate = probe + probeNeighbourOffset(thread);
     Probe neighbour = probes[levelStart + probeSlotIndex(coordinate, update.probesPerAxis)];
@@ -35,6 +37,7 @@ void main() {
     if (probeIsUsable(neighbour, coordinate)) {
       neighbourRadiance[thread] = probeRadianceSh(neighbour);
       neighbourUsable[thread] = 1.0;
+      neighbourSkyVisibility[thread] = probeSkyVisibilitySh(neighbour);
     }
   }
   barrier();
@@ -42,8 +45,10 @@ void main() {
 
   Sh2Rgb sum = sh2Zero();
   float count = 0.0;
+  vec4 skyVisibilitySum = vec4(0.0);
   for (uint i = 0u; i < kProbeNeighbourCount; ++i) {
     sum = sh2Add(sum, neighbourRadiance[i]);
+    skyVisibilitySum += neighbourSkyVisibility[i];
     count += neighbourUsable[i];
   }
   if (count == 0.0) return;  // nothing around to fill from: it keeps what it has until a neighbour is traced
@@ -51,4 +56,5 @@ void main() {
   probes[probeIndex].radianceRed = packSh2Half(mean.r);
   probes[probeIndex].radianceGreen = packSh2Half(mean.g);
   probes[probeIndex].radianceBlue = packSh2Half(mean.b);
+  probes[probeIndex].skyVisibility = packSh2Half(skyVisibilitySum / count);
 }

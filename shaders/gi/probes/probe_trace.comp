@@ -66,6 +66,7 @@ layout(binding = kBindProbeChangeTally) buffer ChangeTally { ProbeChangeTally ta
 shared Sh2Rgb radianceSums[kProbeTraceGroupSize];
 shared vec4 distanceSums[kProbeTraceGroupSize];
 shared vec4 normalDotSums[kProbeTraceGroupSize];
+shared vec4 skyVisibilitySums[kProbeTraceGroupSize];  // where the rays found the sky (readProbeIrradiance)
 // With reservoirs: each ray's radiance, for the reservoir update of its stratum, and the factor the clamp scales it by
 // in the estimate (1: not clamped).
 shared vec3 rayRadiance[kProbeTraceGroupSize];
@@ -88,6 +89,8 @@ shared vec3 rayIndirectRadiance[kProbeTraceGroupSize];
 shared uint knownRays;
 shared vec3 surfacesMeanRadiance;
 shared vec3 surfacesMeanIndirectRadiance;
+shared float unknownRaySkyVisibility;  // what an unknown ray stands for: no sky where surfaces were met, else sky
+shared vec4 heldSkyVisibility;
 shared Sh2Rgb heldRadiance;
 shared bool startsFromCoarserLevel;
 // The workgroup's rays and their reads, summed here on a frame that counts its work, then added once for the probe.
@@ -105,8 +108,9 @@ vec3 skyRadiance(vec3 direction) {
 // weights are zero (a probe on a coarser probe takes exactly that probe's value). False where no coarser probe around
 // it is usable, and always on the coarsest level: the probe then starts from its first trace alone. A coarser probe
 // with a voxel between it and this one is left out: it may stand on the other side of a wall (`ssvgi scenario leak`).
-bool coarserLevelRadiance(ivec3 probe, vec3 position, out Sh2Rgb radiance) {
+bool coarserLevelRadiance(ivec3 probe, vec3 position, out Sh2Rgb radiance, out vec4 skyVisibility) {
   radiance = sh2Zero();
+  skyVisibility = vec4(0.0);
   uint coarserLevel = uint(update.level) + 1u;
   if (coarserLevel >= kProbeLevels) return false;
   ivec3 cell = probe >> 1;  // the coarser cell holding the probe (arithmetic shift: floor for negative coordinates)
@@ -125,10 +129,12 @@ bool coarserLevelRadiance(ivec3 probe, vec3 position, out Sh2Rgb radiance) {
                                 separation - 0.5 * volume.voxelSize, kIgnoreObservedSpace).hit)
       continue;
     radiance = sh2Add(radiance, sh2Scale(probeRadianceSh(candidate), weight));
+    skyVisibility += probeSkyVisibilitySh(candidate) * weight;
     weightSum += weight;
   }
   if (weightSum == 0.0) return false;
   radiance = sh2Divide(radiance, weightSum);
+  skyVisibility /= weightSum;
   return true;
 }
 
@@ -340,9 +346,12 @@ ProbeRay chooseRay(ListedProbe probe, uint ray) {
 // starts afresh the coarser level's radiance (black without one). One thread.
 void holdRadiance(ListedProbe probe) {
   Sh2Rgb start;
+  vec4 startSkyVisibility;
   startsFromCoarserLevel =
-      probe.historyCount == 0u && coarserLevelRadiance(probe.coordinate, probe.origin, start);
+      probe.historyCount == 0u && coarserLevelRadiance(probe.coordinate, probe.origin, start, startSkyVisibility);
   heldRadiance = probe.historyCount > 0u ? probe.history : start;
+  heldSkyVisibility = probe.historyCount > 0u ? probeSkyVisibilitySh(probe.stored)
+                                               : (startsFromCoarserLevel ? startSkyVisibility : vec4(0.0));
 }
 
 // Traces the thread's ray through the voxels: its radiance (black from behind), the sky's on a miss, and whether it
@@ -394,6 +403,7 @@ void averageKnownRays() {
   vec3 knownMean = count > 0u ? sum / float(count) : vec3(0.0);
   surfacesMeanRadiance = surfaces > 0u ? surfaceSum / float(surfaces) : knownMean;
   surfacesMeanIndirectRadiance = surfaces > 0u ? surfaceIndirectSum / float(surfaces) : knownMean;
+  unknownRaySkyVisibility = surfaces > 0u ? 0.0 : (count > 0u ? 1.0 : 0.0);
 }
 
 // The thread's terms of the probe's three SH2, L_lm = (4π/N) Σ L(ω_i) Y_lm(ω_i) (SPEC §2).
@@ -401,14 +411,18 @@ void projectRay(ProbeRay chosen, VoxelHit hit, uint ray) {
   radianceSums[ray] = sh2Zero();
   distanceSums[ray] = vec4(0.0);
   normalDotSums[ray] = vec4(0.0);
+  skyVisibilitySums[ray] = vec4(0.0);
   if (!chosen.traced) return;
   vec3 radiance = rayRadiance[ray];
   uint found = rayFound[ray];
   bool unknown = found == kRayUnknownInSpace || found == kRayUnknownBesideSurface;
+  float skyVisibility = found == kRayFoundSky ? 1.0 : 0.0;
   if (unknown && knownRays > 0u) {
     radiance = found == kRayUnknownInSpace ? surfacesMeanIndirectRadiance : surfacesMeanRadiance;
+    skyVisibility = unknownRaySkyVisibility;
   } else if (unknown) {
     radiance = max(sh2Evaluate(heldRadiance, sh2Basis(chosen.direction)), vec3(0.0));
+    skyVisibility = clamp(dot(heldSkyVisibility, sh2Basis(chosen.direction)), 0.0, 1.0);
   }
   // A miss meets no surface, front or back: +1 (a front face head-on) keeps it from suggesting the probe is inside
   // geometry, which is what negative values will tell the virtual offset.
@@ -419,6 +433,7 @@ void projectRay(ProbeRay chosen, VoxelHit hit, uint ray) {
   radianceSums[ray] = sh2Project(radiance, weightedBasis);
   distanceSums[ray] = distance * weightedBasis;
   normalDotSums[ray] = normalDot * weightedBasis;
+  skyVisibilitySums[ray] = skyVisibility * weightedBasis;
   // An empty reservoir's ray stands for nothing: black, so that it neither raises the clamp's maximum nor is kept.
   bool emptyReservoir =
       update.keepsReservoirs != 0u && chosen.reusesReservoir && probeReservoirCount(chosen.reservoir) == 0u;
@@ -486,6 +501,7 @@ void sumOverRays(uint ray) {
       radianceSums[ray] = sh2Add(radianceSums[ray], radianceSums[ray + stride]);
       distanceSums[ray] += distanceSums[ray + stride];
       normalDotSums[ray] += normalDotSums[ray + stride];
+      skyVisibilitySums[ray] += skyVisibilitySums[ray + stride];
     }
     barrier();
   }
@@ -502,11 +518,14 @@ void writeProbe(ListedProbe probe) {
   float alpha = 1.0 / float(probe.historyCount + 1u);
   float radianceAlpha = alpha;
   Sh2Rgb history = probe.history;
+  vec4 skyVisibilityHistory = probe.historyCount > 0u ? probeSkyVisibilitySh(probe.stored) : vec4(0.0);
   if (startsFromCoarserLevel) {
     history = heldRadiance;
+    skyVisibilityHistory = heldSkyVisibility;
     radianceAlpha = 0.5;
   }
   Sh2Rgb radiance = sh2Mix(history, radianceSums[0], radianceAlpha);
+  vec4 skyVisibility = mix(skyVisibilityHistory, skyVisibilitySums[0], radianceAlpha);
   float range = update.distanceRange;
   vec4 distanceHistory = probe.historyCount > 0u ? probeDistanceSh(probe.stored, update.spacing) : vec4(0.0);
   vec4 normalDotHistory = probe.historyCount > 0u ? probeNormalDotSh(probe.stored) : vec4(0.0);
@@ -524,7 +543,7 @@ void writeProbe(ListedProbe probe) {
   float knownFraction = float(knownRays) / float(raysPerProbe);
   float knownHistory = probe.historyCount > 0u ? probeKnownFraction(probe.stored) : knownFraction;
   uint tag = packProbeTag(probe.coordinate, mix(knownHistory, knownFraction, alpha), dither);
-  probes[probe.index] = makeProbe(radiance, distanceSh, normalDotSh, nextState, tag);
+  probes[probe.index] = makeProbe(radiance, skyVisibility, distanceSh, normalDotSh, nextState, tag);
 }
 
 // The probe's work (shared/work_counters.h), by thread 0 once the workgroup's rays are summed: the probe, its rays

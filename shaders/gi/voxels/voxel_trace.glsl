@@ -160,9 +160,9 @@ bool isCached(CachedBrick cached, ivec3 brick) { return all(equal(cached.brick, 
 // has seen holding a surface or seen through. A view that meets a wall at a grazing angle, or has seen it only a few
 // times, leaves some of its voxels empty (SceneVoxelization fills a voxel only when a sample lands on its surface):
 // such a voxel is most likely wall not yet seen, and a probe ray through it would find the sky or the sunlit ground
-// behind the wall. A trace that watches observed space looks on for a surface in the same brick and, finding none,
-// meets the surface beside the voxel or ends unknown (endAtUnobservedVoxels). Only in a brick holding surface: an
-// empty brick of the pool is one being filled or released, and a trace that steps over empty bricks never looks in.
+// behind the wall. A trace that watches observed space meets the surface beside it or ends unknown in its brick
+// (meetsSurfaceBeside, unknownBesideSurface). Only in a brick holding surface: an empty brick of the pool is one being
+// filled or released, and a trace that steps over empty bricks never looks in.
 void loadBrick(inout CachedBrick cached, ivec3 brick, bool watchesVoxels, inout uint reads) {
   if (isCached(cached, brick)) return;
   cached.brick = brick;
@@ -314,28 +314,12 @@ VoxelHit withObservation(VoxelHit hit, bool unobserved, float unobservedDistance
   return hit;
 }
 
-// An unobserved voxel a walk has passed: it goes on to look for a surface in the same brick — the air voxels in
-// front of a floor that no view has seen at the right angle hide nothing, most likely, from a ray that meets the floor
-// beyond them. Where it leaves the brick without one, the voxels it passed decide. One next to a surface, on a side
-// the ray moves towards, is most likely that surface not yet seen — a hole a grazing view left in a wall or a floor —
-// so the ray meets that surface there, with its light (black from behind), as it would have without the hole: taken
-// for unknown, a hole in a shaded wall would stand for the mean light of the probe's surfaces, sunlit ones included.
-// Without one the ray ends unknown beside the surfaces it moved along or away from.
-struct UnobservedVoxelPassed {
-  bool passed;
-  ivec3 brick;             // the brick cell it lies in
-  float distance;          // where the ray first entered unobserved space (metres)
-  uint surfaceBrick;       // pool index of the brick of the first occupied voxel found ahead of a passed one, or
-                           // kInvalidBrick
-  uint surfaceVoxel;       // that voxel's bit (voxelBit)
-  float surfaceDistance;   // where the ray entered the unobserved voxel beside it (metres)
-};
-const UnobservedVoxelPassed kNoUnobservedVoxelPassed =
-    UnobservedVoxelPassed(false, ivec3(0), 0.0, kInvalidBrick, 0u, 0.0);
-
-// The occupied voxel of the brick next to the walk's voxel on a side the ray moves towards — of several, the one
-// across the axis the ray moves along fastest — or -1.
-int occupiedVoxelAhead(VoxelWalk walk, CachedBrick brick, vec3 direction) {
+// An unobserved voxel next to a surface, on a side the ray moves towards, is most likely that surface not yet seen — a
+// hole a grazing view left in a wall or a floor — so the ray meets that surface there, with its light (black from
+// behind), as it would have without the hole: taken for unknown, a hole in a shaded wall would stand for the mean
+// light of the probe's surfaces, sunlit ones included. Of several such neighbours, the one across the axis the ray
+// moves along fastest.
+bool meetsSurfaceBeside(VoxelWalk walk, CachedBrick brick, vec3 direction, inout uint reads, out VoxelHit met) {
   ivec3 inBrick = voxelInBrick(walk.voxel);
   int found = -1;
   float fastest = 0.0;
@@ -348,25 +332,30 @@ int occupiedVoxelAhead(VoxelWalk walk, CachedBrick brick, vec3 direction) {
       found = int(voxelBit(uvec3(neighbour)));
     }
   }
-  return found;
+  if (found < 0) return false;
+  Voxel voxel = voxels[brick.index * kVoxelsPerBrick + uint(found)];
+  reads += 1u;
+  vec3 normal = voxelNormal(voxel);
+  vec3 radiance = dot(normal, direction) > 0.0 ? vec3(0.0) : unpackR11G11B10F(voxel.radiance);
+  met = VoxelHit(true, walk.distance, brick.index, uint(found), radiance, normal, reads, false, walk.distance, false);
+  return true;
 }
 
-UnobservedVoxelPassed passUnobservedVoxel(UnobservedVoxelPassed pending, VoxelWalk walk, CachedBrick brick,
-                                          vec3 direction, bool crossedUnobserved, float unobservedDistance) {
-  if (!pending.passed) {
-    pending.passed = true;
-    pending.brick = walk.voxel >> kBrickLevel;
-    pending.distance = crossedUnobserved ? unobservedDistance : walk.distance;
-  }
-  if (pending.surfaceBrick == kInvalidBrick) {
-    int ahead = occupiedVoxelAhead(walk, brick, direction);
-    if (ahead >= 0) {
-      pending.surfaceBrick = brick.index;
-      pending.surfaceVoxel = uint(ahead);
-      pending.surfaceDistance = walk.distance;
-    }
-  }
-  return pending;
+// An unobserved voxel a walk has passed without meeting a surface beside it: it goes on to look for a surface in the
+// same brick — the air voxels in front of a floor that no view has seen at the right angle hide nothing, most likely,
+// from a ray that meets the floor beyond them — and ends unknown, beside the surfaces it moved along or away from,
+// where it leaves the brick without one.
+struct UnobservedVoxelPassed {
+  bool passed;
+  ivec3 brick;      // the brick cell it lies in
+  float distance;   // where the ray first entered unobserved space (metres)
+};
+const UnobservedVoxelPassed kNoUnobservedVoxelPassed = UnobservedVoxelPassed(false, ivec3(0), 0.0);
+
+UnobservedVoxelPassed passUnobservedVoxel(UnobservedVoxelPassed pending, VoxelWalk walk, bool crossedUnobserved,
+                                          float unobservedDistance) {
+  if (pending.passed) return pending;
+  return UnobservedVoxelPassed(true, walk.voxel >> kBrickLevel, crossedUnobserved ? unobservedDistance : walk.distance);
 }
 
 // Whether the walk has left the brick of an unobserved voxel it passed without meeting a surface there.
@@ -374,18 +363,9 @@ bool leftUnobservedVoxelsBrick(UnobservedVoxelPassed pending, VoxelWalk walk) {
   return pending.passed && any(notEqual(walk.voxel >> kBrickLevel, pending.brick));
 }
 
-// A walk that passed unobserved voxels and met no surface in their brick: the surface found ahead of one of them, or
-// no hit, unobserved from where it first entered unobserved space.
-VoxelHit endAtUnobservedVoxels(UnobservedVoxelPassed pending, vec3 direction, bool crossedUnobserved,
-                               float unobservedDistance, float maxDistance, uint reads) {
-  if (pending.surfaceBrick != kInvalidBrick) {
-    Voxel voxel = voxels[pending.surfaceBrick * kVoxelsPerBrick + pending.surfaceVoxel];
-    vec3 normal = voxelNormal(voxel);
-    vec3 radiance = dot(normal, direction) > 0.0 ? vec3(0.0) : unpackR11G11B10F(voxel.radiance);
-    VoxelHit met = VoxelHit(true, pending.surfaceDistance, pending.surfaceBrick, pending.surfaceVoxel, radiance, normal,
-                            reads + 1u, false, pending.surfaceDistance, false);
-    return withObservation(met, crossedUnobserved, unobservedDistance);
-  }
+// A walk that passed an unobserved voxel and met no surface in its brick: no hit, unobserved from where it first
+// entered unobserved space, ended beside surfaces.
+VoxelHit unknownBesideSurface(UnobservedVoxelPassed pending, float maxDistance, uint reads) {
   VoxelHit unknown = withObservation(voxelMiss(maxDistance, reads), true, pending.distance);
   unknown.endedBesideSurface = true;
   return unknown;
@@ -451,7 +431,10 @@ VoxelHit walkOccupancyHierarchy(vec3 origin, vec3 direction, float maxDistance, 
     uint contents = cellContents(walk, level, watchesObservedSpace && !unobserved, watchesObservedSpace, cached, grid,
                                  observed, reads);
     if (contents == kCellUnobservedVoxel) {
-      passed = passUnobservedVoxel(passed, walk, cached, direction, unobserved, unobservedDistance);
+      VoxelHit met;
+      if (meetsSurfaceBeside(walk, cached, direction, reads, met))
+        return withObservation(met, unobserved, unobservedDistance);
+      passed = passUnobservedVoxel(passed, walk, unobserved, unobservedDistance);
     } else if (contents == kCellUnobserved) {
       unobserved = true;
       unobservedDistance = walk.distance;
@@ -467,16 +450,14 @@ VoxelHit walkOccupancyHierarchy(vec3 origin, vec3 direction, float maxDistance, 
     }
     ivec3 previous = walk.voxel;
     if (!stepOverCell(walk, level)) break;
-    if (leftUnobservedVoxelsBrick(passed, walk))
-      return endAtUnobservedVoxels(passed, direction, unobserved, unobservedDistance, maxDistance, reads);
+    if (leftUnobservedVoxelsBrick(passed, walk)) return unknownBesideSurface(passed, maxDistance, reads);
     // The cells that changed are those of the levels up to the highest bit in which the voxel coordinates changed.
     ivec3 changedBits = previous ^ walk.voxel;
     int highestChangedLevel = findMSB(changedBits.x | changedBits.y | changedBits.z);
     knownOccupiedLevels &= ~((2u << uint(highestChangedLevel)) - 1u);
     if (level < kTopLevel && (knownOccupiedLevels & (1u << uint(level + 1))) == 0u) ++level;
   }
-  if (passed.passed)
-    return endAtUnobservedVoxels(passed, direction, unobserved, unobservedDistance, maxDistance, reads);
+  if (passed.passed) return unknownBesideSurface(passed, maxDistance, reads);
   return withObservation(voxelMiss(maxDistance, reads), unobserved, unobservedDistance);
 }
 
