@@ -14,6 +14,10 @@ void TraceRays::record(gpu::CommandList& commands, const VoxelScene& scene, cons
   assert(rays.size() >= VkDeviceSize(rayCount) * sizeof(shader::VoxelTraceRay));
   assert(hits.size() >= VkDeviceSize(rayCount) * sizeof(shader::VoxelTraceHit));
   auto scope = commands.scope("ssvgi: TraceRays");
+  // Cleared first, so that no hit can come from an earlier trace into the same memory. The barrier between the clear
+  // and the trace also times it on lavapipe, whose timestamps are taken when it next flushes: with no barrier in the
+  // scope both would fall after the dispatch (docs/PERFORMANCE.md, "Voxel trace: hierarchical against flat").
+  commands.fillBuffer(hits, 0u);
   commands.dispatch(pipeline_,
                     scene.bindings().buffer(shader::kBindTraceRaysRays, rays).buffer(shader::kBindTraceRaysHits, hits),
                     {rayCount, 1, 1}, rayCount);
