@@ -36,30 +36,51 @@ void markObserved(ivec3 worldBrick) {
   }
 }
 
-// Whether an orthographic view sees through a whole brick cell: the texels over the cell's footprint (its corners'
-// bounding rectangle; a 4×4 lattice of them where there are more) all show a surface beyond the cell's farthest point.
-// Such a view (the sun's, the overhead view) looks down past roofs' rims from afar: a ray that crosses a cell in part,
-// beside the wall under a rim, observes only that part, and the rest may hide the wall. Texels no wider than a voxel
-// count where their centres lie in the footprint: one that straddles its edge shows what lies beyond as often as what
-// lies within, and counting it would leave the cells beside every wall unobserved. A wider texel counts wherever the
-// footprint touches it: its centre may lie beyond a rim while it covers the wall under it.
-bool seesThroughCell(ivec3 worldBrick, vec2 size, bool texelsWiderThanVoxel) {
-  vec2 low = vec2(1e30), high = vec2(-1e30);
-  float farthestDepth = 1e30;
+// An orthographic view's footprint of a brick cell — its corners' bounding rectangle in pixels and its farthest
+// point's depth — less those of the cell's minimum corner: the same for every cell, as the projection is affine.
+struct CellFootprint {
+  vec2 low;
+  vec2 high;
+  float farthestDepth;
+  bool texelsWiderThanVoxel;  // the view's texels, in metres along its rows or columns
+};
+
+CellFootprint orthographicCellFootprint(vec2 size) {
+  vec4 origin = frame.viewProjection * vec4(0.0, 0.0, 0.0, 1.0);
+  vec2 originPixel = ssvgiNdcToPixel(origin.xy, size);
+  CellFootprint footprint = CellFootprint(vec2(1e30), vec2(-1e30), 1e30, false);
   for (int corner = 0; corner < 8; ++corner) {
-    vec3 point = vec3(worldBrick + ivec3(corner & 1, (corner >> 1) & 1, corner >> 2)) * volume.brickSize;
+    vec3 point = vec3(corner & 1, (corner >> 1) & 1, corner >> 2) * volume.brickSize;
     vec4 clip = frame.viewProjection * vec4(point, 1.0);
-    if (clip.w <= 0.0) return false;
-    vec3 ndc = clip.xyz / clip.w;
-    vec2 pixel = ssvgiNdcToPixel(ndc.xy, size);
-    low = min(low, pixel);
-    high = max(high, pixel);
-    farthestDepth = min(farthestDepth, ndc.z);
+    vec2 pixel = ssvgiNdcToPixel(clip.xy, size) - originPixel;
+    footprint.low = min(footprint.low, pixel);
+    footprint.high = max(footprint.high, pixel);
+    footprint.farthestDepth = min(footprint.farthestDepth, clip.z - origin.z);
   }
-  ivec2 first = ivec2(texelsWiderThanVoxel ? floor(low) : ceil(low - 0.5));
-  ivec2 last = ivec2(texelsWiderThanVoxel ? ceil(high) - 1.0 : floor(high - 0.5));
-  first = clamp(first, ivec2(0), ivec2(size) - 1);
-  last = clamp(last, ivec2(0), ivec2(size) - 1);
+  // A texel's width in metres: 2 / (NDC per metre × pixels).
+  mat4 projection = frame.viewProjection;
+  vec2 ndcPerMetre = vec2(length(vec3(projection[0][0], projection[1][0], projection[2][0])),
+                          length(vec3(projection[0][1], projection[1][1], projection[2][1])));
+  vec2 texelMetres = 2.0 / (ndcPerMetre * size);
+  footprint.texelsWiderThanVoxel = max(texelMetres.x, texelMetres.y) > 1.01 * volume.voxelSize;
+  return footprint;
+}
+
+// Whether an orthographic view sees through a whole brick cell: the texels over the cell's footprint (a 4×4 lattice
+// of them where there are more) all show a surface beyond the cell's farthest point. Such a view (the sun's, the
+// overhead view) looks down past roofs' rims from afar: a ray that crosses a cell in part, beside the wall under a
+// rim, observes only that part, and the rest may hide the wall. Texels no wider than a voxel count where their centres
+// lie in the footprint: one that straddles its edge shows what lies beyond as often as what lies within, and counting
+// it would leave the cells beside every wall unobserved. A wider texel counts wherever the footprint touches it: its
+// centre may lie beyond a rim while it covers the wall under it.
+bool seesThroughCell(ivec3 worldBrick, vec2 size, CellFootprint footprint) {
+  vec4 corner = frame.viewProjection * vec4(vec3(worldBrick) * volume.brickSize, 1.0);
+  vec2 cornerPixel = ssvgiNdcToPixel(corner.xy, size);
+  vec2 low = cornerPixel + footprint.low, high = cornerPixel + footprint.high;
+  float farthestDepth = corner.z + footprint.farthestDepth;
+  bool wide = footprint.texelsWiderThanVoxel;
+  ivec2 first = clamp(ivec2(wide ? floor(low) : ceil(low - 0.5)), ivec2(0), ivec2(size) - 1);
+  ivec2 last = clamp(ivec2(wide ? ceil(high) - 1.0 : floor(high - 0.5)), ivec2(0), ivec2(size) - 1);
   if (any(lessThan(last, first))) return true;
   ivec2 step = max((last - first + 3) / 4, ivec2(1));  // at most 4×4 texels looked at
   for (int y = first.y; y <= last.y; y += step.y)
@@ -111,17 +132,12 @@ void main() {
   // past a rim close by, and a cell's footprint is unbounded near its eye.
   bool orthographic = frame.viewProjection[0][3] == 0.0 && frame.viewProjection[1][3] == 0.0 &&
                       frame.viewProjection[2][3] == 0.0;
-  // An orthographic view's texel in metres along its rows and columns: 2 / (NDC per metre × pixels).
-  mat4 projection = frame.viewProjection;
-  vec2 ndcPerMetre = vec2(length(vec3(projection[0][0], projection[1][0], projection[2][0])),
-                          length(vec3(projection[0][1], projection[1][1], projection[2][1])));
-  vec2 texelMetres = 2.0 / (ndcPerMetre * size);
-  bool texelsWiderThanVoxel = max(texelMetres.x, texelMetres.y) > 1.01 * volume.voxelSize;
+  CellFootprint footprint = orthographicCellFootprint(size);
   uint crossedCells = 0u;
   for (int stepCount = 0; stepCount < maxSteps; ++stepCount) {
     bool atLastCell = all(equal(cell, lastCell));
     if (atLastCell && surfaceCellKept) break;
-    if (atLastCell || !orthographic || seesThroughCell(cell, size, texelsWiderThanVoxel)) markObserved(cell);
+    if (atLastCell || !orthographic || seesThroughCell(cell, size, footprint)) markObserved(cell);
     ++crossedCells;
     if (atLastCell) break;
     int axis = nextCrossing.x <= nextCrossing.y && nextCrossing.x <= nextCrossing.z ? 0
