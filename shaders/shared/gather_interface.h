@@ -80,9 +80,7 @@ struct GatherConstants {
   uint historyUsable;          // 1 when the history is usable (same size, dispatched before)
   uint padding0;
   uint padding1;
-  vec4 skyRadianceRed;         // FrameDesc::skyRadianceSh, for the sky part of the probes' light (readProbeIrradiance)
-  vec4 skyRadianceGreen;
-  vec4 skyRadianceBlue;
+  Sh2Rgb skyRadiance;          // FrameDesc::skyRadianceSh, for the sky part of the probes' light (readProbeIrradiance)
 };
 SSVGI_CHECK_SIZE(GatherConstants, 2 * 64 + 3 * 16 + 16 + 16 + 16 + 48);
 

@@ -450,7 +450,7 @@ class ContextImplementation final : public Context {
       slot.hizTexels += frame.hizLevels[level].size.x * frame.hizLevels[level].size.y;
     gi::GatherTargets::ProbeLevels probeLevels{};
     probeLevels.dimensions = probes_.current().probesPerAxis;
-    std::memcpy(&probeLevels.skyRadianceSh, desc.skyRadianceSh.data(), sizeof(probeLevels.skyRadianceSh));
+    probeLevels.skyRadiance = probes_.current().skyRadiance;
     for (uint32_t level = 0; level < shader::kProbeLevels; ++level) {
       probeLevels.origins[level] = probes_.levelOrigin(level, glm::vec3(frame.cameraPosition));
       probeLevels.spacings[level] = probes_.levelSpacing(level);

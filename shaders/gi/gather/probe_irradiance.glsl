@@ -125,7 +125,6 @@ GatheredLight gatherLevel(uint level, vec3 position, vec3 normal, bool testVisib
   float blends[kProbeCellCorners];
   vec3 meanReading = vec3(0.0);
   float keptWeight = 0.0;
-  Sh2Rgb sky = Sh2Rgb(gather.skyRadianceRed, gather.skyRadianceGreen, gather.skyRadianceBlue);
   // Over the kept corners only: invocations run in lock-step groups, and a loop over all eight would make each group
   // wait for a trace at every corner some invocation keeps.
   for (uint left = kept; left != 0u; left &= left - 1u) {
@@ -133,7 +132,7 @@ GatheredLight gatherLevel(uint level, vec3 position, vec3 normal, bool testVisib
     CornerProbe probe = cornerProbe(level, cell, fraction, corner);
     Probe stored = probe.stored;
     positions[corner] = probe.position;
-    readings[corner] = readProbeIrradiance(stored, normal, sky);
+    readings[corner] = readProbeIrradiance(stored, normal, gather.skyRadiance);
     knownFractions[corner] = probeKnownFraction(stored);
     blends[corner] = 1.0 / float(probeHistoryCount(stored.state) + 1u);
     meanReading += weights[corner] * readings[corner];

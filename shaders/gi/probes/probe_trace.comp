@@ -350,8 +350,7 @@ void holdRadiance(ListedProbe probe) {
   startsFromCoarserLevel =
       probe.historyCount == 0u && coarserLevelRadiance(probe.coordinate, probe.origin, start, startSkyVisibility);
   heldRadiance = probe.historyCount > 0u ? probe.history : start;
-  heldSkyVisibility = probe.historyCount > 0u ? probeSkyVisibilitySh(probe.stored)
-                                               : (startsFromCoarserLevel ? startSkyVisibility : vec4(0.0));
+  heldSkyVisibility = probe.historyCount > 0u ? probeSkyVisibilitySh(probe.stored) : startSkyVisibility;
 }
 
 // Traces the thread's ray through the voxels: its radiance (black from behind), the sky's on a miss, and whether it
@@ -518,14 +517,12 @@ void writeProbe(ListedProbe probe) {
   float alpha = 1.0 / float(probe.historyCount + 1u);
   float radianceAlpha = alpha;
   Sh2Rgb history = probe.history;
-  vec4 skyVisibilityHistory = probe.historyCount > 0u ? probeSkyVisibilitySh(probe.stored) : vec4(0.0);
   if (startsFromCoarserLevel) {
     history = heldRadiance;
-    skyVisibilityHistory = heldSkyVisibility;
     radianceAlpha = 0.5;
   }
   Sh2Rgb radiance = sh2Mix(history, radianceSums[0], radianceAlpha);
-  vec4 skyVisibility = mix(skyVisibilityHistory, skyVisibilitySums[0], radianceAlpha);
+  vec4 skyVisibility = mix(heldSkyVisibility, skyVisibilitySums[0], radianceAlpha);
   float range = update.distanceRange;
   vec4 distanceHistory = probe.historyCount > 0u ? probeDistanceSh(probe.stored, update.spacing) : vec4(0.0);
   vec4 normalDotHistory = probe.historyCount > 0u ? probeNormalDotSh(probe.stored) : vec4(0.0);

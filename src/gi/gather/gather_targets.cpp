@@ -64,9 +64,7 @@ void GatherTargets::prepare(uint32_t frameIndex, const glm::mat4& viewProjection
   for (uint32_t level = 0; level < shader::kProbeLevels; ++level)
     current_.probeLevels[level] = {probes.origins[level], probes.spacings[level]};
   current_.probesPerAxis = probes.dimensions;
-  current_.skyRadianceRed = probes.skyRadianceSh[0];
-  current_.skyRadianceGreen = probes.skyRadianceSh[1];
-  current_.skyRadianceBlue = probes.skyRadianceSh[2];
+  current_.skyRadiance = probes.skyRadiance;
   current_.probesPerLevel = probes.dimensions.x * probes.dimensions.y * probes.dimensions.z;
   current_.tiles = tiles;
   current_.halfSize = halfSize;

@@ -22,7 +22,7 @@ class GatherTargets {
     std::array<glm::ivec3, shader::kProbeLevels> origins;  // world probe coordinate of each level's minimum corner
     glm::ivec3 dimensions;                                 // probes per level and axis
     std::array<float, shader::kProbeLevels> spacings;      // m
-    std::array<glm::vec4, 3> skyRadianceSh{};              // the host's sky (FrameDesc::skyRadianceSh), R, G, B
+    shader::Sh2Rgb skyRadiance{};                          // the host's sky (FrameDesc::skyRadianceSh)
   };
   // Prepares a frame of `width` × `height` seen through `viewProjection`: uploads its GatherConstants and swaps the
   // output with the history (the last frame's output). The history is used when the last frame had the same size.
