@@ -55,6 +55,10 @@ std::vector<Camera> lightCameras(const LocalLight& light) {
   return faces;
 }
 
+bool sunAboveHorizon(const shader::FrameConstants& frame) {
+  return frame.sunDirectionAndEnabled.w > 0.0f && frame.sunDirectionAndEnabled.y > 0.0f;
+}
+
 ssvgi::View toView(const shader::FrameConstants& frame, uint32_t size) {
   ssvgi::View view;
   std::memcpy(view.viewProjection.data(), &frame.viewProjection[0][0], sizeof(float) * 16);
@@ -77,6 +81,8 @@ ExtraViews::Target::Target(Kind viewKind, gpu::Device& device, uint32_t viewSize
 ExtraViews::ExtraViews(gpu::Device& device, const Scene& scene, const ExtraViewSettings& settings,
                        const ssvgi::Settings& gi, const Bounds& sceneBounds)
     : settings_(settings),
+      sceneEmits_(std::any_of(scene.materials.begin(), scene.materials.end(),
+                              [](const Material& material) { return material.emission != glm::vec3(0.0f); })),
       voxelSize_(gi.voxelSize),
       volumeHalfExtent_(0.5f * float(shader::kBrickSizeVoxels) * gi.voxelSize *
                         glm::vec3(gi.volumeBricks[0], gi.volumeBricks[1], gi.volumeBricks[2])),
@@ -126,6 +132,13 @@ uint32_t ExtraViews::sizeOf(Kind kind) const {
   return 0;
 }
 
+bool ExtraViews::isReflectiveShadowMap(const Source& source, const shader::FrameConstants& frame) const {
+  const bool sunEnabled = frame.sunDirectionAndEnabled.w > 0.0f;
+  if (sceneEmits_) return false;
+  if (source.kind == Kind::Sun) return sunAboveHorizon(frame) && frame.localLightCount == 0;
+  return source.kind == Kind::Light && !sunEnabled && frame.localLightCount == 1;
+}
+
 uint32_t ExtraViews::maxViewSize() const {
   uint32_t size = 0;
   for (const Source& source : sources_) size = std::max(size, sizeOf(source.kind));
@@ -160,8 +173,8 @@ void ExtraViews::viewOf(const Source& source, const shader::FrameConstants& fram
                            std::numeric_limits<float>::infinity(), view, projection);
     return;
   }
-  const bool sunUp = frame.sunDirectionAndEnabled.w > 0.0f && frame.sunDirectionAndEnabled.y > 0.0f;
-  const glm::vec3 toSun = sunUp ? glm::normalize(glm::vec3(frame.sunDirectionAndEnabled)) : glm::vec3(0.0f, 1.0f, 0.0f);
+  const glm::vec3 toSun =
+      sunAboveHorizon(frame) ? glm::normalize(glm::vec3(frame.sunDirectionAndEnabled)) : glm::vec3(0.0f, 1.0f, 0.0f);
   orthographicOverVolume(toSun, cameraPosition, settings_.sunViewSize, voxelSize_, view, projection);
 }
 
@@ -252,6 +265,7 @@ std::vector<ssvgi::ExtraView> ExtraViews::record(gpu::HostCommandList& commands,
     lit.color.view = target.radiance.view();
     lit.normal.view = target.gbuffer.normal.view();
     lit.albedo.view = target.gbuffer.albedo.view();
+    lit.isReflectiveShadowMap = isReflectiveShadowMap(source, frame);
     views.push_back(lit);
   }
   nextSource_ = (nextSource_ + count) % uint32_t(sources_.size());

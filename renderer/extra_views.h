@@ -82,6 +82,9 @@ class ExtraViews {
   };
 
   uint32_t sizeOf(Kind kind) const;
+  // Whether a source's view is a reflective shadow map this frame (ssvgi::ExtraView::isReflectiveShadowMap): a
+  // light's view where that light alone lights the scene and nothing emits.
+  bool isReflectiveShadowMap(const Source& source, const shader::FrameConstants& frame) const;
   // The view and (unjittered) projection a source is seen through this frame.
   void viewOf(const Source& source, const shader::FrameConstants& frame, glm::mat4& view, glm::mat4& projection) const;
   // An orthographic view of `size` pixels looking along −toward over the voxel volume around `cameraPosition`, its
@@ -90,6 +93,7 @@ class ExtraViews {
                               glm::mat4& view, glm::mat4& projection) const;
 
   ExtraViewSettings settings_;
+  bool sceneEmits_;  // a material emits light
   float voxelSize_;
   glm::vec3 volumeHalfExtent_;  // half the voxel volume's size, metres
   Bounds sceneBounds_;

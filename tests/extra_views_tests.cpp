@@ -129,6 +129,44 @@ TEST_F(ExtraViews, theSunsViewFillsASunlitWallTheCameraNeverSeesInItsSunlitColou
   }
 }
 
+TEST_F(ExtraViews, aWallTheSunTurnsAwayFromLosesItsSunlightOnceTheSunsViewHasSeenIt) {
+  // SPEC §6.1: the sunlit wall behind the camera, then the sun turned round to the wall's other side. The face the
+  // camera never sees gets no sunlight any more. The sun lights this scene alone, so the renderer gives its view as a
+  // reflective shadow map, which sees that face hidden behind the wall and takes its direct light: 0.75 of it kept
+  // per render, 16 renders. (A light's view never sees what its light stopped reaching: without that, the face would
+  // keep its sunlight for good.)
+  SunlitWallBehindTheCamera wall;
+  renderer::Renderer renderer(device(), wall.scene,
+                              rendering({.sunViewSize = 64, .surroundViewSize = 0, .lightViewSize = 0,
+                                         .overheadViewSize = 0, .viewsPerFrame = 1}));
+  auto meanDirect = [&]() {
+    const auto occupied = testing::readOccupiedVoxels(device(), *renderer.giContext());
+    float sum = 0.0f;
+    uint32_t found = 0;
+    for (int x = -14; x < 14; ++x)
+      for (int y = 1; y < 11; ++y)
+        if (const auto voxel = occupied.find({x, y, 16}); voxel != occupied.end()) {
+          sum += shader::unpackR11G11B10F(voxel->second.directRadiance).g;
+          ++found;
+        }
+    EXPECT_EQ(found, 28u * 10u) << "of the wall's voxels";
+    return found > 0 ? sum / float(found) : 0.0f;
+  };
+  renderFrames(renderer, wall.scene, 16);
+  const float sunlit = meanDirect();
+  EXPECT_NEAR(sunlit,
+              SunlitWallBehindTheCamera::kAlbedo.g / glm::pi<float>() * SunlitWallBehindTheCamera::kIlluminance *
+                  glm::dot(wall.toSun, glm::vec3(0, 0, -1)),
+              sunlit / 64.0f);
+  renderer::AnimatedState turned = renderer::evaluateAnimation(wall.scene, wall.scene.cameras[0], 0.0f);
+  turned.sun.direction = renderer::sunDirection(20.0f, 40.0f);
+  for (uint32_t frame = 0; frame < 16; ++frame) renderer.render(turned);
+  const float afterTurning = meanDirect();
+  std::printf("the wall's face: direct light %.4f lit by the sun, %.5f once it is turned away\n", sunlit,
+              afterTurning);
+  EXPECT_LT(afterTurning, 0.02f * sunlit);
+}
+
 TEST_F(ExtraViews, theCaptureAroundTheCameraFillsTheCeilingAboveAndBehindIt) {
   // A closed 8×3×8 m room; the camera near one end looks level along it (60°): it sees the ceiling only beyond
   // 1.5 / tan 30° = 2.6 m ahead, z < −0.6. The ceiling's face (y = 3, facing down) lies on a voxel boundary: its

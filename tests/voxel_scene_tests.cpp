@@ -773,6 +773,83 @@ TEST_F(VoxelScene, anOrthographicViewInjectsExactlyTheVoxelsItsRulesGive) {
   expectOracle("the box taken away");
 }
 
+// The share of a floor voxel's top face (y = 0.1) that a view's texels show lit: the texel each point projects to
+// shows the floor there, not something above it (the shadow's edge as the view's texels draw it, on a grid of 16×16
+// points).
+float litShareAsTexelsShowIt(const HostFrame& view, int x, int z) {
+  constexpr int kPoints = 16;
+  int lit = 0;
+  for (int i = 0; i < kPoints; ++i)
+    for (int j = 0; j < kPoints; ++j) {
+      const glm::vec3 point((float(x) + (float(i) + 0.5f) / kPoints) * kVoxel, kFloor.max.y,
+                            (float(z) + (float(j) + 0.5f) / kPoints) * kVoxel);
+      const glm::vec4 clip = view.viewProjection * glm::vec4(point, 1.0f);
+      const glm::vec2 pixel = shader::ssvgiNdcToPixel(glm::vec2(clip) / clip.w, glm::vec2(kSize));
+      const PixelSurface& shown = view.surfaces[size_t(pixel.y) * kSize + size_t(pixel.x)];
+      lit += shown.hit && shown.position.y < kFloor.max.y + 0.01f;
+    }
+  return float(lit) / float(kPoints * kPoints);
+}
+
+TEST_F(VoxelScene, aReflectiveShadowMapTakesTheLightOfTheFloorItsLightNoLongerReachesAndOfThePartItsShadowCovers) {
+  // A sun's reflective shadow map (orthographic, the sun 63° above the horizon towards +x) over a lit floor, the only
+  // extra view, while the camera looks up at an empty sky. Then a slab appears 0.9 m above the floor, its shadow on the
+  // floor at x < 0.125 m (the slab ends at x = 0.575; the sun's rays climb 0.9 m over 0.45 m): the voxel column x = 0
+  // lies partly in it. The view sees only the lit part of the floor. Over a strip of floor voxels across the shadow's
+  // edge (x and z from −1 to 1 m: 8 rows of 8), a row's direct light must come to the lit area's, as the view's
+  // 0.105 m texels draw the shadow's edge (litShareAsTexelsShowIt): about 3.7 voxels' worth of the floor's light with
+  // isReflectiveShadowMap. The voxels wholly in shadow lose theirs (0.75 kept per injection, 24 of them); a voxel the
+  // edge crosses holds an average of lit and dark samples, whose noise over 8 rows is ±0.07 voxel: ±0.25 is three and
+  // a half times that. Without the flag, what the view cannot see is unknown to it, and a row keeps all 8 voxels'
+  // worth.
+  const glm::vec3 centre(0.5f, 0.1f, 0.5f);
+  const glm::vec3 towardsSun = glm::normalize(glm::vec3(0.5f, 1.0f, 0.0f));
+  const glm::mat4 view = glm::lookAtRH(centre + 8.0f * towardsSun, centre, glm::vec3(0.0f, 0.0f, -1.0f));
+  const glm::mat4 projection = renderer::reversedZOrthographicProjection(-3.0f, 3.0f, -3.0f, 3.0f, 1.0f, 16.0f);
+  const TestBox slab{{-3.0f, 1.0f, -3.0f}, {0.575f, 1.1f, 3.0f}, {0.2f, 0.2f, 0.2f}};
+  const TestBox albedo{kFloor.min, kFloor.max, glm::vec3(0.5f)};
+  const TestBox slabAlbedo{slab.min, slab.max, glm::vec3(0.5f)};
+  const HostFrame lit(device(), view, projection, {kFloor});
+  const HostFrame litAlbedo(device(), view, projection, {albedo});
+  const HostFrame shaded(device(), view, projection, {kFloor, slab});
+  const HostFrame shadedAlbedo(device(), view, projection, {albedo, slabAlbedo});
+  const HostFrame sky(device(), lookingUp({0.5f, 1.0f, 0.5f}), {});
+  float litArea = 0.0f;  // per row, in voxels
+  for (int z = -4; z < 4; ++z)
+    for (int x = -4; x < 4; ++x) litArea += litShareAsTexelsShowIt(shaded, x, z) / 8.0f;
+
+  for (const bool isReflectiveShadowMap : {true, false}) {
+    SCOPED_TRACE(isReflectiveShadowMap ? "a reflective shadow map" : "a view that does not say it is one");
+    create(smallSettings());
+    ExtraView beforeSlab = extraView(lit, &litAlbedo), withSlab = extraView(shaded, &shadedAlbedo);
+    beforeSlab.isReflectiveShadowMap = withSlab.isReflectiveShadowMap = isReflectiveShadowMap;
+    for (uint32_t frame = 0; frame < 24; ++frame) dispatch(sky, nullptr, {beforeSlab});
+    for (uint32_t frame = 0; frame < 24; ++frame) dispatch(sky, nullptr, {withSlab});
+    const auto occupied = occupiedVoxels(readState());
+    float rowDirect = 0.0f, shadowedDirect = 0.0f, litDirect = 0.0f;
+    for (int z = -4; z < 4; ++z)
+      for (int x = -4; x < 4; ++x) {
+        const auto voxel = occupied.find({x, 0, z});
+        ASSERT_NE(voxel, occupied.end()) << "floor voxel " << x << ",0," << z << " missing";
+        const float direct = shader::unpackR11G11B10F(voxel->second.directRadiance).y / kFloor.radiance.y;
+        rowDirect += direct / 8.0f;
+        if (x < 0) shadowedDirect = std::max(shadowedDirect, direct);
+        if (x > 0) litDirect += direct / 24.0f;
+      }
+    std::printf("%s: a row holds %.3f voxels' worth of the floor's direct light (lit area %.3f); in the shadow at most "
+                "%.3f, lit %.3f\n",
+                isReflectiveShadowMap ? "reflective shadow map" : "without the flag", rowDirect, litArea,
+                shadowedDirect, litDirect);
+    EXPECT_NEAR(litDirect, 1.0f, 0.02f);
+    if (isReflectiveShadowMap) {
+      EXPECT_NEAR(rowDirect, litArea, 0.25f);
+      EXPECT_LT(shadowedDirect, 0.02f);
+    } else {
+      EXPECT_NEAR(rowDirect, 8.0f, 0.1f);
+    }
+  }
+}
+
 // The grazing view of the floor, to be given as an extra view while the camera looks straight up into an empty sky, so
 // that what the voxels hold comes from that view alone.
 struct GrazedFloor {
@@ -1041,6 +1118,11 @@ TEST_F(VoxelScene, badExtraViewsAreRefusedWithTheFieldNamed) {
   ExtraView observesOnly = extraView(frame);
   observesOnly.color.view = observesOnly.normal.view = observesOnly.albedo.view = VK_NULL_HANDLE;
   EXPECT_FALSE(dispatchWith({observesOnly})) << "a view given with depth only observes space";
+  ExtraView shadowMapWithoutAlbedo = extraView(frame);
+  shadowMapWithoutAlbedo.isReflectiveShadowMap = true;
+  EXPECT_NE(dispatchWith({shadowMapWithoutAlbedo})
+                .message.find("FrameDesc::extraViews[0]: a reflective shadow map needs its albedo view"),
+            std::string::npos);
   ExtraView tooLarge = extraView(frame);
   tooLarge.camera.width = kSize + 1;
   const Error large = dispatchWith({tooLarge});

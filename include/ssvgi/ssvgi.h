@@ -212,6 +212,12 @@ struct ExtraView {
   // ssvgi adds albedo/π · E from its probes, so that these voxels also carry the bounces after the first. Without it,
   // `color` must hold all of the view's light, as the lit frame does.
   SampledImage albedo;
+  // Optional, with `albedo`. The view is a reflective shadow map: its eye is the light whose direct light `color`
+  // holds, and no other light reaches, and nothing emits, where the view cannot see. A surface hidden behind what it
+  // shows is then in that light's shadow, with no direct light, and ssvgi counts it so: a voxel half in the light's
+  // shadow keeps half the light, and one the light no longer reaches loses it when the view next sees it hidden. Left
+  // false, what a view cannot see is unknown to it, and such a voxel keeps the light of its part the view sees.
+  bool isReflectiveShadowMap = false;
 };
 constexpr uint32_t kMaxExtraViews = 8;  // per frame; a host with more cycles through them over frames
 

@@ -21,6 +21,8 @@ SSVGI_CONSTANT(uint, kViewIsLitWithOutput, 4u);  // (the camera's, direct only) 
                                                  // output: injection adds albedo/π · that E, as the host did
 SSVGI_CONSTANT(uint, kViewObservesOnly, 8u);  // (an extra view) given without colour: it marks observed space and
                                               // writes no voxels
+SSVGI_CONSTANT(uint, kViewIsReflectiveShadowMap, 16u);  // (an extra view, direct only) its eye is its colour's one
+                                                       // light: what it cannot see of a surface is in that shadow
 
 // A view's projection may be perspective or orthographic (any view-projection that maps depth to reversed-Z): what the
 // passes need of its geometry they find from the matrices (gi_frame.glsl: viewRayDirection), not from a position.

@@ -373,6 +373,8 @@ class ContextImplementation final : public Context {
         return error;
       if (!view.depth.view) return invalid(name + ": a depth view is required");
       if (view.color.view && !view.normal.view) return invalid(name + ": a view with a color needs its normal view");
+      if (view.isReflectiveShadowMap && !view.albedo.view)
+        return invalid(name + ": a reflective shadow map needs its albedo view (its color is direct light only)");
     }
     return {};
   }
@@ -501,7 +503,8 @@ class ContextImplementation final : public Context {
       uint32_t viewHizLevels = 0;
       const bool observesOnly = !view.color.view;
       const uint32_t kind = shader::kViewIsExtra | (view.albedo.view ? shader::kViewIsDirectOnly : 0u) |
-                            (observesOnly ? shader::kViewObservesOnly : 0u);
+                            (observesOnly ? shader::kViewObservesOnly : 0u) |
+                            (view.isReflectiveShadowMap ? shader::kViewIsReflectiveShadowMap : 0u);
       const shader::GiFrame viewFrame = viewConstants(view.camera, view.camera, desc.frameIndex, kind, viewHizLevels);
       std::memcpy(slot.extraViewConstants[i].mapped(), &viewFrame, sizeof(viewFrame));
       if (observesOnly) {

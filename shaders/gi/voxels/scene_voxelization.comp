@@ -63,6 +63,17 @@ void injectLight(inout Voxel voxel, bool occupied, bool blendsWithHeld, ivec2 te
   voxel.albedo = packVoxelAlbedo(albedo);
 }
 
+// A reflective shadow map's sample of a voxel's surface in its light's shadow (ontoVoxelPlane): no direct light
+// there, averaged in as a lit sample is (kVoxelExtraViewRadianceBlend), so that a voxel keeps the lit share of its
+// surface's light. Its albedo and the probes' part of its light stay.
+void injectShadow(inout Voxel voxel) {
+  vec3 heldDirect = unpackR11G11B10F(voxel.directRadiance);
+  vec3 probesLight = max(unpackR11G11B10F(voxel.radiance) - heldDirect, vec3(0.0));
+  vec3 direct = mix(heldDirect, vec3(0.0), kVoxelExtraViewRadianceBlend);
+  voxel.radiance = packR11G11B10F(direct + probesLight);
+  voxel.directRadiance = packR11G11B10F(direct);
+}
+
 // What the view shows at one of its texels: the surface reconstructed from its depth (depth 0: nothing, and the
 // other fields zero), its normal, and the point a voxel holding that surface holds (heldSurfacePoint).
 struct ViewSample {
@@ -147,6 +158,16 @@ bool surfaceAround(ivec2 firstTexel, vec2 litSize, vec3 voxelMin) {
   return false;
 }
 
+// A reflective shadow map (kViewIsReflectiveShadowMap) looks at an occupied voxel where its surface is: the random
+// point moved onto the voxel's plane. A surface it shows in front of that point hides it from the view's light, so it
+// lies in that light's shadow, and the lit and the shadowed parts of the surface are each sampled as often as they are
+// large.
+vec3 ontoVoxelPlane(vec3 point, Voxel voxel, vec3 voxelMin) {
+  vec3 normal = voxelNormal(voxel);
+  vec3 planePoint = voxelMin + volume.voxelSize * (0.5 + normal * unpackVoxelPlane(voxelPlaneCode(voxel)));
+  return point - normal * dot(point - planePoint, normal);
+}
+
 shared uint occupancyLow;
 shared uint occupancyHigh;
 shared uint observedLow;
@@ -189,6 +210,9 @@ void main() {
 
   vec3 voxelMin = vec3(worldVoxel) * voxelSize;
   vec3 samplePoint = voxelMin + hashToUnitCube(uvec3(ivec3(worldVoxel)) ^ uvec3(0u, 0u, frame.frameIndex * 0x9e3779b9u)) * voxelSize;
+  bool samplesShadow = occupied && (frame.viewKind & kViewIsReflectiveShadowMap) != 0u &&
+                       (voxel.albedo & kVoxelRelit) != 0u && voxelPlaneCode(voxel) != 0u;
+  if (samplesShadow) samplePoint = ontoVoxelPlane(samplePoint, voxel, voxelMin);
   vec4 clip = frame.litViewProjection * vec4(samplePoint, 1.0);
   vec3 ndc = clip.xyz / clip.w;
   vec2 litSize = vec2(frame.litSize);
@@ -245,14 +269,18 @@ void main() {
     bool refreshesColour = seen.depth > 0.0 && occupied && cutBySurfacePlane &&
                            distance(seen.held, clamp(seen.held, voxelMin, voxelMin + voxelSize)) <= voxelSize &&
                            dot(storedNormal, seen.normal) > 0.9;
-    if (holdsSurface || refreshesColour) {
+    bool inLightsShadow = samplesShadow && !holdsSurface && !refreshesColour && seen.depth > 0.0 &&
+                          dot(seen.surface - samplePoint, viewDirection) < -clearMargin;
+    if (holdsSurface || refreshesColour || inLightsShadow) {
       // The lit frame's light stays where it keeps coming (kVoxelExtraViewsBeforeWrite): an extra view counts its
       // visit and writes only once there have been enough since the lit frame last wrote.
       bool fromCamera = (frame.viewKind & kViewIsExtra) == 0u;
       uint extraViews = voxelExtraViewsSinceLitFrame(voxel);
       bool writes = fromCamera || !occupied || extraViews >= kVoxelExtraViewsBeforeWrite;
       uint surface = voxelSurface(voxel);
-      if (writes) {
+      if (writes && inLightsShadow) {
+        injectShadow(voxel);
+      } else if (writes) {
         // An extra view's light is averaged with what the voxel held only while the voxel keeps its surface's side. A
         // wall one voxel thick has both faces in its voxels; one that a view saw from outside while it was empty
         // holds the outer face until a view from inside turns it round (turnsSurfaceAround), and averaged, the inner
@@ -265,8 +293,9 @@ void main() {
           surface = packVoxelSurface(seen.normal, packVoxelPlane(planeOffset));
       }
       extraViews = fromCamera ? 0u : (writes ? kVoxelExtraViewsBeforeWrite : extraViews + 1u);
-      // Seeing its surface resets the seen-through counter.
-      voxel.surfaceAndLastHit = packVoxelSurfaceAndCounters(surface, 0u, extraViews);
+      // Seeing its surface resets the seen-through counter; seeing it hidden does not.
+      voxel.surfaceAndLastHit =
+          packVoxelSurfaceAndCounters(surface, inLightsShadow ? voxelSeenThroughCount(voxel) : 0u, extraViews);
       occupied = true;
     }
     seenThrough = !holdsSurface && !refreshesColour && (nearestDepth <= 0.0 || (inFront && !cutBySurfacePlane));
