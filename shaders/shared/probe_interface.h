@@ -264,13 +264,45 @@ SSVGI_INLINE Probe makeProbe(Sh2Rgb radiance, vec4 skyVisibility, uint distanceS
   return Probe(packSh2Half(radiance.r), packSh2Half(radiance.g), packSh2Half(radiance.b), distanceSh, normalDotSh, state,
                tag, packSh2Half(skyVisibility));
 }
+// Where, on average, a surface of `normal` sees a round cap of sky about `axis` of half-angle cosine `capCosine`: the
+// cap's directions weighted by max(0, normal·ω), ∫ω·max(0, n·ω)dω / ∫max(0, n·ω)dω. Its light, linear in the direction
+// as the host's SH2 sky is, L(ω) = k0 + k1·ω, reaches the surface as k0 + k1·(this point) per unit of the cap's
+// irradiance. Where the cap lies wholly above the surface's horizon it is exact: (p·n + q·axis (axis·n)) / (π sin²α
+// axis·n), with ∫ωωᵀdω = p·I + q·axis axisᵀ over the cap, p + q = ∫(axis·ω)²dω = 2π(1 − cos³α)/3 and 2p + (p + q) =
+// ∫dω. Past that, as the cap sinks below the horizon, the point moves on from where it was exact to the cap's edge
+// point that sinks last; a cap wider than a hemisphere moves from the hemisphere's 2/3·axis towards the whole
+// sphere's 2/3·n.
+SSVGI_INLINE vec3 skyCapCentroid(vec3 axis, float capCosine, vec3 normal) {
+  if (capCosine < 0.0f) {
+    vec3 towards = mix(axis, normal, -capCosine);
+    return (2.0f / 3.0f) * towards / max(length(towards), 1e-6f);
+  }
+  float cosine = dot(normal, axis);
+  vec3 across = normal - axis * cosine;
+  float acrossLength = length(across);
+  vec3 tangent = acrossLength > 1e-6f ? across / acrossLength : vec3(0.0f);
+  float capSine = sqrt(max(1.0f - capCosine * capCosine, 0.0f));
+  float clampedCosine = max(cosine, capSine);
+  float clampedSine = sqrt(max(1.0f - clampedCosine * clampedCosine, 0.0f));
+  float alongAxis = 2.0f * kPi * (1.0f - capCosine * capCosine * capCosine) / 3.0f;
+  float perpendicular = 0.5f * (2.0f * kPi * (1.0f - capCosine) - alongAxis);
+  float capIrradiance = kPi * capSine * capSine * clampedCosine;  // ∫ n'·ω over the cap, n' the normal used
+  if (!(capIrradiance > 0.0f)) return axis;
+  vec3 wholeCapSeen = (axis * (alongAxis * clampedCosine) + tangent * (perpendicular * clampedSine)) / capIrradiance;
+  vec3 lastPointSeen = axis * capCosine + tangent * capSine;  // where the cap sinks below the horizon last
+  return mix(wholeCapSeen, lastPointSeen, clamp(0.5f * (capSine - cosine) / capSine, 0.0f, 1.0f));
+}
+
 // The irradiance a probe gives a surface of `normal` (SPEC §6.4's sky, read apart). Its sky is read from where its
 // rays found it: the solid angle Ω (band 0 of the visibility) around their mean direction (band 1), as a uniform
 // round cap — the SH2 of a cap of sky through an opening, read as broad light, gives a surface facing it about 3/4
 // of its light. The mean direction's length tells how spread that sky is (a cap of half-angle α has (1 + cos α)/2,
 // the most any region of its solid angle can have): a band along the horizon or two openings apart are read as the
-// cap of that spread, dimmed to the solid angle found. The sky's radiance is the host's in the mean direction, and
-// the rest of the probe's light (its surfaces) is read from the SH2 left when that sky is taken out.
+// cap of that spread, dimmed to the solid angle found. The sky's radiance is the host's, linear in the direction as
+// its SH2 is: the cap's light reaches a surface as the sky's radiance where the surface sees the cap on average
+// (skyCapCentroid) — a clear sky brighter towards the sun lights the surfaces facing that way more. The rest of the
+// probe's light (its surfaces) is read from the SH2 left when that sky is taken out: the visibility times the sky's
+// constant part, and the cap's moments times its linear part.
 SSVGI_INLINE vec3 readProbeIrradiance(Probe probe, vec3 normal, Sh2Rgb skyRadianceSh) {
   Sh2Rgb total = probeRadianceSh(probe);
   vec4 visibility = probeSkyVisibilitySh(probe);
@@ -279,21 +311,37 @@ SSVGI_INLINE vec3 readProbeIrradiance(Probe probe, vec3 normal, Sh2Rgb skyRadian
   vec3 meanDirectionSum = vec3(visibility.w, visibility.y, visibility.z);  // Ω · mean direction · Y1's factor
   float meanLength = length(meanDirectionSum);
   vec3 axis = meanLength > 1e-6f ? meanDirectionSum / meanLength : vec3(0.0f, 1.0f, 0.0f);
-  vec3 skyRadiance = max(sh2Evaluate(skyRadianceSh, sh2Basis(axis)), vec3(0.0f));
-  // The sky's part of the probe's light, no more than all of it (the two SH2 are blended and dilated alike, but
-  // rounded apart, and the host's sky may have changed since the probe saw it).
-  vec3 skyBand0 = skyRadiance * visibility.x;
-  vec3 totalBand0 = vec3(total.r.x, total.g.x, total.b.x);
-  for (int channel = 0; channel < 3; ++channel)
-    if (skyBand0[channel] > totalBand0[channel])
-      skyRadiance[channel] *= max(totalBand0[channel], 0.0f) / skyBand0[channel];
-  Sh2Rgb surfaces = Sh2Rgb(total.r - visibility * skyRadiance.x, total.g - visibility * skyRadiance.y,
-                           total.b - visibility * skyRadiance.z);
   float meanCosine = meanLength / (kSh2Band1Basis * solidAngle);
   float spreadCosine = clamp(min(2.0f * meanCosine - 1.0f, 1.0f - solidAngle / (2.0f * kPi)), -1.0f, 1.0f);
   float spreadSolidAngle = max(2.0f * kPi * (1.0f - spreadCosine), solidAngle);
+  float dimming = solidAngle / spreadSolidAngle;
+  // The cap's moments (skyCapCentroid), dimmed: ∫ (axis·ω) dω and the parts of ∫ ωωᵀ dω.
+  float firstMoment = dimming * kPi * (1.0f - spreadCosine * spreadCosine);
+  float alongAxis = 2.0f * kPi * (1.0f - spreadCosine * spreadCosine * spreadCosine) / 3.0f;
+  float perpendicular = dimming * 0.5f * (spreadSolidAngle - alongAxis);
+  float axial = dimming * alongAxis - perpendicular;
+  vec3 seenAt = skyCapCentroid(axis, spreadCosine, normal);
+  vec4 skyChannels[3] = {skyRadianceSh.r, skyRadianceSh.g, skyRadianceSh.b};
+  vec4 totalChannels[3] = {total.r, total.g, total.b};
+  vec3 skyIrradiance = vec3(0.0f);
+  for (int channel = 0; channel < 3; ++channel) {
+    vec4 sky = skyChannels[channel];
+    float constant = kSh2Band0Basis * sky.x;
+    vec3 slope = kSh2Band1Basis * vec3(sky.w, sky.y, sky.z);
+    // SH2 rings below zero opposite a bright sky; negative radiance is not light.
+    if (!(constant + dot(slope, axis) > 0.0f)) continue;
+    float slopeAlongAxis = dot(slope, axis);
+    vec3 band1 = kSh2Band1Basis * (slope * perpendicular + axis * (axial * slopeAlongAxis));
+    vec4 skyPart = visibility * constant + vec4(kSh2Band0Basis * firstMoment * slopeAlongAxis, band1.y, band1.z, band1.x);
+    // No more than all of the probe's light (the two SH2 are blended and dilated alike, but rounded apart, and the
+    // host's sky may have changed since the probe saw it).
+    float share = skyPart.x > totalChannels[channel].x ? max(totalChannels[channel].x, 0.0f) / skyPart.x : 1.0f;
+    totalChannels[channel] -= skyPart * share;
+    skyIrradiance[channel] = max(constant + dot(slope, seenAt), 0.0f) * share;
+  }
+  Sh2Rgb surfaces = Sh2Rgb(totalChannels[0], totalChannels[1], totalChannels[2]);
   return sh2IrradianceWithoutRinging(surfaces, normal) +
-         skyRadiance * (solidAngle / spreadSolidAngle) * uniformConeIrradiance(spreadSolidAngle, dot(normal, axis));
+         skyIrradiance * dimming * uniformConeIrradiance(spreadSolidAngle, dot(normal, axis));
 }
 
 // ---------------------------------------------------------------------------------------------------------------------
