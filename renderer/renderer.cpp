@@ -64,6 +64,7 @@ Renderer::Renderer(gpu::OwnedDevice& device, const Scene& scene, const RendererS
       directLighting_(device),
       composite_(device),
       tonemap_(device),
+      skyMap_(device),
       gbuffers_{GBuffer(device, settings.width, settings.height), GBuffer(device, settings.width, settings.height)},
       frameConstants_(device, "frame constants", sizeof(shader::FrameConstants), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                       gpu::MemoryUsage::HostUpload),
@@ -149,8 +150,10 @@ void Renderer::recordGi(gpu::CommandList& commands, const shader::FrameConstants
   desc.litDepth.view = litGBuffer.depth.view();
   desc.litNormal.view = litGBuffer.normal.view();
   if (settings_.litFrameDirectOnly) desc.litAlbedo.view = litGBuffer.albedo.view();
-  const shader::Sh2Rgb sky = projectSkyToSh2(frame.sky);  // what probe rays that leave the voxel volume see
+  // What probe rays that leave the voxel volume see (the map), and the sky the gather reads their openings with.
+  const shader::Sh2Rgb sky = projectSkyToSh2(frame.sky);
   std::memcpy(desc.skyRadianceSh.data(), &sky, sizeof(sky));
+  desc.skyRadianceMap.view = skyMap_.image().view();
   desc.extraViews = lastExtraViews_;
   desc.countWork = settings_.countGiWork;
   if (const ssvgi::Error error = gi_->dispatch(desc, commands.handle())) throw gpu::GpuError("ssvgi: " + error.message);
@@ -186,6 +189,7 @@ void Renderer::render(const AnimatedState& state) {
                            directIrradiance_, viewDistance_);
     if (gi_) {
       lastExtraViews_ = extraViews_->record(commands, frame, gpuScene_, lights_, shadows_, pointSampler_.handle());
+      skyMap_.record(commands, frameConstants_);
       recordGi(commands, frame);
     }
     // Without the GI's light the composite binds the black image for both, and reads neither.
@@ -281,6 +285,7 @@ FloatImage readFloatImage(gpu::OwnedDevice& device, const gpu::Image& image, uin
 FloatImage Renderer::finalRadiance() { return readFloatImage(device_, finalRadiance_[(frameIndex_ + 1) & 1u], 3); }
 FloatImage Renderer::directIrradiance() { return readFloatImage(device_, directIrradiance_, 3); }
 FloatImage Renderer::indirectIrradiance() { return readFloatImage(device_, indirectUsed_, 3); }
+FloatImage Renderer::skyMap() { return readFloatImage(device_, skyMap_.image(), 3); }
 FloatImage Renderer::confidence() {
   const FloatImage used = readFloatImage(device_, indirectUsed_, 4);
   FloatImage result{used.width, used.height, 1, std::vector<float>(size_t(used.width) * used.height)};

@@ -5,6 +5,7 @@
 #include "image_io.h"
 #include "extra_views.h"
 #include "screen_passes.h"
+#include "sky_map.h"
 #include "shadow_pass.h"
 
 #include "ssvgi/ssvgi.h"
@@ -102,6 +103,7 @@ class Renderer {
   FloatImage finalRadiance();       // linear HDR, rgb
   FloatImage directIrradiance();    // E_direct, rgb
   FloatImage indirectIrradiance();  // E_indirect each pixel was shaded with, rgb
+  FloatImage skyMap();              // the sky's radiance map given to the GI (SkyMap), rgb
   // The GI's confidence in that E_indirect (ssvgi::Context::confidence(), sampled as the composite samples E), one
   // channel, 0–1; 0 where nothing was drawn and everywhere when the GI's light is not composited.
   FloatImage confidence();
@@ -131,6 +133,7 @@ class Renderer {
   DirectLighting directLighting_;
   Composite composite_;
   Tonemap tonemap_;
+  SkyMap skyMap_;
   std::array<GBuffer, 2> gbuffers_;
   gpu::Buffer frameConstants_;
   gpu::Buffer lights_;

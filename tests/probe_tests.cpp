@@ -10,10 +10,12 @@
 #include "gpu_test_device.h"
 #include "renderer.h"
 #include "shared/probe_interface.h"
+#include "shared/sky_map.h"
 #include "ssvgi/ssvgi.h"
 #include "voxel_readback.h"
 
 #include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/packing.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
@@ -266,6 +268,7 @@ class ProbeCache : public testing::GpuTest {
       frame.depth.view = depth_.view();
       frame.normal.view = depth_.view();  // nothing is drawn, so the gather never reads a normal
       frame.skyRadianceSh = uniformSkySh(kSkyRadiance);
+      if (skyMap_) frame.skyRadianceMap.view = skyMap_->view();
       frame.extraViews = extraViews_;
       frame.countWork = countWork_;
       Error error;
@@ -340,6 +343,7 @@ class ProbeCache : public testing::GpuTest {
   gpu::Image depth_;
   View view_;
   std::vector<ExtraView> extraViews_;  // given with every frame
+  const gpu::Image* skyMap_ = nullptr;  // the host's sky map given with every frame, if any
   bool countWork_ = false;             // the frames count their work (FrameDesc::countWork)
   uint32_t frameIndex_ = 0;
 };
@@ -528,6 +532,41 @@ TEST_F(ProbeCache, aProbeBesideALargeWallSeesHalfTheSky) {
     EXPECT_NEAR(shader::readProbeIrradiance(probe, {1, 0, 0}, sky).g, kPi * kSkyRadiance, 0.05f * kPi * kSkyRadiance);
     EXPECT_NEAR(shader::readProbeIrradiance(probe, {-1, 0, 0}, sky).g, 0.0f, 0.05f * kPi * kSkyRadiance);
   }
+}
+
+TEST_F(ProbeCache, raysThatLeaveTheVoxelsSeeTheHostsSkyMapWhereItGivesOne) {
+  // The wall of the test above, under a sky map (FrameDesc::skyRadianceMap, 64×32 rgba16f) twice as bright as the SH2
+  // sky towards +X and black towards −X: the probe's rays see the map, so E(+X) = 2π·L (π·L from the SH2 sky), and
+  // E(−X) = 0. Were the map read the wrong way round, the wall would hide its bright half. Where the rays found the sky
+  // stays half the sphere about +X.
+  create(probeTestSettings());
+  constexpr uint32_t kWidth = 64, kHeight = 32;
+  gpu::Image map(device(), {"test sky map", VK_FORMAT_R16G16B16A16_SFLOAT, kWidth, kHeight, 1, 1,
+                            VK_IMAGE_USAGE_SAMPLED_BIT});
+  std::vector<uint16_t> texels;
+  for (uint32_t y = 0; y < kHeight; ++y)
+    for (uint32_t x = 0; x < kWidth; ++x) {
+      const glm::vec3 direction =
+          shader::skyMapDirection((glm::vec2(x, y) + 0.5f) / glm::vec2(float(kWidth), float(kHeight)));
+      const float radiance = direction.x > 0.0f ? 2.0f * kSkyRadiance : 0.0f;
+      for (float channel : {radiance, radiance, radiance, 1.0f}) texels.push_back(glm::packHalf1x16(channel));
+    }
+  gpu::uploadImage(device(), map, std::as_bytes(std::span(texels)));
+  skyMap_ = &map;
+  writeScene(blackWallBesideTheProbe());
+  runUpdates(32);
+  const std::vector<shader::Probe> probes = readProbes();
+  for (uint32_t level = 0; level < shader::kProbeLevels; ++level) {
+    SCOPED_TRACE("level " + std::to_string(level));
+    const shader::Probe probe = probeAt(probes, level, glm::vec3(kProbe));
+    ASSERT_TRUE(isActive(probe));
+    const shader::Sh2Rgb radiance = radianceSh(probe);
+    EXPECT_NEAR(shader::sh2Irradiance(radiance.g, {1, 0, 0}), 2.0f * kPi * kSkyRadiance, 0.1f * kPi * kSkyRadiance);
+    EXPECT_NEAR(shader::sh2Irradiance(radiance.g, {-1, 0, 0}), 0.0f, 0.05f * kPi * kSkyRadiance);
+    const glm::vec4 visibility = shader::probeSkyVisibilitySh(probe);
+    EXPECT_NEAR(visibility.x / shader::kSh2Band0Basis, 2.0f * kPi, 0.03f * 4.0f * kPi);
+  }
+  skyMap_ = nullptr;
 }
 
 // Unknown is not sky (SPEC §6.4): the wall of the test above, but the camera sees only a surface half a metre in

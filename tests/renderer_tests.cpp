@@ -4,6 +4,8 @@
 #include "gpu_test_device.h"
 #include "renderer.h"
 #include "scene_geometry.h"
+#include "shared/sky_map.h"
+#include "sky.h"
 
 #include <glm/gtc/constants.hpp>
 
@@ -282,6 +284,35 @@ TEST_F(RendererAnalytic, sunOnAPlaneGivesIlluminanceTimesTheSineOfItsElevationAn
   });
   EXPECT_GT(shadowed, 100u);
   EXPECT_GT(lit, 1000u);
+}
+
+TEST_F(RendererAnalytic, theSkyMapGivenToTheGiHoldsTheSkyAtEachTexelsDirection) {
+  // The courtyard's clear sky and sun (renderer::SkyMap, ssvgi::FrameDesc::skyRadianceMap): every texel holds the
+  // analytic sky of shared/sky.h at the direction shared/sky_map.h gives its middle — the layout ssvgi's probes read —
+  // to half-float precision (1/1024 relative, and a little for the GPU's exp and acos).
+  Scene scene = planeScene();
+  scene.sky.kind = renderer::SkyKind::Default;
+  scene.sun = {.enabled = true, .direction = renderer::sunDirection(30.0f, 55.0f), .illuminance = glm::vec3(6.0f)};
+  renderer::RendererSettings settings;
+  settings.width = kWidth;
+  settings.height = kHeight;
+  settings.gi = Settings{};  // the map is made for the GI
+  settings.gi->volumeBricks = {16, 8, 16};
+  settings.gi->brickPoolCapacity = 512;
+  renderer::Renderer renderer(device(), scene, settings);
+  renderer.render(renderer::evaluateAnimation(scene, scene.cameras[0], 0.0f));
+  const auto map = renderer.skyMap();
+  const shader::SkyParameters sky = renderer::makeSkyParameters(scene.sky, scene.sun);
+  ASSERT_EQ(map.width, renderer::SkyMap::kWidth);
+  ASSERT_EQ(map.height, renderer::SkyMap::kHeight);
+  for (uint32_t y = 0; y < map.height; ++y)
+    for (uint32_t x = 0; x < map.width; ++x) {
+      const glm::vec3 direction =
+          shader::skyMapDirection((glm::vec2(x, y) + 0.5f) / glm::vec2(float(map.width), float(map.height)));
+      const glm::vec3 expected = shader::evaluateSky(sky, direction);
+      for (uint32_t c = 0; c < 3; ++c)
+        ASSERT_NEAR(channel(map, x, y, c), expected[c], 2e-3f * expected[c] + 1e-6f) << "texel " << x << "," << y;
+    }
 }
 
 TEST_F(RendererAnalytic, reversedZDepthIsNearOverDistanceAndZeroWhereNothingIsDrawn) {

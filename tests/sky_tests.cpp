@@ -5,6 +5,7 @@
 
 #include "shared/probe_interface.h"
 #include "shared/sampling.h"
+#include "shared/sky_map.h"
 
 #include <gtest/gtest.h>
 
@@ -472,6 +473,21 @@ TEST(SkyConeReadingTest, aProbeThatSeesNoSkyIsReadAsBeforeAndOneThatSeesOnlySkyG
     EXPECT_EQ(shader::readProbeIrradiance(inside, normal, closed.hostSky()),
               shader::sh2IrradianceWithoutRinging(shader::probeRadianceSh(inside), normal));
     EXPECT_NEAR(shader::readProbeIrradiance(outside, normal, open.hostSky()).x, kPi, 0.01 * kPi);
+  }
+}
+
+TEST(SkyMapTest, theMapsCoordinatesFollowFrameDescsLayoutAndComeBackToTheirDirection) {
+  // ssvgi::FrameDesc::skyRadianceMap: u the azimuth from +Z towards +X, 1/2 along +Z; v 0 at the zenith, 1 at the
+  // nadir.
+  EXPECT_NEAR(shader::skyMapCoordinates({0, 0, 1}).x, 0.5f, 1e-6f);
+  EXPECT_NEAR(shader::skyMapCoordinates({1, 0, 0}).x, 0.75f, 1e-6f);
+  EXPECT_NEAR(shader::skyMapCoordinates({-1, 0, 0}).x, 0.25f, 1e-6f);
+  EXPECT_NEAR(shader::skyMapCoordinates({0, 0, 1}).y, 0.5f, 1e-6f);
+  EXPECT_NEAR(shader::skyMapCoordinates({0, 1, 0}).y, 0.0f, 1e-6f);
+  EXPECT_NEAR(shader::skyMapCoordinates({0, -1, 0}).y, 1.0f, 1e-6f);
+  for (const glm::vec3& direction : sphereOfNormals()) {
+    const glm::vec3 back = shader::skyMapDirection(shader::skyMapCoordinates(direction));
+    EXPECT_NEAR(glm::distance(back, direction), 0.0f, 1e-5f) << direction.x << "," << direction.y << "," << direction.z;
   }
 }
 

@@ -242,6 +242,13 @@ struct FrameDesc {
   // Y00, Y1,-1, Y1,0, Y1,1. Probe rays that leave the voxel volume see it (clamped at 0), and the gather reads the
   // sky a probe sees with it, apart from the light of its surfaces. All zero: a black sky.
   std::array<float, 12> skyRadianceSh{};
+  // Optional. The sky's radiance in finer detail, linear HDR, W/(sr·m²): an equirectangular image (a float format the
+  // device filters linearly, R16G16B16A16_SFLOAT say; a few degrees a texel is enough), u the azimuth from +Z towards
+  // +X (1/2 along +Z), v from the zenith (0) to the nadir (1); shaders/shared/sky_map.h maps directions to it. Probe
+  // rays that leave the voxel volume see it instead of skyRadianceSh, which SH2 smooths: a clear sky's glow around the
+  // sun, spread over half the sky, lit the surfaces it hides from too. The gather still reads the sky that probes see
+  // through their openings with skyRadianceSh, which should be this map's projection.
+  SampledImage skyRadianceMap;
   std::vector<ExtraView> extraViews;  // at most kMaxExtraViews; their images as the lit frame's (SampledImage)
   // The passes count their work this frame (Stats::work): what each did, which the device's speed does not change,
   // beside the GPU times, which it does. It costs an atomic add per thread of each counted pass and counter: leave it

@@ -81,9 +81,10 @@ struct ProbeUpdate {
   float sampleClamp;             // Settings::probeSampleClamp (0: off)
   float changeThreshold;         // Settings::probeChangeThreshold (0: off)
   uint startsSharedRecovery;     // 1: every probe with a history starts a recovery (ProbeChangeTally)
-  uint padding1;
-  uint padding2;
-  Sh2Rgb skyRadiance;            // the host's sky (FrameDesc::skyRadianceSh): what a ray that leaves the voxel volume sees
+  uint hasSkyMap;                // 1: rays that leave the voxel volume see FrameDesc::skyRadianceMap, not skyRadiance
+  uint padding;
+  Sh2Rgb skyRadiance;            // the host's sky (FrameDesc::skyRadianceSh): what a ray that leaves the voxel volume
+                                 // sees without the map
 };
 SSVGI_CHECK_SIZE(ProbeUpdate, 6 * 16 + 48);
 
@@ -358,6 +359,7 @@ SSVGI_CONSTANT(float, kProbeStratumSolidAngle, 4.0f * kPi / 8.0f);
 SSVGI_CONSTANT(uint, kBindProbeReservoirs, kBindFirstPassSlot + 4u);  // uint[probes of level 0 · kProbeStrata]
 SSVGI_CONSTANT(uint, kBindProbeChanges, kBindFirstPassSlot + 5u);     // uint[kProbeLevels · probes per level]
 SSVGI_CONSTANT(uint, kBindProbeChangeTally, kBindFirstPassSlot + 6u);  // ProbeChangeTally of this frame
+SSVGI_CONSTANT(uint, kBindProbeSkyMap, kBindFirstPassSlot + 7u);  // FrameDesc::skyRadianceMap (sampled; ProbeTrace)
 
 SSVGI_INLINE uvec2 probeStratumCell(uint stratum) { return uvec2(stratum % kProbeStrataZ, stratum / kProbeStrataZ); }
 

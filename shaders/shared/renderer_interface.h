@@ -119,6 +119,9 @@ SSVGI_CONSTANT(uint, kBindCompositeDirectRadiance, 10u); // out: emission + albe
 SSVGI_CONSTANT(uint, kBindTonemapFrame, 0u);
 SSVGI_CONSTANT(uint, kBindTonemapInput, 1u);
 SSVGI_CONSTANT(uint, kBindTonemapOutput, 2u);        // out: rgba8, sRGB-encoded
+// SkyMap (sky_map.comp):
+SSVGI_CONSTANT(uint, kBindSkyMapFrame, 0u);
+SSVGI_CONSTANT(uint, kBindSkyMapOutput, 1u);         // out: the sky's radiance, rgba16f, equirectangular (sky_map.h)
 
 // Radiant intensity reaching a point from a local light, per unit of cos(incidence): I · spot · window / d², as glTF's
 // KHR_lights_punctual recommends (smooth range window, quadratic spot falloff).

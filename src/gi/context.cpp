@@ -184,6 +184,7 @@ class ContextImplementation final : public Context {
         probes_(device_, desc.settings, desc.framesInFlight),
         gather_(device_, desc.maxWidth, desc.maxHeight, desc.framesInFlight),
         pointSampler_(device_, pointSamplerInfo(), "ssvgi point sampler"),
+        skyMapSampler_(device_, skyMapSamplerInfo(), "ssvgi sky map sampler"),
         hiz_(device_, "ssvgi hi-z pyramid", bufferBytes_.hiz, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT),
         visibleBricks_(device_, "ssvgi visible bricks", bufferBytes_.visibleBricks,
                        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT),
@@ -334,6 +335,15 @@ class ContextImplementation final : public Context {
     return info;
   }
 
+  // The sky map's: bilinear, round the azimuth, clamped at the poles.
+  static VkSamplerCreateInfo skyMapSamplerInfo() {
+    VkSamplerCreateInfo info{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+    info.magFilter = info.minFilter = VK_FILTER_LINEAR;
+    info.addressModeU = VK_SAMPLER_ADDRESS_MODE_REPEAT;
+    info.addressModeV = info.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+    return info;
+  }
+
   // A gather image as OutputImage describes it to the host: left in SHADER_READ_ONLY_OPTIMAL by record().
   OutputImage outputImage(const gpu::Image& image) const {
     if (!dispatched_) return {};
@@ -444,7 +454,8 @@ class ContextImplementation final : public Context {
     const shader::VoxelVolume volume =
         scene_.place(glm::vec3(frame.cameraPosition), desc.frameIndex, desc.countWork, scrolled);
     const gi::OfferedProbeBlocks probeBlocks = probes_.prepare(desc.frameIndex, glm::vec3(frame.cameraPosition),
-                                                       frame.frustumPlanes, desc.skyRadianceSh, volume);
+                                                       frame.frustumPlanes, desc.skyRadianceSh,
+                                                       desc.skyRadianceMap.view != VK_NULL_HANDLE, volume);
     slot.probeLevel = uint32_t(probes_.current().level);
     slot.countsWork = desc.countWork;
     slot.hizTexels = 0;
@@ -532,7 +543,10 @@ class ContextImplementation final : public Context {
     voxelRelight_.record(commands, scene_, {gather_.constants(), probes_.probes()},      //    VoxelRelight
                          desc.frameIndex, desc_.settings.voxelRelightPeriod);
     probePlacement_.record(commands, scene_, probes_, slot.frameConstants, probeBlocks);  // 7. ProbePlacement
-    probeTrace_.record(commands, scene_, probes_);                      // 8. UpdateReservoirs + ProbeTrace
+    // 8. UpdateReservoirs + ProbeTrace; without a sky map any readable image is bound (not read).
+    const bool hasSkyMap = desc.skyRadianceMap.view != VK_NULL_HANDLE;
+    probeTrace_.record(commands, scene_, probes_, hasSkyMap ? desc.skyRadianceMap.view : desc.depth.view,
+                       hasSkyMap ? skyMapSampler_.handle() : pointSampler_.handle());
     probeRelocate_.record(commands, scene_, probes_);                                   // 9. ProbeRelocate
     probeDilate_.record(commands, probes_);                                             //    ProbeDilate
     const gi::GatherInputs gatherInputs{slot.frameConstants, pointSampler_.handle(), desc.depth.view, desc.normal.view};
@@ -565,6 +579,7 @@ class ContextImplementation final : public Context {
   gi::ProbeVolume probes_;
   gi::GatherTargets gather_;
   gpu::Sampler pointSampler_;
+  gpu::Sampler skyMapSampler_;
   gpu::Buffer hiz_;
   gpu::Buffer visibleBricks_;
   std::vector<std::unique_ptr<PerFrame>> perFrame_;

@@ -47,6 +47,7 @@
 #include "gi/voxels/voxel_trace.glsl"
 #include "gi/work_counting.glsl"
 #include "shared/probe_interface.h"
+#include "shared/sky_map.h"
 
 layout(local_size_x = kProbeTraceGroupSize) in;
 
@@ -61,6 +62,8 @@ layout(binding = kBindProbeList) readonly buffer ProbeList {
 layout(binding = kBindProbeReservoirs) buffer Reservoirs { uint reservoirs[]; };
 layout(binding = kBindProbeChanges) buffer Changes { uint changes[]; };
 layout(binding = kBindProbeChangeTally) buffer ChangeTally { ProbeChangeTally tally; };
+// The host's sky map where it gives one (update.hasSkyMap; bound but not read without).
+layout(binding = kBindProbeSkyMap) uniform sampler2D skyMap;
 
 // Per thread: its sample times the basis, for the SH2 of a probe: radiance, distance, normal-dot.
 shared Sh2Rgb radianceSums[kProbeTraceGroupSize];
@@ -98,6 +101,8 @@ shared uint rayCount;
 shared uint rayReads;
 
 vec3 skyRadiance(vec3 direction) {
+  if (update.hasSkyMap != 0u)
+    return finiteHalf(max(textureLod(skyMap, skyMapCoordinates(direction), 0.0).rgb, vec3(0.0)));
   // SH2 rings below zero opposite a bright sky; negative radiance is not light.
   return max(sh2Evaluate(update.skyRadiance, sh2Basis(direction)), vec3(0.0));
 }

@@ -25,7 +25,10 @@ class ProbePlacement {
 class ProbeTrace {
  public:
   explicit ProbeTrace(gpu::Device& device);
-  void record(gpu::CommandList& commands, const VoxelScene& scene, const ProbeVolume& probes);
+  // `skyMap`: the host's sky map (FrameDesc::skyRadianceMap) and its sampler; without one any shader-readable image,
+  // bound but not read (ProbeUpdate::hasSkyMap).
+  void record(gpu::CommandList& commands, const VoxelScene& scene, const ProbeVolume& probes, VkImageView skyMap,
+              VkSampler skyMapSampler);
 
  private:
   gpu::ComputePipeline pipeline_;

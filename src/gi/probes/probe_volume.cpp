@@ -74,7 +74,8 @@ glm::ivec3 ProbeVolume::levelOrigin(uint32_t level, glm::vec3 cameraPosition) co
 }
 
 OfferedProbeBlocks ProbeVolume::prepare(uint32_t frameIndex, glm::vec3 cameraPosition, const glm::vec4 frustumPlanes[6],
-                              const std::array<float, 12>& skyRadianceSh, const shader::VoxelVolume& voxels) {
+                              const std::array<float, 12>& skyRadianceSh, bool hasSkyMap,
+                              const shader::VoxelVolume& voxels) {
   const uint32_t level = frameIndex % shader::kProbeLevels;
   const float spacing = levelSpacing(level);
   const glm::ivec3 dimensions(gridOf(settings_));
@@ -113,6 +114,7 @@ OfferedProbeBlocks ProbeVolume::prepare(uint32_t frameIndex, glm::vec3 cameraPos
   current_.startsSharedRecovery = sharedRecoveryFramesLeft_ > 0 ? 1u : 0u;
   if (sharedRecoveryFramesLeft_ > 0) --sharedRecoveryFramesLeft_;
   std::memcpy(&current_.skyRadiance, skyRadianceSh.data(), sizeof(current_.skyRadiance));
+  current_.hasSkyMap = hasSkyMap ? 1u : 0u;
 
   // SPEC §4.5: "the CPU culls the level's volume against the frustum coarsely" — per block, the union of its probes'
   // ranges (one spacing around each).

@@ -28,10 +28,11 @@ class ProbeVolume {
   // Prepares this frame's update and uploads its ProbeUpdate and block list: level frameIndex % kProbeLevels, centred
   // on the camera, its blocks of kProbeBlockSize³ probes whose ranges reach into the frustum (planes pointing inwards,
   // as GiFrame's), then the next Settings::probeBlocksBeyondView of the others in turn, the sky, and rays traced as far
-  // as the voxel volume reaches. Reads back the change tally of the frame that last used this frame's slot (the host
-  // has waited for it) and starts a recovery in every probe where many probes saw a change at once.
+  // as the voxel volume reaches (`hasSkyMap`: rays that leave it see the host's sky map). Reads back the change tally
+  // of the frame that last used this frame's slot (the host has waited for it) and starts a recovery in every probe
+  // where many probes saw a change at once.
   OfferedProbeBlocks prepare(uint32_t frameIndex, glm::vec3 cameraPosition, const glm::vec4 frustumPlanes[6],
-                   const std::array<float, 12>& skyRadianceSh, const shader::VoxelVolume& voxels);
+                   const std::array<float, 12>& skyRadianceSh, bool hasSkyMap, const shader::VoxelVolume& voxels);
 
   const gpu::Buffer& probes() const { return probes_; }  // Probe[kProbeLevels · probes per level], level-major
   const gpu::Buffer& list() const { return list_; }      // IndirectList of probe indices, then the indices
