@@ -347,6 +347,24 @@ TEST(SkyConeReadingTest, aUniformConesIrradianceIsTheIntegralOverItAtEveryWidthA
   }
 }
 
+// The probe ProbeTrace leaves after many updates where it sees `radiance` all round and the sky through the region
+// `sky`: its radiance SH2 and its sky's visibility SH2, projected over a Fibonacci sphere of 2^18 directions.
+shader::Probe probeSeeing(const RadianceField& radiance, const std::function<bool(glm::vec3)>& sky) {
+  constexpr uint32_t kDirections = 1u << 18;
+  glm::dvec4 radianceSum{0.0}, visibility{0.0};
+  for (uint32_t i = 0; i < kDirections; ++i) {
+    const double y = 1.0 - 2.0 * (i + 0.5) / kDirections, ring = std::sqrt(1.0 - y * y);
+    const double phi = double(i) * kPi * (3.0 - std::sqrt(5.0));
+    const glm::vec3 direction(ring * std::cos(phi), y, ring * std::sin(phi));
+    const glm::dvec4 basis(shader::sh2Basis(direction));
+    radianceSum += double(radiance(direction).x) * basis;
+    visibility += (sky(direction) ? 1.0 : 0.0) * basis;
+  }
+  const glm::vec4 radianceSh(radianceSum * (4.0 * kPi / kDirections));
+  return shader::makeProbe({radianceSh, radianceSh, radianceSh}, glm::vec4(visibility * (4.0 * kPi / kDirections)), 0u,
+                           0u, shader::packProbeState(1, 0, shader::kProbeStateActive), 0u);
+}
+
 // A probe under a uniform sky of radiance L that sees it through the region `sky` and surfaces of radiance
 // `surfaces(ω)` elsewhere, as ProbeTrace leaves it after many updates: its radiance SH2 and its sky's visibility SH2,
 // projected over a fine direction set, with the host's sky L everywhere.
@@ -358,21 +376,7 @@ struct ProbeUnderASky {
   glm::vec3 operator()(glm::vec3 direction) const {
     return glm::vec3(sky(direction) ? skyRadiance : surfaces(direction));
   }
-  shader::Probe probe() const {
-    constexpr uint32_t kDirections = 1u << 18;
-    glm::dvec4 radiance{0.0}, visibility{0.0};
-    for (uint32_t i = 0; i < kDirections; ++i) {  // a Fibonacci sphere
-      const double y = 1.0 - 2.0 * (i + 0.5) / kDirections, ring = std::sqrt(1.0 - y * y);
-      const double phi = double(i) * kPi * (3.0 - std::sqrt(5.0));
-      const glm::vec3 direction(ring * std::cos(phi), y, ring * std::sin(phi));
-      const glm::dvec4 basis(shader::sh2Basis(direction));
-      radiance += double((*this)(direction).x) * basis;
-      visibility += (sky(direction) ? 1.0 : 0.0) * basis;
-    }
-    const glm::vec4 radianceSh(radiance * (4.0 * kPi / kDirections));
-    return shader::makeProbe({radianceSh, radianceSh, radianceSh}, glm::vec4(visibility * (4.0 * kPi / kDirections)),
-                             0u, 0u, shader::packProbeState(1, 0, shader::kProbeStateActive), 0u);
-  }
+  shader::Probe probe() const { return probeSeeing(*this, sky); }
   shader::Sh2Rgb hostSky() const {
     const glm::vec4 uniform(skyRadiance / shader::kSh2Band0Basis, 0.0f, 0.0f, 0.0f);
     return {uniform, uniform, uniform};
@@ -388,21 +392,7 @@ struct ProbeUnderALinearSky {
   glm::vec3 operator()(glm::vec3 direction) const {
     return sky(direction) ? skyRadiance(direction) : glm::vec3(surfaces(direction));
   }
-  shader::Probe probe() const {
-    constexpr uint32_t kDirections = 1u << 18;
-    glm::dvec4 radiance{0.0}, visibility{0.0};
-    for (uint32_t i = 0; i < kDirections; ++i) {  // a Fibonacci sphere
-      const double y = 1.0 - 2.0 * (i + 0.5) / kDirections, ring = std::sqrt(1.0 - y * y);
-      const double phi = double(i) * kPi * (3.0 - std::sqrt(5.0));
-      const glm::vec3 direction(ring * std::cos(phi), y, ring * std::sin(phi));
-      const glm::dvec4 basis(shader::sh2Basis(direction));
-      radiance += double((*this)(direction).x) * basis;
-      visibility += (sky(direction) ? 1.0 : 0.0) * basis;
-    }
-    const glm::vec4 radianceSh(radiance * (4.0 * kPi / kDirections));
-    return shader::makeProbe({radianceSh, radianceSh, radianceSh}, glm::vec4(visibility * (4.0 * kPi / kDirections)),
-                             0u, 0u, shader::packProbeState(1, 0, shader::kProbeStateActive), 0u);
-  }
+  shader::Probe probe() const { return probeSeeing(*this, sky); }
   shader::Sh2Rgb hostSky() const {
     const glm::vec4 coefficients = skyRadiance.coefficients();
     return {coefficients, coefficients, coefficients};
