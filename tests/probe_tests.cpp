@@ -222,6 +222,8 @@ struct TestBrick {
 
 constexpr uint64_t kFullBrick = ~uint64_t(0);
 
+bool isActive(const shader::Probe& probe);
+
 class ProbeCache : public testing::GpuTest {
  protected:
   // `depth`: what every pixel of the camera's frames shows (reversed-Z; 0, nothing drawn, by default).
@@ -320,6 +322,18 @@ class ProbeCache : public testing::GpuTest {
       gpu::CommandList commands(device(), commandBuffer, descriptors);
       buildOctree.record(commands, voxels);
     });
+  }
+
+  // Each level's probe at kProbe as the probes stand now: it must be active; `check(probe, level)` looks at it.
+  template <typename Check>
+  void forEachLevelsProbeAtKProbe(Check check) {
+    const std::vector<shader::Probe> probes = readProbes();
+    for (uint32_t level = 0; level < shader::kProbeLevels; ++level) {
+      SCOPED_TRACE("level " + std::to_string(level));
+      const shader::Probe probe = probeAt(probes, level, glm::vec3(kProbe));
+      ASSERT_TRUE(isActive(probe));
+      check(probe, level);
+    }
   }
 
   std::vector<shader::Probe> readProbes() {
@@ -481,11 +495,7 @@ TEST_F(ProbeCache, aProbeInsideAClosedBoxOfBlackVoxelsSeesNoSky) {
   create(probeTestSettings());
   writeScene(closedBox(glm::vec3(0.0f)));
   runUpdates(2);
-  const std::vector<shader::Probe> probes = readProbes();
-  for (uint32_t level = 0; level < shader::kProbeLevels; ++level) {
-    SCOPED_TRACE("level " + std::to_string(level));
-    const shader::Probe probe = probeAt(probes, level, glm::vec3(kProbe));
-    ASSERT_TRUE(isActive(probe));
+  forEachLevelsProbeAtKProbe([&](const shader::Probe& probe, uint32_t level) {
     // Every ray hits a black wall: exactly zero. One sky ray leaking would add (4π/32)·Y00·L ≈ 0.11 to L00.
     const shader::Sh2Rgb radiance = radianceSh(probe);
     for (const glm::vec4& channel : {radiance.r, radiance.g, radiance.b})
@@ -494,7 +504,7 @@ TEST_F(ProbeCache, aProbeInsideAClosedBoxOfBlackVoxelsSeesNoSky) {
     EXPECT_GE(sphereMean(shader::probeDistanceSh(probe, spacing(level))), 0.75f);
     EXPECT_LE(sphereMean(shader::probeDistanceSh(probe, spacing(level))), 0.75f * std::sqrt(3.0f));
     EXPECT_GT(sphereMean(normalDotSh(probe)), 0.5f);
-  }
+  });
 }
 
 // A black voxel layer at x ∈ [−0.5, −0.25) m spanning the whole volume (y −8..8 m, z −8..24 m), facing +X, a quarter
@@ -512,11 +522,7 @@ TEST_F(ProbeCache, aProbeBesideALargeWallSeesHalfTheSky) {
   create(probeTestSettings());
   writeScene(blackWallBesideTheProbe());
   runUpdates(32);
-  const std::vector<shader::Probe> probes = readProbes();
-  for (uint32_t level = 0; level < shader::kProbeLevels; ++level) {
-    SCOPED_TRACE("level " + std::to_string(level));
-    const shader::Probe probe = probeAt(probes, level, glm::vec3(kProbe));
-    ASSERT_TRUE(isActive(probe));
+  forEachLevelsProbeAtKProbe([&](const shader::Probe& probe, uint32_t) {
     const shader::Sh2Rgb radiance = radianceSh(probe);
     const float skyVisibility = sphereMean(radiance.g) / kSkyRadiance;
     EXPECT_NEAR(skyVisibility, 0.5f, 0.03f);
@@ -531,7 +537,7 @@ TEST_F(ProbeCache, aProbeBesideALargeWallSeesHalfTheSky) {
     const shader::Sh2Rgb sky = skySh(kSkyRadiance);
     EXPECT_NEAR(shader::readProbeIrradiance(probe, {1, 0, 0}, sky).g, kPi * kSkyRadiance, 0.05f * kPi * kSkyRadiance);
     EXPECT_NEAR(shader::readProbeIrradiance(probe, {-1, 0, 0}, sky).g, 0.0f, 0.05f * kPi * kSkyRadiance);
-  }
+  });
 }
 
 TEST_F(ProbeCache, raysThatLeaveTheVoxelsSeeTheHostsSkyMapWhereItGivesOne) {
@@ -555,17 +561,13 @@ TEST_F(ProbeCache, raysThatLeaveTheVoxelsSeeTheHostsSkyMapWhereItGivesOne) {
   skyMap_ = &map;
   writeScene(blackWallBesideTheProbe());
   runUpdates(32);
-  const std::vector<shader::Probe> probes = readProbes();
-  for (uint32_t level = 0; level < shader::kProbeLevels; ++level) {
-    SCOPED_TRACE("level " + std::to_string(level));
-    const shader::Probe probe = probeAt(probes, level, glm::vec3(kProbe));
-    ASSERT_TRUE(isActive(probe));
+  forEachLevelsProbeAtKProbe([&](const shader::Probe& probe, uint32_t) {
     const shader::Sh2Rgb radiance = radianceSh(probe);
     EXPECT_NEAR(shader::sh2Irradiance(radiance.g, {1, 0, 0}), 2.0f * kPi * kSkyRadiance, 0.1f * kPi * kSkyRadiance);
     EXPECT_NEAR(shader::sh2Irradiance(radiance.g, {-1, 0, 0}), 0.0f, 0.05f * kPi * kSkyRadiance);
     const glm::vec4 visibility = shader::probeSkyVisibilitySh(probe);
     EXPECT_NEAR(visibility.x / shader::kSh2Band0Basis, 2.0f * kPi, 0.03f * 4.0f * kPi);
-  }
+  });
   skyMap_ = nullptr;
 }
 
@@ -584,18 +586,14 @@ void ProbeCache::createBesideTheBlackWallAmidUnobservedSpace() {
 TEST_F(ProbeCache, aProbeAmidSpaceNoViewHasObservedGetsNoSkyLightAndKnowsHalfItsRays) {
   createBesideTheBlackWallAmidUnobservedSpace();
   runUpdates(32);
-  const std::vector<shader::Probe> probes = readProbes();
-  for (uint32_t level = 0; level < shader::kProbeLevels; ++level) {
-    SCOPED_TRACE("level " + std::to_string(level));
-    const shader::Probe probe = probeAt(probes, level, glm::vec3(kProbe));
-    ASSERT_TRUE(isActive(probe));
+  forEachLevelsProbeAtKProbe([&](const shader::Probe& probe, uint32_t) {
     const shader::Sh2Rgb radiance = radianceSh(probe);
     EXPECT_NEAR(shader::sh2Irradiance(radiance.g, {1, 0, 0}), 0.0f, 0.02f * kPi * kSkyRadiance);
     // Nor does the sky read apart: its unknown rays found no sky.
     EXPECT_NEAR(shader::probeSkyVisibilitySh(probe).x / shader::kSh2Band0Basis, 0.0f, 0.02f * 4.0f * kPi);
     // The wall covers half the sphere but for the strips past its edges (1.4 %); 8-bit known fraction, 32 updates.
     EXPECT_NEAR(shader::probeKnownFraction(probe), 0.5f, 0.05f);
-  }
+  });
 }
 
 // The scene of the test above with the wall sunlit: it sends out R = 1.5·L, of which D = L is direct light (the sun's
@@ -611,15 +609,11 @@ TEST_F(ProbeCache, aRayIntoSpaceNoViewHasObservedStandsForTheSurfacesLightLessIt
   }
   writeScene(sunlitWall);
   runUpdates(32);
-  const std::vector<shader::Probe> probes = readProbes();
-  for (uint32_t level = 0; level < shader::kProbeLevels; ++level) {
-    SCOPED_TRACE("level " + std::to_string(level));
-    const shader::Probe probe = probeAt(probes, level, glm::vec3(kProbe));
-    ASSERT_TRUE(isActive(probe));
+  forEachLevelsProbeAtKProbe([&](const shader::Probe& probe, uint32_t) {
     const glm::vec4 green = radianceSh(probe).g;
     EXPECT_NEAR(shader::sh2Irradiance(green, {1, 0, 0}), kPi * 0.5f * kSkyRadiance, 0.05f * kPi * kSkyRadiance);
     EXPECT_NEAR(shader::sh2Irradiance(green, {-1, 0, 0}), kPi * 1.5f * kSkyRadiance, 0.05f * kPi * kSkyRadiance);
-  }
+  });
 }
 
 // The scene of the test above, and a view that only observes (ExtraView without colour, SPEC §6.4): orthographic,
@@ -649,14 +643,10 @@ TEST_F(ProbeCache, aViewThatOnlyObservesMakesTheSkyKnownWithoutWritingVoxels) {
   observer.depth.view = nothingDrawn.view();
   extraViews_ = {observer};
   runUpdates(32);
-  const std::vector<shader::Probe> probes = readProbes();
-  for (uint32_t level = 0; level < shader::kProbeLevels; ++level) {
-    SCOPED_TRACE("level " + std::to_string(level));
-    const shader::Probe probe = probeAt(probes, level, glm::vec3(kProbe));
-    ASSERT_TRUE(isActive(probe));
+  forEachLevelsProbeAtKProbe([&](const shader::Probe& probe, uint32_t) {
     EXPECT_NEAR(shader::sh2Irradiance(radianceSh(probe).g, {1, 0, 0}), kPi * kSkyRadiance, 0.05f * kPi * kSkyRadiance);
     EXPECT_GT(shader::probeKnownFraction(probe), 0.95f);  // 8-bit known fraction
-  }
+  });
   EXPECT_EQ(context_->stats().bricksLive, bricksBefore);
 
   // A plane across the volume at x = 0 (halfway along the view's depth range): a view that injected would allocate
@@ -906,11 +896,7 @@ TEST_F(ProbeCache, aProbeInsideAWallMovesOutInFrontOfItWithinHalfASpacingAndThen
   create(probeTestSettings());
   writeScene(wallThroughTheProbe());
   runUpdates(4);
-  const std::vector<shader::Probe> probes = readProbes();
-  for (uint32_t level = 0; level < shader::kProbeLevels; ++level) {
-    SCOPED_TRACE("level " + std::to_string(level));
-    const shader::Probe probe = probeAt(probes, level, glm::vec3(kProbe));
-    ASSERT_TRUE(isActive(probe));
+  forEachLevelsProbeAtKProbe([&](const shader::Probe& probe, uint32_t level) {
     const glm::vec3 offset = offsetOf(probe, spacing(level));
     EXPECT_LT(offset.x, 0.0f);  // in front of the wall's voxels, which start at x = 0
     EXPECT_GT(offset.x, -0.5f * spacing(level));
@@ -921,7 +907,7 @@ TEST_F(ProbeCache, aProbeInsideAWallMovesOutInFrontOfItWithinHalfASpacingAndThen
     // Half misses (+1), half front faces (cos, mean 1/2): 3/4. From inside the voxel it was 0.
     EXPECT_NEAR(sphereMean(normalDotSh(probe)), 0.75f, 0.1f);
     EXPECT_NEAR(sphereMean(radianceSh(probe).g) / kSkyRadiance, 0.5f, 0.1f);  // the sky again; 0 from inside
-  }
+  });
 }
 
 // A solid block of 2×2×2 full bricks around kProbe (±1 m), radiance `radiance`, all its voxels facing up.
