@@ -134,7 +134,7 @@ uint32_t ExtraViews::sizeOf(Kind kind) const {
 
 bool ExtraViews::isReflectiveShadowMap(const Source& source, const shader::FrameConstants& frame) const {
   const bool sunEnabled = frame.sunDirectionAndEnabled.w > 0.0f;
-  if (sceneEmits_) return false;
+  if (!settings_.reflectiveShadowMaps || sceneEmits_) return false;
   if (source.kind == Kind::Sun) return sunAboveHorizon(frame) && frame.localLightCount == 0;
   return source.kind == Kind::Light && !sunEnabled && frame.localLightCount == 1;
 }

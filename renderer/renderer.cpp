@@ -153,7 +153,7 @@ void Renderer::recordGi(gpu::CommandList& commands, const shader::FrameConstants
   // What probe rays that leave the voxel volume see (the map), and the sky the gather reads their openings with.
   const shader::Sh2Rgb sky = projectSkyToSh2(frame.sky);
   std::memcpy(desc.skyRadianceSh.data(), &sky, sizeof(sky));
-  desc.skyRadianceMap.view = skyMap_.image().view();
+  if (settings_.extraViews.skyMap) desc.skyRadianceMap.view = skyMap_.image().view();
   desc.extraViews = lastExtraViews_;
   desc.countWork = settings_.countGiWork;
   if (const ssvgi::Error error = gi_->dispatch(desc, commands.handle())) throw gpu::GpuError("ssvgi: " + error.message);
@@ -189,7 +189,7 @@ void Renderer::render(const AnimatedState& state) {
                            directIrradiance_, viewDistance_);
     if (gi_) {
       lastExtraViews_ = extraViews_->record(commands, frame, gpuScene_, lights_, shadows_, pointSampler_.handle());
-      skyMap_.record(commands, frameConstants_);
+      if (settings_.extraViews.skyMap) skyMap_.record(commands, frameConstants_);
       recordGi(commands, frame);
     }
     // Without the GI's light the composite binds the black image for both, and reads neither.

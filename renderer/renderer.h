@@ -103,7 +103,7 @@ class Renderer {
   FloatImage finalRadiance();       // linear HDR, rgb
   FloatImage directIrradiance();    // E_direct, rgb
   FloatImage indirectIrradiance();  // E_indirect each pixel was shaded with, rgb
-  FloatImage skyMap();              // the sky's radiance map given to the GI (SkyMap), rgb
+  FloatImage skyMap();              // the sky's map given to the GI with ExtraViewSettings::skyMap (SkyMap), rgb
   // The GI's confidence in that E_indirect (ssvgi::Context::confidence(), sampled as the composite samples E), one
   // channel, 0–1; 0 where nothing was drawn and everywhere when the GI's light is not composited.
   FloatImage confidence();

@@ -299,6 +299,7 @@ TEST_F(RendererAnalytic, theSkyMapGivenToTheGiHoldsTheSkyAtEachTexelsDirection) 
   settings.gi = Settings{};  // the map is made for the GI
   settings.gi->volumeBricks = {16, 8, 16};
   settings.gi->brickPoolCapacity = 512;
+  settings.extraViews.skyMap = true;
   renderer::Renderer renderer(device(), scene, settings);
   renderer.render(renderer::evaluateAnimation(scene, scene.cameras[0], 0.0f));
   const auto map = renderer.skyMap();

@@ -11,7 +11,10 @@ SSVGI_SHARED_BEGIN
 
 // Where a unit direction lies in the map, texture coordinates in [0, 1]².
 SSVGI_INLINE vec2 skyMapCoordinates(vec3 direction) {
-  return vec2(0.5f + atan(direction.x, direction.z) / (2.0f * kPi), acos(clamp(direction.y, -1.0f, 1.0f)) / kPi);
+  // atan(0, 0) is undefined in GLSL: the poles take azimuth 0 (any is right there).
+  bool pole = direction.x == 0.0f && direction.z == 0.0f;
+  float azimuth = pole ? 0.0f : atan(direction.x, direction.z);
+  return vec2(0.5f + azimuth / (2.0f * kPi), acos(clamp(direction.y, -1.0f, 1.0f)) / kPi);
 }
 
 // The unit direction at texture coordinates `uv` of the map.
