@@ -35,9 +35,9 @@ layout(binding = kBindInjectionBricks) readonly buffer VisibleBricks {
 // frame, the host's own — albedo/π · E of ssvgi's last output at that pixel, with which the host lit it (the gather's
 // light, tested for visibility and filtered); for an extra view, VoxelRelight's to add, with the probes' visibility
 // trace, which this pass cannot make: it writes the voxels it would trace, and without it the lit room's probes lit
-// the dark side of `two-rooms`' wall (QUALITY.md, "Voxels follow the light"). Until it is relit, a voxel keeps the part of its
-// radiance the probes added (Settings::voxelRelightPeriod), and a new one has none.
-void injectLight(inout Voxel voxel, bool occupied, bool blendsWithHeld, ivec2 texel) {
+// the dark side of `two-rooms`' wall (QUALITY.md, "Voxels follow the light"). Until it is relit, a voxel keeps the part
+// of its radiance the probes added (Settings::voxelRelightPeriod), and a new one has none.
+void injectLight(inout Voxel voxel, bool occupied, bool blendsWithHeld, ivec2 texel, float litShare) {
   vec3 colour = texelFetch(litColor, texel, 0).rgb;
   if ((frame.viewKind & kViewIsDirectOnly) == 0u) {
     voxel.radiance = packR11G11B10F(blendsWithHeld ? mix(unpackR11G11B10F(voxel.radiance), colour,
@@ -47,7 +47,7 @@ void injectLight(inout Voxel voxel, bool occupied, bool blendsWithHeld, ivec2 te
     voxel.albedo = 0u;
     return;
   }
-  vec3 direct = colour;
+  vec3 direct = colour * litShare;
   vec3 albedo = texelFetch(litAlbedo, texel, 0).rgb;
   bool wasRelit = occupied && (voxel.albedo & kVoxelRelit) != 0u;
   vec3 heldDirect = unpackR11G11B10F(voxel.directRadiance);
@@ -91,6 +91,23 @@ ViewSample viewSampleAt(ivec2 texel, vec2 litSize) {
   seen.normal = normalize(texelFetch(litNormal, texel, 0).xyz);
   seen.held = heldSurfacePoint(seen.surface, seen.normal);
   return seen;
+}
+
+// Whether the tangent plane of the surface a texel shows cuts the voxel's box.
+bool surfacePlaneCutsVoxel(ViewSample seen, vec3 voxelMin) {
+  float voxelSize = volume.voxelSize;
+  float halfExtent = 0.5 * voxelSize * dot(abs(seen.normal), vec3(1.0));
+  return abs(dot(voxelMin + 0.5 * voxelSize - seen.held, seen.normal)) < halfExtent;
+}
+
+// Whether a texel may show the voxel's surface: the tangent plane of what it shows cuts the voxel and the point it
+// shows lies within a voxel of it (a texel's centre lies up to a texel's slope off the depth of a point in it). With
+// normals that agree (kOwnSurfaceFacing) it is taken for the voxel's own surface.
+const float kOwnSurfaceFacing = 0.9;
+bool showsSurfaceAt(ViewSample seen, vec3 voxelMin) {
+  float voxelSize = volume.voxelSize;
+  return seen.depth > 0.0 && surfacePlaneCutsVoxel(seen, voxelMin) &&
+         distance(seen.held, clamp(seen.held, voxelMin, voxelMin + voxelSize)) <= voxelSize;
 }
 
 // Whether the line of sight through the centre of the sample's texel — the line along which the view measured its
@@ -160,12 +177,61 @@ bool surfaceAround(ivec2 firstTexel, vec2 litSize, vec3 voxelMin) {
 
 // A reflective shadow map (kViewIsReflectiveShadowMap) looks at an occupied voxel where its surface is: the random
 // point moved onto the voxel's plane. A surface it shows in front of that point hides it from the view's light, so it
-// lies in that light's shadow, and the lit and the shadowed parts of the surface are each sampled as often as they are
-// large.
+// lies in that light's shadow (litShareOfPlane).
 vec3 ontoVoxelPlane(vec3 point, Voxel voxel, vec3 voxelMin) {
   vec3 normal = voxelNormal(voxel);
   vec3 planePoint = voxelMin + volume.voxelSize * (0.5 + normal * unpackVoxelPlane(voxelPlaneCode(voxel)));
   return point - normal * dot(point - planePoint, normal);
+}
+
+// How much of an occupied voxel's surface a reflective shadow map shows lit: a jittered kLitShareLattice² lattice of
+// points on the voxel's plane (spread over the two axes its normal leans on least, the first the random point
+// `firstPoint`), each looked at in the view. A point whose texel shows a surface in front of it (by more than
+// `margin`) lies in the light's shadow, one whose texel shows the voxel's own face is lit, and one the view sees past
+// (the plane does not reach there) or does not show counts for neither. One random point a view, averaged over views,
+// kept a voxel a shadow's edge crosses flipping between lit and dark by about a fifth of its light, and a scene lit
+// through such edges (the gallery) stopped converging; the lattice gives the share each view.
+const int kLitShareLattice = 3;
+struct LitShare {
+  uint lit;
+  uint shadowed;
+  ivec2 litTexel;  // the texel of a lit point, whose colour is the surface's light where it is lit
+};
+
+LitShare litShareOfPlane(vec3 firstPoint, Voxel voxel, vec3 voxelMin, vec2 litSize, float margin) {
+  LitShare share = LitShare(0u, 0u, ivec2(0));
+  vec3 normal = abs(voxelNormal(voxel));
+  int dropped = normal.x >= normal.y && normal.x >= normal.z ? 0 : (normal.y >= normal.z ? 1 : 2);
+  int first = (dropped + 1) % 3, second = (dropped + 2) % 3;
+  vec3 jitter = (firstPoint - voxelMin) / volume.voxelSize;
+  for (int i = 0; i < kLitShareLattice; ++i)
+    for (int j = 0; j < kLitShareLattice; ++j) {
+      vec3 lattice = jitter;
+      lattice[first] = fract(jitter[first] + float(i) / float(kLitShareLattice));
+      lattice[second] = fract(jitter[second] + float(j) / float(kLitShareLattice));
+      vec3 point = ontoVoxelPlane(voxelMin + lattice * volume.voxelSize, voxel, voxelMin);
+      vec4 clip = frame.litViewProjection * vec4(point, 1.0);
+      vec3 ndc = clip.xyz / clip.w;
+      vec2 pixel = ssvgiNdcToPixel(ndc.xy, litSize);
+      if (clip.w <= 0.0 || ndc.z > 1.0 || ndc.z < 0.0 || any(lessThan(pixel, vec2(0.0))) ||
+          any(greaterThanEqual(pixel, litSize)))
+        continue;
+      ViewSample seen = viewSampleAt(ivec2(pixel), litSize);
+      if (seen.depth <= 0.0) continue;
+      // Lit where the texel shows the voxel's own face (as a colour refresh takes it, below). Hidden where it shows a
+      // surface well in front of the point, or the back of the voxel's face (the other face of a wall one voxel
+      // thick, which the light reaches and the voxel's face does not).
+      bool atVoxel = showsSurfaceAt(seen, voxelMin);
+      float facing = dot(seen.normal, voxelNormal(voxel));
+      float beyond = dot(seen.surface - point, viewRayDirection(frame.litInverseViewProjection, ndc.xy));
+      if (atVoxel && facing > kOwnSurfaceFacing) {
+        ++share.lit;
+        share.litTexel = seen.texel;
+      } else if (beyond < -margin || (atVoxel && facing < 0.0)) {
+        ++share.shadowed;
+      }
+    }
+  return share;
 }
 
 shared uint occupancyLow;
@@ -209,7 +275,8 @@ void main() {
   barrier();
 
   vec3 voxelMin = vec3(worldVoxel) * voxelSize;
-  vec3 samplePoint = voxelMin + hashToUnitCube(uvec3(ivec3(worldVoxel)) ^ uvec3(0u, 0u, frame.frameIndex * 0x9e3779b9u)) * voxelSize;
+  vec3 samplePoint =
+      voxelMin + hashToUnitCube(uvec3(ivec3(worldVoxel)) ^ uvec3(0u, 0u, frame.frameIndex * 0x9e3779b9u)) * voxelSize;
   bool samplesShadow = occupied && (frame.viewKind & kViewIsReflectiveShadowMap) != 0u &&
                        (voxel.albedo & kVoxelRelit) != 0u && voxelPlaneCode(voxel) != 0u;
   if (samplesShadow) samplePoint = ontoVoxelPlane(samplePoint, voxel, voxelMin);
@@ -242,8 +309,7 @@ void main() {
     // through (its tangent plane cuts the voxel's box) may hold that surface elsewhere: at a grazing view most of
     // the points of a voxel on a wall lie in front of the wall and see it further on, and would clear the voxel
     // (holes in walls, and light through them). Only a voxel wholly in front of that plane is seen through.
-    float halfExtent = 0.5 * voxelSize * dot(abs(seen.normal), vec3(1.0));
-    bool cutBySurfacePlane = abs(dot(voxelMin + 0.5 * voxelSize - seen.held, seen.normal)) < halfExtent;
+    bool cutBySurfacePlane = surfacePlaneCutsVoxel(seen, voxelMin);
     vec3 storedNormal = voxelNormal(voxel);
     bool holdsSurface = holdsSeenSurface(seen, voxelMin, occupied, storedNormal);
     // The point's own texel shows this voxel's surface only where the view meets it nearly head-on: seen at a grazing
@@ -266,12 +332,14 @@ void main() {
     // An occupied voxel also takes the colour of a pixel of its own surface (the seen surface's plane cuts it, the
     // normals agree) up to a voxel away: few random points of a voxel on a wall seen at a grazing angle land on its
     // own pixels, and its radiance would lag a change of light by many frames.
-    bool refreshesColour = seen.depth > 0.0 && occupied && cutBySurfacePlane &&
-                           distance(seen.held, clamp(seen.held, voxelMin, voxelMin + voxelSize)) <= voxelSize &&
-                           dot(storedNormal, seen.normal) > 0.9;
-    bool inLightsShadow = samplesShadow && !holdsSurface && !refreshesColour && seen.depth > 0.0 &&
-                          dot(seen.surface - samplePoint, viewDirection) < -clearMargin;
-    if (holdsSurface || refreshesColour || inLightsShadow) {
+    bool refreshesColour =
+        occupied && showsSurfaceAt(seen, voxelMin) && dot(storedNormal, seen.normal) > kOwnSurfaceFacing;
+    // A voxel a reflective shadow map shows in part in its light's shadow takes the lit share of its light, or none.
+    LitShare litShare = samplesShadow ? litShareOfPlane(samplePoint, voxel, voxelMin, litSize, clearMargin)
+                                      : LitShare(0u, 0u, ivec2(0));
+    bool crossesShadow = litShare.shadowed > 0u;
+    bool inLightsShadow = crossesShadow && litShare.lit == 0u;
+    if (holdsSurface || refreshesColour || crossesShadow) {
       // The lit frame's light stays where it keeps coming (kVoxelExtraViewsBeforeWrite): an extra view counts its
       // visit and writes only once there have been enough since the lit frame last wrote.
       bool fromCamera = (frame.viewKind & kViewIsExtra) == 0u;
@@ -285,8 +353,10 @@ void main() {
         // wall one voxel thick has both faces in its voxels; one that a view saw from outside while it was empty
         // holds the outer face until a view from inside turns it round (turnsSurfaceAround), and averaged, the inner
         // face would take three quarters of the outer one's sunlight into the room.
-        bool keepsSide = occupied && dot(storedNormal, seen.normal) > 0.0;
-        injectLight(voxel, occupied, !fromCamera && keepsSide, seen.texel);
+        bool seesOwnSurface = holdsSurface || refreshesColour;
+        bool keepsSide = occupied && (crossesShadow || dot(storedNormal, seen.normal) > 0.0);
+        float share = crossesShadow ? float(litShare.lit) / float(litShare.lit + litShare.shadowed) : 1.0;
+        injectLight(voxel, occupied, !fromCamera && keepsSide, seesOwnSurface ? seen.texel : litShare.litTexel, share);
         // A valid sample sets the voxel's surface (normal and plane); a refresh keeps it.
         float planeOffset = dot(seen.surface - (voxelMin + 0.5 * voxelSize), seen.normal) / voxelSize;
         if (holdsSurface)
