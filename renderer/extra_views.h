@@ -46,14 +46,12 @@ struct ExtraViewSettings {
   // around the camera, six per point light, one per spot), they take turns.
   uint32_t viewsPerFrame = 4;
   // Give the sun's view (and a local light's) as a reflective shadow map where that light alone lights the scene and
-  // nothing emits (ssvgi::ExtraView::isReflectiveShadowMap). Off by default: its dark and lit samples of the voxels a
-  // shadow's edge crosses keep those voxels' light changing, and the gallery stopped converging within 1,536 frames
-  // (docs/QUALITY.md, "A light's view takes what it shows hidden for shadow").
-  bool reflectiveShadowMaps = false;
-  // Give ssvgi the sky as a map too (SkyMap, ssvgi::FrameDesc::skyRadianceMap), not only as SH2. Off by default: with
-  // it, the dark room's probes with reservoirs (Settings::probeReservoirs) varied 0.14 from frame to frame instead of
-  // 0.001 (docs/QUALITY.md, same section).
-  bool skyMap = false;
+  // nothing emits (ssvgi::ExtraView::isReflectiveShadowMap): ssvgi then takes the light of what it shows in that
+  // light's shadow away, so a place the sun turned from loses its light (SPEC §6.1).
+  bool reflectiveShadowMaps = true;
+  // Give ssvgi the sky as a map too (SkyMap, ssvgi::FrameDesc::skyRadianceMap), not only as SH2: the probes' rays that
+  // leave the voxels see the sky's glow about the sun where it is, not spread over half the sky.
+  bool skyMap = true;
 };
 
 class ExtraViews {

@@ -226,11 +226,12 @@ void addGiOptions(CLI::App& command, GiOptions& options) {
               "probes' rays cross to the sky beyond the sun's view, for skyOnlyThroughObservedSpace)");
   addViewSize("--light-views", options.extraViews.lightViewSize,
               "the views of the scene's local lights (six per point light, one per spot)");
-  command.add_flag("--shadow-map-views", options.extraViews.reflectiveShadowMaps,
+  command.add_flag("--shadow-map-views,!--no-shadow-map-views", options.extraViews.reflectiveShadowMaps,
                    "Give the sun's view as a reflective shadow map where the sun alone lights the scene (and a local "
-                   "light's views where that light does): ssvgi takes what it shows hidden for shadow");
-  command.add_flag("--sky-map", options.extraViews.skyMap,
-                   "Give ssvgi the sky as an equirectangular map too, for the probes' rays that leave its voxels");
+                   "light's views where that light does): ssvgi takes what it shows hidden for shadow. On by default");
+  command.add_flag("--sky-map,!--no-sky-map", options.extraViews.skyMap,
+                   "Give ssvgi the sky as an equirectangular map too, for the probes' rays that leave its voxels. On "
+                   "by default");
   command.add_option("--views-per-frame", options.extraViews.viewsPerFrame,
                      "Extra views rendered per frame; when there are more, they take turns")
       ->capture_default_str()
