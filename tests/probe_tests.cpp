@@ -247,6 +247,11 @@ class ProbeCache : public testing::GpuTest {
   // that sees only a surface in front of it.
   void createBesideTheBlackWallAmidUnobservedSpace();
 
+  // Gives the following frames one extra view that only observes (no colour): orthographic, looking along −X through
+  // the whole volume (x 16 → −16, y −8..8) over z ∈ [zFrom, zTo], at `depth` everywhere (0: nothing drawn). The
+  // image is kept in `observerDepth_`.
+  void observeAlongMinusX(float zFrom, float zTo, float depth);
+
   // The camera of the following frames: at `position`, looking along −Z.
   void moveCamera(glm::vec3 position) {
     renderer::Camera camera;
@@ -357,6 +362,7 @@ class ProbeCache : public testing::GpuTest {
   gpu::Image depth_;
   View view_;
   std::vector<ExtraView> extraViews_;  // given with every frame
+  std::optional<gpu::Image> observerDepth_;
   const gpu::Image* skyMap_ = nullptr;  // the host's sky map given with every frame, if any
   bool countWork_ = false;             // the frames count their work (FrameDesc::countWork)
   uint32_t frameIndex_ = 0;
@@ -573,14 +579,32 @@ TEST_F(ProbeCache, raysThatLeaveTheVoxelsSeeTheHostsSkyMapWhereItGivesOne) {
 
 // Unknown is not sky (SPEC §6.4): the wall of the test above, but the camera sees only a surface half a metre in
 // front of it, so that no view has observed the space around the probe. Its rays that meet the wall are known (and
-// black); those that meet nothing crossed unobserved space and stand for the mean of those that met a surface: no sky
-// light (the same scene watched the other way round gives E(+X) = π·L, above), and half of its rays known.
+// black); those that meet nothing crossed unobserved space and stand for the mean of the known rays, all of which met
+// the wall: no sky light (the same scene watched the other way round gives E(+X) = π·L, above), and half of its rays known.
 void ProbeCache::createBesideTheBlackWallAmidUnobservedSpace() {
   Settings settings = probeTestSettings();
   settings.skyOnlyThroughObservedSpace = true;
   // Reversed-Z with an infinite far plane: depth = near / distance, a surface 0.5 m away at the 0.1 m near plane.
   create(settings, kCameraPosition, 0.1f / 0.5f);
   writeScene(blackWallBesideTheProbe());
+}
+
+void ProbeCache::observeAlongMinusX(float zFrom, float zTo, float depth) {
+  // The view's eye on the volume's +X face (x = 16) at z = 8; its right is −Z, so z ∈ [zFrom, zTo] is the view's
+  // x ∈ [8 − zTo, 8 − zFrom].
+  const glm::vec3 eye(16.0f, 0.0f, 8.0f);
+  const glm::mat4 viewProjection =
+      renderer::reversedZOrthographicProjection(8.0f - zTo, 8.0f - zFrom, -8.0f, 8.0f, 0.0f, 32.0f) *
+      glm::lookAtRH(eye, eye - glm::vec3(1.0f, 0.0f, 0.0f), glm::vec3(0.0f, 1.0f, 0.0f));
+  observerDepth_.emplace(device(), gpu::ImageDesc{"observer depth", VK_FORMAT_R32_SFLOAT, kFrameSize, kFrameSize, 1, 1,
+                                                  VK_IMAGE_USAGE_SAMPLED_BIT});
+  const std::vector<float> pixels(kFrameSize * kFrameSize, depth);
+  gpu::uploadImage(device(), *observerDepth_, std::as_bytes(std::span(pixels)));
+  ExtraView observer;
+  std::copy(glm::value_ptr(viewProjection), glm::value_ptr(viewProjection) + 16, observer.camera.viewProjection.begin());
+  observer.camera.width = observer.camera.height = kFrameSize;
+  observer.depth.view = observerDepth_->view();
+  extraViews_ = {observer};
 }
 
 TEST_F(ProbeCache, aProbeAmidSpaceNoViewHasObservedGetsNoSkyLightAndKnowsHalfItsRays) {
@@ -597,8 +621,8 @@ TEST_F(ProbeCache, aProbeAmidSpaceNoViewHasObservedGetsNoSkyLightAndKnowsHalfIts
 }
 
 // The scene of the test above with the wall sunlit: it sends out R = 1.5·L, of which D = L is direct light (the sun's
-// view gave it). A ray into space no view has observed stands for the surfaces' light less its direct part: no view
-// of a light saw a surface lit there. So E = π·(R − D) facing away from the wall and π·R facing it (SH2 holds each
+// view gave it). A ray into space no view has observed stands for the known rays' light less the surfaces' direct
+// part: no view of a light saw a surface lit there. So E = π·(R − D) facing away from the wall and π·R facing it (SH2 holds each
 // half-space exactly; the strips past the wall's edges, 1.4 %, are within the tolerance).
 TEST_F(ProbeCache, aRayIntoSpaceNoViewHasObservedStandsForTheSurfacesLightLessItsDirectPart) {
   createBesideTheBlackWallAmidUnobservedSpace();
@@ -616,6 +640,23 @@ TEST_F(ProbeCache, aRayIntoSpaceNoViewHasObservedStandsForTheSurfacesLightLessIt
   });
 }
 
+// The black wall beside the probe, and a view that only observes the half of the volume beyond the probe (z > 4): the
+// probe's rays that pass the wall there find the sky (a quarter of the sphere), those that pass it on the near side
+// (z < 4) cross unobserved space. SPEC §6.4: the estimate is formed over the rays that found something known, so an
+// unknown ray stands for the mean of the known ones — a third of them the sky — and the probe holds the sky in a
+// third of its unknown quarter: Ω = π + π/3 of sky, and a mean radiance of L/3 over the sphere (L/4 if the unknown rays
+// took the wall's black, 1/2 if they took the sky). The strips past the wall's edges (1.4 %) are within the bounds.
+TEST_F(ProbeCache, aRayIntoSpaceNoViewHasObservedStandsForTheMeanOfTheKnownRaysTheSkyIncluded) {
+  createBesideTheBlackWallAmidUnobservedSpace();
+  observeAlongMinusX(4.0f, 24.0f, 0.0f);
+  runUpdates(32);
+  forEachLevelsProbeAtKProbe([&](const shader::Probe& probe, uint32_t) {
+    EXPECT_NEAR(sphereMean(radianceSh(probe).g) / kSkyRadiance, 1.0f / 3.0f, 0.03f);
+    EXPECT_NEAR(shader::probeSkyVisibilitySh(probe).x / shader::kSh2Band0Basis, 4.0f * kPi / 3.0f, 0.03f * 4.0f * kPi);
+    EXPECT_NEAR(shader::probeKnownFraction(probe), 0.75f, 0.05f);  // 8-bit known fraction
+  });
+}
+
 // The scene of the test above, and a view that only observes (ExtraView without colour, SPEC §6.4): orthographic,
 // looking along −X over the whole volume, nothing drawn in it. Every brick cell it looks through is observed, so
 // the probe's rays that pass the wall see the sky again — E(+X) = π·L, as in the scene watched without observed
@@ -625,23 +666,7 @@ TEST_F(ProbeCache, aViewThatOnlyObservesMakesTheSkyKnownWithoutWritingVoxels) {
   runFrames(1);
   const uint32_t bricksBefore = context_->stats().bricksLive;  // the wall's, and the one the camera sees
 
-  // The volume spans x −16..16, y −8..8, z −8..24 m: the view's eye on its +X face, its box the volume's cross-section.
-  const glm::vec3 eye(16.0f, 0.0f, 8.0f);
-  const glm::mat4 viewProjection = renderer::reversedZOrthographicProjection(-16.0f, 16.0f, -8.0f, 8.0f, 0.0f, 32.0f) *
-                                   glm::lookAtRH(eye, eye - glm::vec3(1.0f, 0.0f, 0.0f), glm::vec3(0.0f, 1.0f, 0.0f));
-  const auto observerDepth = [&](float depth) {
-    gpu::Image image(device(), {"observer depth", VK_FORMAT_R32_SFLOAT, kFrameSize, kFrameSize, 1, 1,
-                                VK_IMAGE_USAGE_SAMPLED_BIT});
-    const std::vector<float> pixels(kFrameSize * kFrameSize, depth);
-    gpu::uploadImage(device(), image, std::as_bytes(std::span(pixels)));
-    return image;
-  };
-  const gpu::Image nothingDrawn = observerDepth(0.0f);
-  ExtraView observer;
-  std::copy(glm::value_ptr(viewProjection), glm::value_ptr(viewProjection) + 16, observer.camera.viewProjection.begin());
-  observer.camera.width = observer.camera.height = kFrameSize;
-  observer.depth.view = nothingDrawn.view();
-  extraViews_ = {observer};
+  observeAlongMinusX(-8.0f, 24.0f, 0.0f);  // the volume's whole cross-section
   runUpdates(32);
   forEachLevelsProbeAtKProbe([&](const shader::Probe& probe, uint32_t) {
     EXPECT_NEAR(shader::sh2Irradiance(radianceSh(probe).g, {1, 0, 0}), kPi * kSkyRadiance, 0.05f * kPi * kSkyRadiance);
@@ -651,8 +676,7 @@ TEST_F(ProbeCache, aViewThatOnlyObservesMakesTheSkyKnownWithoutWritingVoxels) {
 
   // A plane across the volume at x = 0 (halfway along the view's depth range): a view that injected would allocate
   // its bricks.
-  const gpu::Image planeAcross = observerDepth(0.5f);
-  extraViews_[0].depth.view = planeAcross.view();
+  observeAlongMinusX(-8.0f, 24.0f, 0.5f);
   runFrames(4);
   EXPECT_EQ(context_->stats().bricksLive, bricksBefore);
   extraViews_.clear();

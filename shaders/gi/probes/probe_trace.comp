@@ -90,9 +90,12 @@ const uint kRayUnknownBesideSurface = 3u;    // it ended at unobserved voxels be
 shared uint rayFound[kProbeTraceGroupSize];
 shared vec3 rayIndirectRadiance[kProbeTraceGroupSize];
 shared uint knownRays;
+// What an unknown ray stands for (averageKnownRays): its radiance and its share of sky, into unobserved space and
+// beside seen surfaces.
+shared vec3 knownMeanWithoutDirect;
+shared float knownSkyShare;
 shared vec3 surfacesMeanRadiance;
-shared vec3 surfacesMeanIndirectRadiance;
-shared float unknownRaySkyVisibility;  // what an unknown ray stands for: no sky where surfaces were met, else sky
+shared float surfacesSkyShare;
 shared vec4 heldSkyVisibility;
 shared Sh2Rgb heldRadiance;
 shared bool startsFromCoarserLevel;
@@ -125,7 +128,8 @@ bool coarserLevelRadiance(ivec3 probe, vec3 position, out Sh2Rgb radiance, out v
     ProbeCellCorner around = probeCellCorner(cell, fraction, corner);
     float weight = around.weight;
     ivec3 coarser = around.probe;
-    Probe candidate = probes[coarserLevel * uint(update.probesPerLevel) + probeSlotIndex(coarser, update.probesPerAxis)];
+    uint slot = coarserLevel * uint(update.probesPerLevel) + probeSlotIndex(coarser, update.probesPerAxis);
+    Probe candidate = probes[slot];
     if (weight == 0.0 || !probeIsUsable(candidate, coarser)) continue;
     vec3 coarserPosition = probeWorldPosition(coarser, 2.0 * update.spacing, candidate.state);
     float separation = distance(coarserPosition, position);
@@ -379,17 +383,19 @@ VoxelHit traceRay(ListedProbe probe, ProbeRay chosen, uint ray) {
   return hit;
 }
 
-// Unknown is not sky (SPEC §6.4): the estimate is formed over the rays that found something known. An unknown ray
-// stands for the mean of this update's rays that met a surface — space no view could see into is mostly space a
-// surface hides, and the few rays that find the sky through an opening would otherwise light the whole unknown
-// sphere — or, where none met one, of its known rays; for every direction of the probe alike, so that what the probe
-// learns does not depend on what it held before, which would keep a camera cut's old light in it for good.
-// A ray into space no view has observed stands for that mean less its direct part: the sun's view covers the volume
-// and the local lights' views their reach, so a surface no view has seen is one no light's view saw lit (counting the
-// sunlit walls in gave the courtyard's probes sunlight behind its buildings: docs/QUALITY.md). A ray that
-// ended beside seen surfaces stands for the whole mean: what it would have met is most likely beside them, sunlit or
-// not (the sunlit wall past a pillar's edge in the gallery). A probe none of whose rays found anything known keeps what
-// it holds. One thread.
+// Unknown is not sky (SPEC §6.4): the estimate is formed over the rays that found something known. A ray into space
+// no view has observed stands for the mean of this update's known rays, the sky they found included (its share of
+// them is the share of sky it holds), but for the surfaces' direct part: the sun's view covers the volume and the local
+// lights' views their reach, so a surface no view has seen is one no light's view saw lit (counting the sunlit walls in
+// gave the courtyard's probes sunlight behind its buildings: docs/QUALITY.md). A ray that ended beside seen surfaces
+// stands for the mean of the rays that met a surface, whole: what it would have met is most likely beside them, sunlit
+// or not (the sunlit wall past a pillar's edge in the gallery). Each for every direction of the probe alike, so that
+// what the probe learns does not depend on what it held before, which would keep a camera cut's old light in it for
+// good. (Unknown rays once stood for the surfaces' mean alone, never the sky: it kept the hall without the capture
+// around the camera from taking the sky through its roof's openings to the whole unknown sphere, when views observed
+// the space beside walls they grazed; with today's stricter observed space that rule left the hall's probes that see
+// the nearer opening only through air no view observed 0.77 of the reference's light: docs/QUALITY.md, "Unknown rays
+// take the known sky's share".) A probe none of whose rays found anything known keeps what it holds. One thread.
 void averageKnownRays() {
   vec3 sum = vec3(0.0), surfaceSum = vec3(0.0), surfaceIndirectSum = vec3(0.0);
   uint count = 0u, surfaces = 0u;
@@ -404,10 +410,11 @@ void averageKnownRays() {
     ++surfaces;
   }
   knownRays = count;
-  vec3 knownMean = count > 0u ? sum / float(count) : vec3(0.0);
-  surfacesMeanRadiance = surfaces > 0u ? surfaceSum / float(surfaces) : knownMean;
-  surfacesMeanIndirectRadiance = surfaces > 0u ? surfaceIndirectSum / float(surfaces) : knownMean;
-  unknownRaySkyVisibility = surfaces > 0u ? 0.0 : (count > 0u ? 1.0 : 0.0);
+  vec3 skySum = sum - surfaceSum;
+  knownMeanWithoutDirect = count > 0u ? (surfaceIndirectSum + skySum) / float(count) : vec3(0.0);
+  knownSkyShare = count > 0u ? float(count - surfaces) / float(count) : 0.0;
+  surfacesMeanRadiance = surfaces > 0u ? surfaceSum / float(surfaces) : knownMeanWithoutDirect;
+  surfacesSkyShare = surfaces > 0u ? 0.0 : knownSkyShare;
 }
 
 // The thread's terms of the probe's three SH2, L_lm = (4π/N) Σ L(ω_i) Y_lm(ω_i) (SPEC §2).
@@ -422,8 +429,9 @@ void projectRay(ProbeRay chosen, VoxelHit hit, uint ray) {
   bool unknown = found == kRayUnknownInSpace || found == kRayUnknownBesideSurface;
   float skyVisibility = found == kRayFoundSky ? 1.0 : 0.0;
   if (unknown && knownRays > 0u) {
-    radiance = found == kRayUnknownInSpace ? surfacesMeanIndirectRadiance : surfacesMeanRadiance;
-    skyVisibility = unknownRaySkyVisibility;
+    bool inSpace = found == kRayUnknownInSpace;
+    radiance = inSpace ? knownMeanWithoutDirect : surfacesMeanRadiance;
+    skyVisibility = inSpace ? knownSkyShare : surfacesSkyShare;
   } else if (unknown) {
     radiance = max(sh2Evaluate(heldRadiance, sh2Basis(chosen.direction)), vec3(0.0));
     skyVisibility = clamp(dot(heldSkyVisibility, sh2Basis(chosen.direction)), 0.0, 1.0);
