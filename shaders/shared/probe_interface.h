@@ -265,32 +265,53 @@ SSVGI_INLINE Probe makeProbe(Sh2Rgb radiance, vec4 skyVisibility, uint distanceS
   return Probe(packSh2Half(radiance.r), packSh2Half(radiance.g), packSh2Half(radiance.b), distanceSh, normalDotSh, state,
                tag, packSh2Half(skyVisibility));
 }
-// Where, on average, a surface of `normal` sees a round cap of sky about `axis` of half-angle cosine `capCosine`: the
-// cap's directions weighted by max(0, normal·ω), ∫ω·max(0, n·ω)dω / ∫max(0, n·ω)dω. Its light, linear in the direction
-// as the host's SH2 sky is, L(ω) = k0 + k1·ω, reaches the surface as k0 + k1·(this point) per unit of the cap's
-// irradiance. Where the cap lies wholly above the surface's horizon it is exact: (p·n + q·axis (axis·n)) / (π sin²α
-// axis·n), with ∫ωωᵀdω = p·I + q·axis axisᵀ over the cap, p + q = ∫(axis·ω)²dω = 2π(1 − cos³α)/3 and 2p + (p + q) =
-// ∫dω. Past that, as the cap sinks below the horizon, the point moves on from where it was exact to the cap's edge
-// point that sinks last; a cap wider than a hemisphere moves from the hemisphere's 2/3·axis towards the whole
-// sphere's 2/3·n.
-SSVGI_INLINE vec3 skyCapCentroid(vec3 axis, float capCosine, vec3 normal) {
-  if (capCosine < 0.0f) {
-    vec3 towards = mix(axis, normal, -capCosine);
+// A round cap of directions about `axis` of half-angle cosine `cosine`, and its moments: its solid angle ∫dω, its
+// first moment along the axis ∫(axis·ω)dω, and its second ∫ωωᵀdω = perpendicular·I + (alongAxis − perpendicular)·
+// axis axisᵀ, with alongAxis = ∫(axis·ω)²dω = 2π(1 − cos³α)/3 and 2·perpendicular + alongAxis = ∫dω.
+struct RoundCap {
+  vec3 axis;
+  float cosine;
+  float solidAngle;
+  float firstMoment;
+  float alongAxis;
+  float perpendicular;
+};
+SSVGI_INLINE RoundCap roundCap(vec3 axis, float cosine) {
+  RoundCap cap;
+  cap.axis = axis;
+  cap.cosine = cosine;
+  cap.solidAngle = 2.0f * kPi * (1.0f - cosine);
+  cap.firstMoment = kPi * (1.0f - cosine * cosine);
+  cap.alongAxis = 2.0f * kPi * (1.0f - cosine * cosine * cosine) / 3.0f;
+  cap.perpendicular = 0.5f * (cap.solidAngle - cap.alongAxis);
+  return cap;
+}
+
+// Where, on average, a surface of `normal` sees a round cap of sky: the cap's directions weighted by max(0, normal·ω),
+// ∫ω·max(0, n·ω)dω / ∫max(0, n·ω)dω. Its light, linear in the direction as the host's SH2 sky is, L(ω) = k0 + k1·ω,
+// reaches the surface as k0 + k1·(this point) per unit of the cap's irradiance. Where the cap lies wholly above the
+// surface's horizon it is exact: (perpendicular·n + (alongAxis − perpendicular)·axis (axis·n)) / (π sin²α axis·n),
+// from the cap's second moment (RoundCap). Past that, as the cap sinks below the horizon, the point moves on from
+// where it was exact to the cap's edge point that sinks last; a cap wider than a hemisphere moves from the
+// hemisphere's 2/3·axis towards the whole sphere's 2/3·n.
+SSVGI_INLINE vec3 skyCapCentroid(RoundCap cap, vec3 normal) {
+  vec3 axis = cap.axis;
+  if (cap.cosine < 0.0f) {
+    vec3 towards = mix(axis, normal, -cap.cosine);
     return (2.0f / 3.0f) * towards / max(length(towards), 1e-6f);
   }
   float cosine = dot(normal, axis);
   vec3 across = normal - axis * cosine;
   float acrossLength = length(across);
   vec3 tangent = acrossLength > 1e-6f ? across / acrossLength : vec3(0.0f);
-  float capSine = sqrt(max(1.0f - capCosine * capCosine, 0.0f));
+  float capSine = sqrt(max(1.0f - cap.cosine * cap.cosine, 0.0f));
   float clampedCosine = max(cosine, capSine);
   float clampedSine = sqrt(max(1.0f - clampedCosine * clampedCosine, 0.0f));
-  float alongAxis = 2.0f * kPi * (1.0f - capCosine * capCosine * capCosine) / 3.0f;
-  float perpendicular = 0.5f * (2.0f * kPi * (1.0f - capCosine) - alongAxis);
   float capIrradiance = kPi * capSine * capSine * clampedCosine;  // ∫ n'·ω over the cap, n' the normal used
   if (!(capIrradiance > 0.0f)) return axis;
-  vec3 wholeCapSeen = (axis * (alongAxis * clampedCosine) + tangent * (perpendicular * clampedSine)) / capIrradiance;
-  vec3 lastPointSeen = axis * capCosine + tangent * capSine;  // where the cap sinks below the horizon last
+  vec3 wholeCapSeen =
+      (axis * (cap.alongAxis * clampedCosine) + tangent * (cap.perpendicular * clampedSine)) / capIrradiance;
+  vec3 lastPointSeen = axis * cap.cosine + tangent * capSine;  // where the cap sinks below the horizon last
   return mix(wholeCapSeen, lastPointSeen, clamp(0.5f * (capSine - cosine) / capSine, 0.0f, 1.0f));
 }
 
@@ -314,14 +335,14 @@ SSVGI_INLINE vec3 readProbeIrradiance(Probe probe, vec3 normal, Sh2Rgb skyRadian
   vec3 axis = meanLength > 1e-6f ? meanDirectionSum / meanLength : vec3(0.0f, 1.0f, 0.0f);
   float meanCosine = meanLength / (kSh2Band1Basis * solidAngle);
   float spreadCosine = clamp(min(2.0f * meanCosine - 1.0f, 1.0f - solidAngle / (2.0f * kPi)), -1.0f, 1.0f);
-  float spreadSolidAngle = max(2.0f * kPi * (1.0f - spreadCosine), solidAngle);
+  RoundCap spread = roundCap(axis, spreadCosine);
+  float spreadSolidAngle = max(spread.solidAngle, solidAngle);
   float dimming = solidAngle / spreadSolidAngle;
-  // The cap's moments (skyCapCentroid), dimmed: ∫ (axis·ω) dω and the parts of ∫ ωωᵀ dω.
-  float firstMoment = dimming * kPi * (1.0f - spreadCosine * spreadCosine);
-  float alongAxis = 2.0f * kPi * (1.0f - spreadCosine * spreadCosine * spreadCosine) / 3.0f;
-  float perpendicular = dimming * 0.5f * (spreadSolidAngle - alongAxis);
-  float axial = dimming * alongAxis - perpendicular;
-  vec3 seenAt = skyCapCentroid(axis, spreadCosine, normal);
+  // The cap's moments, dimmed: ∫ (axis·ω) dω and the parts of ∫ ωωᵀ dω.
+  float firstMoment = dimming * spread.firstMoment;
+  float perpendicular = dimming * spread.perpendicular;
+  float axial = dimming * (spread.alongAxis - spread.perpendicular);
+  vec3 seenAt = skyCapCentroid(spread, normal);
   vec4 skyChannels[3] = {skyRadianceSh.r, skyRadianceSh.g, skyRadianceSh.b};
   vec4 totalChannels[3] = {total.r, total.g, total.b};
   vec3 skyIrradiance = vec3(0.0f);
