@@ -191,6 +191,8 @@ constexpr uint32_t kFrameSize = 32;
 // (coordinates (0, 0, 4), (0, 0, 2), (0, 0, 1)).
 constexpr glm::vec3 kCameraPosition(2.5f, 0.5f, 10.5f);
 constexpr glm::ivec3 kProbe(0, 0, 4);
+// The voxel volume around kCameraPosition spans x −16..16 and these (m).
+constexpr glm::vec2 kVolumeY(-8.0f, 8.0f), kVolumeZ(-8.0f, 24.0f);
 
 Settings probeTestSettings() {
   Settings settings;
@@ -248,9 +250,9 @@ class ProbeCache : public testing::GpuTest {
   void createBesideTheBlackWallAmidUnobservedSpace();
 
   // Gives the following frames one extra view that only observes (no colour): orthographic, looking along −X through
-  // the whole volume (x 16 → −16, y −8..8) over z ∈ [zFrom, zTo], at `depth` everywhere (0: nothing drawn). The
-  // image is kept in `observerDepth_`.
-  void observeAlongMinusX(float zFrom, float zTo, float depth);
+  // the whole volume (x 16 → −16) over z ∈ [z.x, z.y] and y ∈ [y.x, y.y], at `depth` everywhere (0: nothing drawn).
+  // The image is kept in `observerDepth_`.
+  void observeAlongMinusX(glm::vec2 z, glm::vec2 y, float depth);
 
   // The camera of the following frames: at `position`, looking along −Z.
   void moveCamera(glm::vec3 position) {
@@ -589,12 +591,12 @@ void ProbeCache::createBesideTheBlackWallAmidUnobservedSpace() {
   writeScene(blackWallBesideTheProbe());
 }
 
-void ProbeCache::observeAlongMinusX(float zFrom, float zTo, float depth) {
-  // The view's eye on the volume's +X face (x = 16) at z = 8; its right is −Z, so z ∈ [zFrom, zTo] is the view's
-  // x ∈ [8 − zTo, 8 − zFrom].
+void ProbeCache::observeAlongMinusX(glm::vec2 z, glm::vec2 y, float depth) {
+  // The view's eye on the volume's +X face (x = 16) at z = 8; its right is −Z, so z ∈ [z.x, z.y] is the view's
+  // x ∈ [8 − z.y, 8 − z.x].
   const glm::vec3 eye(16.0f, 0.0f, 8.0f);
   const glm::mat4 viewProjection =
-      renderer::reversedZOrthographicProjection(8.0f - zTo, 8.0f - zFrom, -8.0f, 8.0f, 0.0f, 32.0f) *
+      renderer::reversedZOrthographicProjection(8.0f - z.y, 8.0f - z.x, y.x, y.y, 0.0f, 32.0f) *
       glm::lookAtRH(eye, eye - glm::vec3(1.0f, 0.0f, 0.0f), glm::vec3(0.0f, 1.0f, 0.0f));
   observerDepth_.emplace(device(), gpu::ImageDesc{"observer depth", VK_FORMAT_R32_SFLOAT, kFrameSize, kFrameSize, 1, 1,
                                                   VK_IMAGE_USAGE_SAMPLED_BIT});
@@ -643,16 +645,32 @@ TEST_F(ProbeCache, aRayIntoSpaceNoViewHasObservedStandsForTheSurfacesLightLessIt
 // The black wall beside the probe, and a view that only observes the half of the volume beyond the probe (z > 4): the
 // probe's rays that pass the wall there find the sky (a quarter of the sphere), those that pass it on the near side
 // (z < 4) cross unobserved space. SPEC §6.4: the estimate is formed over the rays that found something known, so an
-// unknown ray stands for the mean of the known ones — a third of them the sky — and the probe holds the sky in a
-// third of its unknown quarter: Ω = π + π/3 of sky, and a mean radiance of L/3 over the sphere (L/4 if the unknown rays
-// took the wall's black, 1/2 if they took the sky). The strips past the wall's edges (1.4 %) are within the bounds.
+// unknown ray stands for the mean of the known ones of its half of the sphere (above or below the horizon): in either
+// half a third of them the sky, so the probe holds the sky in a third of its unknown quarter: Ω = π + π/3 of sky, and
+// a mean radiance of L/3 over the sphere (L/4 if the unknown rays took the wall's black, 1/2 if they took the sky).
+// The strips past the wall's edges (1.4 %) are within the bounds.
 TEST_F(ProbeCache, aRayIntoSpaceNoViewHasObservedStandsForTheMeanOfTheKnownRaysTheSkyIncluded) {
   createBesideTheBlackWallAmidUnobservedSpace();
-  observeAlongMinusX(4.0f, 24.0f, 0.0f);
+  observeAlongMinusX({4.0f, kVolumeZ.y}, kVolumeY, 0.0f);
   runUpdates(32);
   forEachLevelsProbeAtKProbe([&](const shader::Probe& probe, uint32_t) {
     EXPECT_NEAR(sphereMean(radianceSh(probe).g) / kSkyRadiance, 1.0f / 3.0f, 0.03f);
     EXPECT_NEAR(shader::probeSkyVisibilitySh(probe).x / shader::kSh2Band0Basis, 4.0f * kPi / 3.0f, 0.03f * 4.0f * kPi);
+    EXPECT_NEAR(shader::probeKnownFraction(probe), 0.75f, 0.05f);  // 8-bit known fraction
+  });
+}
+
+// The same, with the view observing only the space above the probe (y > 0): its rays past the wall find the sky
+// above the horizon and cross unobserved space below it. An unknown ray stands for the known rays of its own half of
+// the sphere: below the horizon those all met the black wall, so the probe holds the sky in its upper +X quarter
+// alone: Ω = π and a mean radiance of L/4 (over the whole sphere's known rays, 4π/3 and L/3 as above).
+TEST_F(ProbeCache, aRayIntoSpaceNoViewHasObservedBelowTheHorizonTakesNoSkyFoundAboveIt) {
+  createBesideTheBlackWallAmidUnobservedSpace();
+  observeAlongMinusX(kVolumeZ, {0.0f, kVolumeY.y}, 0.0f);
+  runUpdates(32);
+  forEachLevelsProbeAtKProbe([&](const shader::Probe& probe, uint32_t) {
+    EXPECT_NEAR(sphereMean(radianceSh(probe).g) / kSkyRadiance, 0.25f, 0.03f);
+    EXPECT_NEAR(shader::probeSkyVisibilitySh(probe).x / shader::kSh2Band0Basis, kPi, 0.03f * 4.0f * kPi);
     EXPECT_NEAR(shader::probeKnownFraction(probe), 0.75f, 0.05f);  // 8-bit known fraction
   });
 }
@@ -666,7 +684,7 @@ TEST_F(ProbeCache, aViewThatOnlyObservesMakesTheSkyKnownWithoutWritingVoxels) {
   runFrames(1);
   const uint32_t bricksBefore = context_->stats().bricksLive;  // the wall's, and the one the camera sees
 
-  observeAlongMinusX(-8.0f, 24.0f, 0.0f);  // the volume's whole cross-section
+  observeAlongMinusX(kVolumeZ, kVolumeY, 0.0f);  // the volume's whole cross-section
   runUpdates(32);
   forEachLevelsProbeAtKProbe([&](const shader::Probe& probe, uint32_t) {
     EXPECT_NEAR(shader::sh2Irradiance(radianceSh(probe).g, {1, 0, 0}), kPi * kSkyRadiance, 0.05f * kPi * kSkyRadiance);
@@ -676,7 +694,7 @@ TEST_F(ProbeCache, aViewThatOnlyObservesMakesTheSkyKnownWithoutWritingVoxels) {
 
   // A plane across the volume at x = 0 (halfway along the view's depth range): a view that injected would allocate
   // its bricks.
-  observeAlongMinusX(-8.0f, 24.0f, 0.5f);
+  observeAlongMinusX(kVolumeZ, kVolumeY, 0.5f);
   runFrames(4);
   EXPECT_EQ(context_->stats().bricksLive, bricksBefore);
   extraViews_.clear();
