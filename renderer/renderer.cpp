@@ -64,7 +64,6 @@ Renderer::Renderer(gpu::OwnedDevice& device, const Scene& scene, const RendererS
       directLighting_(device),
       composite_(device),
       tonemap_(device),
-      skyMap_(device),
       gbuffers_{GBuffer(device, settings.width, settings.height), GBuffer(device, settings.width, settings.height)},
       frameConstants_(device, "frame constants", sizeof(shader::FrameConstants), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                       gpu::MemoryUsage::HostUpload),
@@ -94,6 +93,7 @@ Renderer::Renderer(gpu::OwnedDevice& device, const Scene& scene, const RendererS
     desc.framesInFlight = 1;  // the renderer waits for every frame
     desc.memoryBudgetBytes = settings.giMemoryBudgetBytes;
     extraViews_.emplace(device, scene, settings.extraViews, *settings.gi, bounds_);
+    if (settings.extraViews.skyMap) skyMap_.emplace(device);
     desc.maxExtraViewSize = extraViews_->maxViewSize();
     auto context = ssvgi::Context::create(desc);
     if (!context.ok()) throw gpu::GpuError("ssvgi: " + context.error().message);
@@ -153,7 +153,7 @@ void Renderer::recordGi(gpu::CommandList& commands, const shader::FrameConstants
   // What probe rays that leave the voxel volume see (the map), and the sky the gather reads their openings with.
   const shader::Sh2Rgb sky = projectSkyToSh2(frame.sky);
   std::memcpy(desc.skyRadianceSh.data(), &sky, sizeof(sky));
-  if (settings_.extraViews.skyMap) desc.skyRadianceMap.view = skyMap_.image().view();
+  if (skyMap_) desc.skyRadianceMap.view = skyMap_->image().view();
   desc.extraViews = lastExtraViews_;
   desc.countWork = settings_.countGiWork;
   if (const ssvgi::Error error = gi_->dispatch(desc, commands.handle())) throw gpu::GpuError("ssvgi: " + error.message);
@@ -189,7 +189,7 @@ void Renderer::render(const AnimatedState& state) {
                            directIrradiance_, viewDistance_);
     if (gi_) {
       lastExtraViews_ = extraViews_->record(commands, frame, gpuScene_, lights_, shadows_, pointSampler_.handle());
-      if (settings_.extraViews.skyMap) skyMap_.record(commands, frameConstants_);
+      if (skyMap_) skyMap_->record(commands, frameConstants_);
       recordGi(commands, frame);
     }
     // Without the GI's light the composite binds the black image for both, and reads neither.
@@ -285,7 +285,10 @@ FloatImage readFloatImage(gpu::OwnedDevice& device, const gpu::Image& image, uin
 FloatImage Renderer::finalRadiance() { return readFloatImage(device_, finalRadiance_[(frameIndex_ + 1) & 1u], 3); }
 FloatImage Renderer::directIrradiance() { return readFloatImage(device_, directIrradiance_, 3); }
 FloatImage Renderer::indirectIrradiance() { return readFloatImage(device_, indirectUsed_, 3); }
-FloatImage Renderer::skyMap() { return readFloatImage(device_, skyMap_.image(), 3); }
+FloatImage Renderer::skyMap() {
+  if (!skyMap_) throw gpu::GpuError("the renderer gives ssvgi no sky map (GI off, or ExtraViewSettings::skyMap off)");
+  return readFloatImage(device_, skyMap_->image(), 3);
+}
 FloatImage Renderer::confidence() {
   const FloatImage used = readFloatImage(device_, indirectUsed_, 4);
   FloatImage result{used.width, used.height, 1, std::vector<float>(size_t(used.width) * used.height)};

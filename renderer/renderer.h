@@ -103,7 +103,7 @@ class Renderer {
   FloatImage finalRadiance();       // linear HDR, rgb
   FloatImage directIrradiance();    // E_direct, rgb
   FloatImage indirectIrradiance();  // E_indirect each pixel was shaded with, rgb
-  FloatImage skyMap();              // the sky's map given to the GI with ExtraViewSettings::skyMap (SkyMap), rgb
+  FloatImage skyMap();              // the sky's map given to the GI (SkyMap), rgb; throws gpu::GpuError without one
   // The GI's confidence in that E_indirect (ssvgi::Context::confidence(), sampled as the composite samples E), one
   // channel, 0–1; 0 where nothing was drawn and everywhere when the GI's light is not composited.
   FloatImage confidence();
@@ -133,7 +133,7 @@ class Renderer {
   DirectLighting directLighting_;
   Composite composite_;
   Tonemap tonemap_;
-  SkyMap skyMap_;
+  std::optional<SkyMap> skyMap_;  // with GI and ExtraViewSettings::skyMap
   std::array<GBuffer, 2> gbuffers_;
   gpu::Buffer frameConstants_;
   gpu::Buffer lights_;
