@@ -645,9 +645,10 @@ TEST_F(ProbeCache, aRayIntoSpaceNoViewHasObservedStandsForTheSurfacesLightLessIt
 // The black wall beside the probe, and a view that only observes the half of the volume beyond the probe (z > 4): the
 // probe's rays that pass the wall there find the sky (a quarter of the sphere), those that pass it on the near side
 // (z < 4) cross unobserved space. SPEC §6.4: the estimate is formed over the rays that found something known, so an
-// unknown ray stands for the mean of the known ones of its half of the sphere (above or below the horizon): in either
-// half a third of them the sky, so the probe holds the sky in a third of its unknown quarter: Ω = π + π/3 of sky, and
-// a mean radiance of L/3 over the sphere (L/4 if the unknown rays took the wall's black, 1/2 if they took the sky).
+// unknown ray stands for the mean of the known ones: the surfaces' light, and the sky as often as the known rays of its
+// half of the sphere (above or below the horizon) found it — in either half a third of them — so the probe holds the
+// sky in a third of its unknown quarter: Ω = π + π/3 of sky, and a mean radiance of L/3 over the sphere (L/4 if the
+// unknown rays took the wall's black, 1/2 if they took the sky).
 // The strips past the wall's edges (1.4 %) are within the bounds.
 TEST_F(ProbeCache, aRayIntoSpaceNoViewHasObservedStandsForTheMeanOfTheKnownRaysTheSkyIncluded) {
   createBesideTheBlackWallAmidUnobservedSpace();
@@ -661,9 +662,9 @@ TEST_F(ProbeCache, aRayIntoSpaceNoViewHasObservedStandsForTheMeanOfTheKnownRaysT
 }
 
 // The same, with the view observing only the space above the probe (y > 0): its rays past the wall find the sky
-// above the horizon and cross unobserved space below it. An unknown ray stands for the known rays of its own half of
-// the sphere: below the horizon those all met the black wall, so the probe holds the sky in its upper +X quarter
-// alone: Ω = π and a mean radiance of L/4 (over the whole sphere's known rays, 4π/3 and L/3 as above).
+// above the horizon and cross unobserved space below it. An unknown ray takes the sky as often as the known rays of
+// its own half of the sphere found it: below the horizon those all met the black wall, so the probe holds the sky in
+// its upper +X quarter alone: Ω = π and a mean radiance of L/4 (with the whole sphere's share, 4π/3 and L/3 as above).
 TEST_F(ProbeCache, aRayIntoSpaceNoViewHasObservedBelowTheHorizonTakesNoSkyFoundAboveIt) {
   createBesideTheBlackWallAmidUnobservedSpace();
   observeAlongMinusX(kVolumeZ, {0.0f, kVolumeY.y}, 0.0f);

@@ -103,10 +103,11 @@ struct Settings {
   float probeSharedChangeShare = 0.125f;
   // Unknown is not sky (SPEC §6.4): ssvgi keeps which brick cells of its volume the camera and the extra views have
   // seen through or into. A probe ray that meets no voxel after crossing one no view has observed has found neither
-  // a surface nor the sky: it stands for the mean of what the update's other rays in its half of the sphere (above or
-  // below the horizon) found, the sky included, less the surfaces' direct light — no light's view saw a surface lit
-  // there — (for what the probe already holds, where none found anything), and the probe's confidence falls. Off:
-  // every ray that meets no voxel sees the sky, also through a roof that was never on screen.
+  // a surface nor the sky: it stands for the mean of what the update's other rays found — the surfaces' light less
+  // its direct part (no light's view saw a surface lit there), and the sky as often as the rays of its half of the
+  // sphere, above or below the horizon, found it — (for what the probe already holds, where none found anything), and
+  // the probe's confidence falls. Off: every ray that meets no voxel sees the sky, also through a roof that was never
+  // on screen.
   // Turn it on with views beyond the camera that observe the space around it (FrameDesc::extraViews: a view from the
   // sun or from above, a capture around the camera): with the camera alone, open space behind it is unknown
   // (docs/QUALITY.md, "Unknown is not sky").

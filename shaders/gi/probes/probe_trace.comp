@@ -90,13 +90,13 @@ const uint kRayUnknownBesideSurface = 3u;    // it ended at unobserved voxels be
 shared uint rayFound[kProbeTraceGroupSize];
 shared vec3 rayIndirectRadiance[kProbeTraceGroupSize];
 shared uint knownRays;
-// What an unknown ray stands for (averageKnownRays), in each half of the sphere (0: below the horizon, 1: above): its
-// radiance and its share of sky, into unobserved space and beside seen surfaces.
+// What an unknown ray stands for (averageKnownRays): its radiance and its share of sky, into unobserved space (in each
+// half of the sphere, 0: below the horizon, 1: above) and beside seen surfaces.
 shared uint rayHalf[kProbeTraceGroupSize];
 shared vec3 knownMeanWithoutDirect[2];
 shared float knownSkyShare[2];
-shared vec3 surfacesMeanRadiance[2];
-shared float surfacesSkyShare[2];
+shared vec3 surfacesMeanRadiance;
+shared float surfacesSkyShare;
 shared vec4 heldSkyVisibility;
 shared Sh2Rgb heldRadiance;
 shared bool startsFromCoarserLevel;
@@ -385,52 +385,59 @@ VoxelHit traceRay(ListedProbe probe, ProbeRay chosen, uint ray) {
   return hit;
 }
 
-// Unknown is not sky (SPEC §6.4): the estimate is formed over the rays that found something known, in each half of the
-// sphere, above and below the horizon, apart (the sky lies above it; over the whole sphere, the sky an opening shows
-// above lit the unknown floor-level space below too: docs/QUALITY.md, "Unknown rays take the known sky's share"). A ray
-// into space no view has observed stands for the mean of this update's known rays of its half, the sky they found
-// included (its share of them is the share of sky it holds), but for the surfaces' direct part: the sun's view covers
-// the volume and the local lights' views their reach, so a surface no view has seen is one no light's view saw lit
-// (counting the sunlit walls in gave the courtyard's probes sunlight behind its buildings: docs/QUALITY.md). A ray that
-// ended beside seen surfaces stands for the mean of the rays that met a surface, whole: what it would have met is most
-// likely beside them, sunlit or not (the sunlit wall past a pillar's edge in the gallery). Each alike for every
-// direction of its half, so that what the probe learns does not depend on what it held before, which would keep a
-// camera cut's old light in it for good. (Unknown rays once stood for the surfaces' mean alone, never the sky: it kept
-// the hall without the capture around the camera from taking the sky through its roof's openings to the whole unknown
-// sphere, when views observed the space beside walls they grazed; with today's stricter observed space that rule left
-// the hall's probes that see the nearer opening only through air no view observed 0.77 of the reference's light.) A
-// half of the sphere no known ray lies in takes the whole sphere's means; a probe none of whose rays found anything
-// known keeps what it holds. One thread.
+// Unknown is not sky (SPEC §6.4): the estimate is formed over the rays that found something known. A ray into space no
+// view has observed stands for the mean of this update's known rays: the surfaces' mean less their direct part, and the
+// sky as often as the known rays of its own half of the sphere, above or below the horizon, found it. Less the direct
+// part: the sun's view covers the volume and the local lights' views their reach, so a surface no view has seen is one
+// no light's view saw lit (counting the sunlit walls in gave the courtyard's probes sunlight behind its buildings:
+// docs/QUALITY.md). The sky by halves: it lies above the horizon, and over the whole sphere the sky openings show above
+// lit the unknown space at floor level too; the surfaces over the whole sphere, whose mean is steadier than a half's
+// (by halves, light through a wall's junctions in `two-rooms` grew from 0.15 % to 0.35 %: docs/QUALITY.md, "Unknown
+// rays take the known sky's share"). A ray that ended beside seen surfaces stands for the surfaces' mean, whole: what
+// it would have met is most likely beside them, sunlit or not (the sunlit wall past a pillar's edge in the gallery).
+// Each alike for every direction of its half, so that what the probe learns does not depend on what it held before,
+// which would keep a camera cut's old light in it for good. (Unknown rays once stood for the surfaces' mean alone,
+// never the sky: it kept the hall without the capture around the camera from taking the sky through its roof's openings
+// to the whole unknown sphere, when views observed the space beside walls they grazed; with today's stricter observed
+// space that rule left the hall's probes that see the nearer opening only through air no view observed 0.77 of the
+// reference's light.) A half no known ray lies in takes the whole sphere's share of sky; a probe none of whose rays
+// found anything known keeps what it holds. One thread.
 void averageKnownRays() {
-  vec3 sum[3], surfaceSum[3], surfaceIndirectSum[3];
-  uint count[3], surfaces[3];
+  vec3 surfaceSum = vec3(0.0), surfaceIndirectSum = vec3(0.0), skySum[3];
+  uint surfaces = 0u, count[3], skyRays[3];
   for (uint side = 0u; side < 3u; ++side) {
-    sum[side] = surfaceSum[side] = surfaceIndirectSum[side] = vec3(0.0);
-    count[side] = surfaces[side] = 0u;
+    skySum[side] = vec3(0.0);
+    count[side] = skyRays[side] = 0u;
   }
   for (uint other = 0u; other < update.raysPerProbe; ++other) {
     uint found = rayFound[other];
     if (found == kRayUnknownInSpace || found == kRayUnknownBesideSurface) continue;
-    uint sums[2] = uint[2](rayHalf[other], 2u);  // its half of the sphere, and the whole sphere
-    for (int i = 0; i < 2; ++i) {
-      uint side = sums[i];
-      sum[side] += rayRadiance[other];
-      ++count[side];
-      if (found != kRayMetSurface) continue;
-      surfaceSum[side] += rayRadiance[other];
-      surfaceIndirectSum[side] += rayIndirectRadiance[other];
-      ++surfaces[side];
+    uint side = rayHalf[other];
+    ++count[side];
+    ++count[2];
+    if (found == kRayMetSurface) {
+      surfaceSum += rayRadiance[other];
+      surfaceIndirectSum += rayIndirectRadiance[other];
+      ++surfaces;
+    } else {
+      skySum[side] += rayRadiance[other];
+      skySum[2] += rayRadiance[other];
+      ++skyRays[side];
+      ++skyRays[2];
     }
   }
   knownRays = count[2];
+  vec3 surfacesIndirectMean = surfaces > 0u ? surfaceIndirectSum / float(surfaces) : vec3(0.0);
   for (uint side = 0u; side < 2u; ++side) {
     uint h = count[side] > 0u ? side : 2u;  // a half with no known ray takes the whole sphere's
-    vec3 skySum = sum[h] - surfaceSum[h];
-    knownMeanWithoutDirect[side] = count[h] > 0u ? (surfaceIndirectSum[h] + skySum) / float(count[h]) : vec3(0.0);
-    knownSkyShare[side] = count[h] > 0u ? float(count[h] - surfaces[h]) / float(count[h]) : 0.0;
-    surfacesMeanRadiance[side] = surfaces[h] > 0u ? surfaceSum[h] / float(surfaces[h]) : knownMeanWithoutDirect[side];
-    surfacesSkyShare[side] = surfaces[h] > 0u ? 0.0 : knownSkyShare[side];
+    float skyShare = count[h] > 0u ? float(skyRays[h]) / float(count[h]) : 0.0;
+    vec3 skyMean = skyRays[h] > 0u ? skySum[h] / float(skyRays[h]) : vec3(0.0);
+    knownMeanWithoutDirect[side] = mix(surfacesIndirectMean, skyMean, skyShare);
+    knownSkyShare[side] = skyShare;
   }
+  vec3 wholeSkyMean = skyRays[2] > 0u ? skySum[2] / float(skyRays[2]) : vec3(0.0);
+  surfacesMeanRadiance = surfaces > 0u ? surfaceSum / float(surfaces) : wholeSkyMean;
+  surfacesSkyShare = surfaces > 0u || count[2] == 0u ? 0.0 : 1.0;
 }
 
 // The thread's terms of the probe's three SH2, L_lm = (4π/N) Σ L(ω_i) Y_lm(ω_i) (SPEC §2).
@@ -447,8 +454,8 @@ void projectRay(ProbeRay chosen, VoxelHit hit, uint ray) {
   if (unknown && knownRays > 0u) {
     bool inSpace = found == kRayUnknownInSpace;
     uint side = rayHalf[ray];
-    radiance = inSpace ? knownMeanWithoutDirect[side] : surfacesMeanRadiance[side];
-    skyVisibility = inSpace ? knownSkyShare[side] : surfacesSkyShare[side];
+    radiance = inSpace ? knownMeanWithoutDirect[side] : surfacesMeanRadiance;
+    skyVisibility = inSpace ? knownSkyShare[side] : surfacesSkyShare;
   } else if (unknown) {
     radiance = max(sh2Evaluate(heldRadiance, sh2Basis(chosen.direction)), vec3(0.0));
     skyVisibility = clamp(dot(heldSkyVisibility, sh2Basis(chosen.direction)), 0.0, 1.0);
