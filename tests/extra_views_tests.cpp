@@ -132,9 +132,9 @@ TEST_F(ExtraViews, theSunsViewFillsASunlitWallTheCameraNeverSeesInItsSunlitColou
 TEST_F(ExtraViews, aWallTheSunTurnsAwayFromLosesItsSunlightOnceTheSunsViewHasSeenIt) {
   // SPEC §6.1: the sunlit wall behind the camera, then the sun turned round to the wall's other side. The face the
   // camera never sees gets no sunlight any more. The sun lights this scene alone, so the renderer gives its view as a
-  // reflective shadow map (ExtraViewSettings::reflectiveShadowMaps), which sees that face hidden behind the wall and
-  // takes its direct light: 0.75 of it kept per render, 16 renders. (A light's view never sees what its light stopped
-  // reaching: without the flag, the face would keep its sunlight for good.)
+  // reflective shadow map when asked (ExtraViewSettings::reflectiveShadowMaps), which sees that face hidden behind the
+  // wall and takes its direct light: 0.75 of it kept per render, 16 renders. (A light's view never sees what its light
+  // stopped reaching: without the flag, the face would keep its sunlight for good.)
   SunlitWallBehindTheCamera wall;
   renderer::Renderer renderer(device(), wall.scene,
                               rendering({.sunViewSize = 64, .surroundViewSize = 0, .lightViewSize = 0,

@@ -228,7 +228,7 @@ void addGiOptions(CLI::App& command, GiOptions& options) {
               "the views of the scene's local lights (six per point light, one per spot)");
   command.add_flag("--shadow-map-views,!--no-shadow-map-views", options.extraViews.reflectiveShadowMaps,
                    "Give the sun's view as a reflective shadow map where the sun alone lights the scene (and a local "
-                   "light's views where that light does): ssvgi takes what it shows hidden for shadow. On by default");
+                   "light's views where that light does): ssvgi takes what it shows hidden for shadow");
   command.add_flag("--sky-map,!--no-sky-map", options.extraViews.skyMap,
                    "Give ssvgi the sky as an equirectangular map too, for the probes' rays that leave its voxels. On "
                    "by default");
