@@ -184,6 +184,26 @@ vec3 ontoVoxelPlane(vec3 point, Voxel voxel, vec3 voxelMin) {
   return point - normal * dot(point - planePoint, normal);
 }
 
+// Where a point lands in the view: its pixel, its NDC, and whether the view sees it — inside the view and between its
+// near and far planes (reversed-Z: NDC depth 1 to 0); what the near plane or an orthographic view's far plane clipped
+// away is not known to be empty.
+struct ViewPoint {
+  vec2 pixel;
+  vec2 ndc;
+  bool inView;
+};
+
+ViewPoint projectIntoView(vec3 point, vec2 litSize) {
+  vec4 clip = frame.litViewProjection * vec4(point, 1.0);
+  vec3 ndc = clip.xyz / clip.w;
+  ViewPoint projected;
+  projected.ndc = ndc.xy;
+  projected.pixel = ssvgiNdcToPixel(ndc.xy, litSize);
+  projected.inView = clip.w > 0.0 && ndc.z <= 1.0 && ndc.z >= 0.0 &&
+                     all(greaterThanEqual(projected.pixel, vec2(0.0))) && all(lessThan(projected.pixel, litSize));
+  return projected;
+}
+
 // How much of an occupied voxel's surface a reflective shadow map shows lit: a jittered kLitShareLattice² lattice of
 // points on the voxel's plane (spread over the two axes its normal leans on least, the first the random point
 // `firstPoint`), each looked at in the view. A point whose texel shows a surface in front of it (by more than
@@ -200,7 +220,8 @@ struct LitShare {
 
 LitShare litShareOfPlane(vec3 firstPoint, Voxel voxel, vec3 voxelMin, vec2 litSize, float margin) {
   LitShare share = LitShare(0u, 0u, ivec2(0));
-  vec3 normal = abs(voxelNormal(voxel));
+  vec3 voxelFacing = voxelNormal(voxel);
+  vec3 normal = abs(voxelFacing);
   int dropped = normal.x >= normal.y && normal.x >= normal.z ? 0 : (normal.y >= normal.z ? 1 : 2);
   int first = (dropped + 1) % 3, second = (dropped + 2) % 3;
   vec3 jitter = (firstPoint - voxelMin) / volume.voxelSize;
@@ -210,20 +231,16 @@ LitShare litShareOfPlane(vec3 firstPoint, Voxel voxel, vec3 voxelMin, vec2 litSi
       lattice[first] = fract(jitter[first] + float(i) / float(kLitShareLattice));
       lattice[second] = fract(jitter[second] + float(j) / float(kLitShareLattice));
       vec3 point = ontoVoxelPlane(voxelMin + lattice * volume.voxelSize, voxel, voxelMin);
-      vec4 clip = frame.litViewProjection * vec4(point, 1.0);
-      vec3 ndc = clip.xyz / clip.w;
-      vec2 pixel = ssvgiNdcToPixel(ndc.xy, litSize);
-      if (clip.w <= 0.0 || ndc.z > 1.0 || ndc.z < 0.0 || any(lessThan(pixel, vec2(0.0))) ||
-          any(greaterThanEqual(pixel, litSize)))
-        continue;
-      ViewSample seen = viewSampleAt(ivec2(pixel), litSize);
+      ViewPoint projected = projectIntoView(point, litSize);
+      if (!projected.inView) continue;
+      ViewSample seen = viewSampleAt(ivec2(projected.pixel), litSize);
       if (seen.depth <= 0.0) continue;
       // Lit where the texel shows the voxel's own face (as a colour refresh takes it, below). Hidden where it shows a
       // surface well in front of the point, or the back of the voxel's face (the other face of a wall one voxel
       // thick, which the light reaches and the voxel's face does not).
       bool atVoxel = showsSurfaceAt(seen, voxelMin);
-      float facing = dot(seen.normal, voxelNormal(voxel));
-      float beyond = dot(seen.surface - point, viewRayDirection(frame.litInverseViewProjection, ndc.xy));
+      float facing = dot(seen.normal, voxelFacing);
+      float beyond = dot(seen.surface - point, viewRayDirection(frame.litInverseViewProjection, projected.ndc));
       if (atVoxel && facing > kOwnSurfaceFacing) {
         ++share.lit;
         share.litTexel = seen.texel;
@@ -280,16 +297,12 @@ void main() {
   bool samplesShadow = occupied && (frame.viewKind & kViewIsReflectiveShadowMap) != 0u &&
                        (voxel.albedo & kVoxelRelit) != 0u && voxelPlaneCode(voxel) != 0u;
   if (samplesShadow) samplePoint = ontoVoxelPlane(samplePoint, voxel, voxelMin);
-  vec4 clip = frame.litViewProjection * vec4(samplePoint, 1.0);
-  vec3 ndc = clip.xyz / clip.w;
   vec2 litSize = vec2(frame.litSize);
-  vec2 pixel = ssvgiNdcToPixel(ndc.xy, litSize);
-  // Only a point between the view's near and far planes (reversed-Z: NDC depth 1 to 0) is seen: what the near plane
-  // or an orthographic view's far plane clipped away is not known to be empty.
-  bool inDepthRange = clip.w > 0.0 && ndc.z <= 1.0 && ndc.z >= 0.0;
+  ViewPoint projected = projectIntoView(samplePoint, litSize);
+  vec2 pixel = projected.pixel;
   bool seenThrough = false;
   bool observedNow = false;
-  if (inDepthRange && all(greaterThanEqual(pixel, vec2(0.0))) && all(lessThan(pixel, litSize))) {
+  if (projected.inView) {
     if (countsWork()) atomicAdd(voxelsInView, 1u);
     ViewSample seen = viewSampleAt(ivec2(pixel), litSize);
     // "Clearly in front" along the view's ray (perspective or orthographic): by more than half a voxel, so that depth
@@ -303,7 +316,7 @@ void main() {
     for (int corner = 0; corner < 4; ++corner)
       nearestDepth = max(nearestDepth, texelFetch(litDepth, aroundTexel(firstTexel, corner, litSize), 0).r);
     vec3 nearestSurface = reconstructPosition(frame.litInverseViewProjection, pixel - 0.5, litSize, nearestDepth);
-    vec3 viewDirection = viewRayDirection(frame.litInverseViewProjection, ndc.xy);
+    vec3 viewDirection = viewRayDirection(frame.litInverseViewProjection, projected.ndc);
     bool inFront = dot(nearestSurface - samplePoint, viewDirection) > clearMargin;
     // Seeing through one point of a voxel proves only that point empty. A voxel that the surface seen there passes
     // through (its tangent plane cuts the voxel's box) may hold that surface elsewhere: at a grazing view most of
