@@ -47,9 +47,9 @@ struct ExtraViewSettings {
   uint32_t viewsPerFrame = 4;
   // Give the sun's view (and a local light's) as a reflective shadow map where that light alone lights the scene and
   // nothing emits (ssvgi::ExtraView::isReflectiveShadowMap): ssvgi then takes the light of what it shows in that
-  // light's shadow away, so a place the sun turned from loses its light (SPEC §6.1). Off by default: with the sky map,
-  // the dark room's flicker at 640×360 came out at 0.28 % in half the runs instead of 0.12 % (docs/QUALITY.md, "The
-  // sky map and the reflective shadow map on by default").
+  // light's shadow away, so a place the sun turned from loses its light (SPEC §6.1). Off by default: with the sky map
+  // as well, the dark room flickered more than issue 13 allows in some runs (docs/QUALITY.md, "The sky map and the
+  // reflective shadow map on by default").
   bool reflectiveShadowMaps = false;
   // Give ssvgi the sky as a map too (SkyMap, ssvgi::FrameDesc::skyRadianceMap), not only as SH2: the probes' rays that
   // leave the voxels see the sky's glow about the sun where it is, not spread over half the sky.
