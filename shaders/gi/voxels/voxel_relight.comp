@@ -4,10 +4,13 @@
 // lighting. The bounces after the first then follow the probes where the camera does not look — behind it, on a wall
 // an extra view saw once long ago — instead of staying as a view last left them (a light switched off while the
 // camera looks away left its bounce light there for good, feeding itself through the probes).
-// A frame relights the pool's bricks [firstBrick, endBrick) — a slice of it, Settings::voxelRelightPeriod — up to the
-// bump allocator's count (no brick beyond it was ever used): a few hundred workgroups rather than one per brick of the
-// pool, most of which is empty, each going over kRelightBricksAtOnce bricks at a time with kRelightVoxelsAtOnce threads
-// per brick walking its occupied voxels.
+// A frame relights one in Settings::voxelRelightPeriod of the bricks, those whose phase (from their world coordinate)
+// is the frame's, up to the bump allocator's count (no brick beyond it was ever used): a few hundred workgroups rather
+// than one per brick of the pool, most of which is empty, each going over kRelightBricksAtOnce bricks at a time with
+// kRelightVoxelsAtOnce threads per brick walking its occupied voxels. The phase is the brick's place in the world, not
+// in the pool: the pool's order is the order in which BrickAllocate's threads happened to run, and a slice of it made
+// which voxels are relit on which frame — and with it the GI — differ from run to run (docs/QUALITY.md, "The same
+// frames, the same light").
 #define SSVGI_VOXELS_WRITABLE
 #include "gi/gather/probe_irradiance.glsl"
 #include "gi/work_counting.glsl"
@@ -15,11 +18,18 @@
 
 layout(local_size_x = kRelightBricksAtOnce * kRelightVoxelsAtOnce) in;
 
-layout(push_constant) uniform Slice {
-  uint firstBrick;
-  uint endBrick;
+layout(push_constant) uniform Phase {
+  uint phase;   // the frame's: frameIndex % period
+  uint period;  // Settings::voxelRelightPeriod
 };
 layout(binding = kBindPoolState) readonly buffer PoolBlock { BrickPoolState pool; };
+
+// The frames (modulo `period`) on which the brick at world brick coordinate `coordinate` is relit: a hash, so that
+// each phase takes its share of every region of the scene.
+const uint kRelightPhaseSeed = 0x27d4eb2du;
+uint relightPhase(ivec3 coordinate, uint period) {
+  return uint(hashToUnitCube(uvec3(coordinate) ^ uvec3(kRelightPhaseSeed)).x * float(period)) % period;
+}
 
 // Whether the voxel's light was gathered from the probes (the work counted: shared/work_counters.h).
 bool relightVoxel(uint brick, uint occupiedVoxel) {
@@ -51,13 +61,14 @@ bool relightVoxel(uint brick, uint occupiedVoxel) {
 }
 
 void main() {
-  uint end = min(endBrick, pool.bumpCount);
+  uint end = pool.bumpCount;
   uint relitVoxels = 0u;
   uint brickOfWorkgroup = gl_LocalInvocationID.x / kRelightVoxelsAtOnce;
   uint firstVoxel = gl_LocalInvocationID.x % kRelightVoxelsAtOnce;
-  for (uint brick = firstBrick + gl_WorkGroupID.x * kRelightBricksAtOnce + brickOfWorkgroup; brick < end;
+  for (uint brick = gl_WorkGroupID.x * kRelightBricksAtOnce + brickOfWorkgroup; brick < end;
        brick += gl_NumWorkGroups.x * kRelightBricksAtOnce) {
     if (bricks[brick].live == 0u) continue;  // free
+    if (relightPhase(bricks[brick].coordinate, period) != phase) continue;
     uvec2 occupancy = bricks[brick].occupancy;
     uint occupied = uint(bitCount(occupancy.x) + bitCount(occupancy.y));
     for (uint voxel = firstVoxel; voxel < occupied; voxel += kRelightVoxelsAtOnce)

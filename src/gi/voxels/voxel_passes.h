@@ -92,8 +92,8 @@ class SceneVoxelization {
   gpu::ComputePipeline pipeline_;
 };
 
-// VoxelRelight: the voxels given direct light and albedo get direct + albedo/π · E of the probes (SPEC §6.1), a slice
-// of the pool a frame so that every voxel is relit once every `period` frames.
+// VoxelRelight: the voxels given direct light and albedo get direct + albedo/π · E of the probes (SPEC §6.1), the
+// bricks of one phase (from their world coordinate) a frame so that every voxel is relit once every `period` frames.
 class VoxelRelight {
  public:
   explicit VoxelRelight(gpu::Device& device);

@@ -12,22 +12,21 @@ VoxelRelight::VoxelRelight(gpu::Device& device) : pipeline_(device, shaders::vox
 void VoxelRelight::record(gpu::CommandList& commands, const VoxelScene& scene, const ProbeLight& probeLight,
                           uint32_t frameIndex, uint32_t period) {
   auto scope = commands.scope("ssvgi: VoxelRelight");
-  // The pool in `period` slices, one a frame: every live voxel is relit once every `period` frames.
-  const uint32_t capacity = scene.settings().brickPoolCapacity;
-  const uint32_t bricksPerSlice = (capacity + period - 1) / period;
+  // The bricks in `period` phases, one a frame: every live voxel is relit once every `period` frames.
   const struct {
-    uint32_t firstBrick;
-    uint32_t endBrick;
-  } slice{frameIndex % period * bricksPerSlice, std::min(capacity, (frameIndex % period + 1) * bricksPerSlice)};
-  // Enough workgroups to fill a GPU; each loops over the slice's used bricks.
+    uint32_t phase;
+    uint32_t period;
+  } phase{frameIndex % period, period};
+  // Enough workgroups to fill a GPU; each loops over the used bricks, relighting those of the frame's phase.
   constexpr uint32_t kWorkgroups = 256;
+  const uint32_t capacity = scene.settings().brickPoolCapacity;
   const uint32_t workgroups =
-      std::min(kWorkgroups, (bricksPerSlice + shader::kRelightBricksAtOnce - 1) / shader::kRelightBricksAtOnce);
+      std::min(kWorkgroups, (capacity + shader::kRelightBricksAtOnce - 1) / shader::kRelightBricksAtOnce);
   commands.dispatch(pipeline_,
                     scene.bindings()
                         .buffer(shader::kBindGatherConstants, probeLight.gatherConstants)
                         .buffer(shader::kBindGatherProbes, probeLight.probes),
-                    {workgroups * shader::kRelightBricksAtOnce * shader::kRelightVoxelsAtOnce, 1, 1}, slice);
+                    {workgroups * shader::kRelightBricksAtOnce * shader::kRelightVoxelsAtOnce, 1, 1}, phase);
 }
 
 }  // namespace ssvgi::gi
