@@ -130,9 +130,8 @@ bool sightCrossesVoxel(ViewSample seen, vec3 voxelMin, float voxelSize, vec2 lit
 // the views (the dark room's walls turned black from inside, and flickered: QUALITY.md, "Views beyond the camera").
 bool holdsSeenSurface(ViewSample seen, vec3 voxelMin, bool occupied, vec3 storedNormal) {
   float voxelSize = volume.voxelSize;
-  vec3 volumeCentre = (vec3(volume.originBrick) + 0.5 * vec3(volume.dimensionsBricks)) * volume.brickSize;
   bool turnsSurfaceAround = occupied && dot(storedNormal, seen.normal) < 0.0 &&
-                            dot(seen.normal, volumeCentre - (voxelMin + 0.5 * voxelSize)) <= 0.0;
+                            dot(seen.normal, volumeMiddle() - (voxelMin + 0.5 * voxelSize)) <= 0.0;
   return seen.depth > 0.0 && !turnsSurfaceAround && all(greaterThanEqual(seen.held, voxelMin)) &&
          all(lessThan(seen.held, voxelMin + voxelSize));
 }

@@ -52,10 +52,21 @@ uint brickAt(ivec3 worldBrick) {
   return index == kAllocatingBrick ? kInvalidBrick : index;
 }
 
+// The middle of the voxel volume, where the camera is.
+vec3 volumeMiddle() { return (vec3(volume.originBrick) + 0.5 * vec3(volume.dimensionsBricks)) * volume.brickSize; }
+
 // The point of the voxel scene that holds a surface point seen at a pixel (BrickAllocate, SceneVoxelization): a hair
-// behind the surface, along its normal. A surface on a voxel boundary (a wall on the grid) then always lands in the
-// voxel on its solid side rather than in either by rounding, so its voxels do not spread into the free side.
-vec3 heldSurfacePoint(vec3 surface, vec3 normal) { return surface - normal * (0.01 * volume.voxelSize); }
+// off the surface along its normal, on the side away from the volume's middle. A surface on a voxel boundary (a wall on
+// the grid) then lands in one voxel rather than in either by rounding. A face towards the middle — what the camera
+// sees — lands on its solid side, behind it, so its voxels do not spread into the free side. A face turned away from
+// the middle (a roof seen by the sun) lands a hair in front of it, on that same side: the two faces of a surface with
+// no thickness on a boundary (a ceiling made of one plane) meet in one voxel, which keeps the face towards the middle
+// (SceneVoxelization), instead of the outer face lying in the voxel in front of the inner one, where the rays from
+// inside met its back and found it black (docs/QUALITY.md, "A plane's two faces").
+vec3 heldSurfacePoint(vec3 surface, vec3 normal) {
+  float behind = dot(normal, volumeMiddle() - surface) < 0.0 ? -1.0 : 1.0;
+  return surface - normal * (behind * 0.01 * volume.voxelSize);
+}
 
 // The bit index of the n-th set bit of a 32-bit word (n < bitCount(word)), by halving: 5 steps.
 uint nthSetBit(uint word, uint n) {
