@@ -48,8 +48,9 @@ struct ExtraViewSettings {
   // Give the sun's view (and a local light's) as a reflective shadow map where that light alone lights the scene and
   // nothing emits (ssvgi::ExtraView::isReflectiveShadowMap): ssvgi then takes the light of what it shows in that
   // light's shadow away, so a place the sun turned from loses its light (SPEC §6.1). Off by default: with the sky map
-  // as well, the dark room flickered more than issue 13 allows in some runs (docs/QUALITY.md, "The sky map and the
-  // reflective shadow map on by default").
+  // as well, the dark room flickered more than issue 13 allows in some runs, when the GI still differed from run to
+  // run; to be measured again on every scene before it is turned on (docs/QUALITY.md, "The same frames, the same
+  // light").
   bool reflectiveShadowMaps = false;
   // Give ssvgi the sky as a map too (SkyMap, ssvgi::FrameDesc::skyRadianceMap), not only as SH2: the probes' rays that
   // leave the voxels see the sky's glow about the sun where it is, not spread over half the sky.

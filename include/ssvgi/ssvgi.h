@@ -117,9 +117,8 @@ struct Settings {
   // a 1/voxelRelightPeriod share of the bricks a frame (1..64), each on the frames its place in the world gives it,
   // wherever they are: the bounces after the first follow the probes also off screen, and go round the voxel → probe
   // → voxel loop once per probe update. Until it is relit, a voxel such a view wrote for the first time carries only
-  // that view's direct light. 3 by default: each
-  // probe level is updated every third frame, and relighting every frame gave the same lag for three times the work
-  // (docs/QUALITY.md, "Air the views saw only askew").
+  // that view's direct light. 3 by default: each probe level is updated every third frame, and relighting every frame
+  // gave the same lag for three times the work (docs/QUALITY.md, "Air the views saw only askew").
   uint32_t voxelRelightPeriod = 3;
 };
 
