@@ -22,7 +22,7 @@ VoxelHit traceVoxelsFlat(vec3 origin, vec3 direction, float maxDistance, bool wa
   UnobservedVoxelPassed passed = kNoUnobservedVoxelPassed;
   for (;;) {
     bool newBrick = !isCached(cached, walk.voxel >> kBrickLevel);
-    loadBrick(cached, walk.voxel >> kBrickLevel, watchesObservedSpace, reads);
+    loadBrick(cached, walk, watchesObservedSpace, reads);
     if (watchesObservedSpace && !unobserved && newBrick && brickUnobserved(walk, cached, observed, reads)) {
       unobserved = true;
       unobservedDistance = walk.distance;

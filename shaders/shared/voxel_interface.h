@@ -259,11 +259,15 @@ SSVGI_INLINE uint packVoxelSurfaceAndCounters(uint surface, uint seenThroughCoun
   return surface | (seenThroughCount << kVoxelLastHitShift) | (extraViewsSinceLitFrame << kVoxelExtraViewsShift);
 }
 
-// Positive modulo: toroidal addressing of world coordinates into the volume (SPEC §4.1). GLSL leaves % undefined for
-// negative operands, so the coordinate is first shifted by a large multiple of the dimensions (world coordinates stay
-// within ±2^16 cells, thousands of kilometres).
+// Positive modulo: toroidal addressing of world coordinates into the volume and the probe grids (SPEC §4.1). By a
+// float division, not %: integer division has no vector instruction on a CPU, so lavapipe makes it one lane at a time,
+// and the traces and gathers wrap coordinates at every step. The quotient is exact for |coordinate| < 2^24 cells
+// (thousands of kilometres) but for its rounding, which puts it at most one off where it lies within an ulp of a whole
+// number; the remainder is brought back into [0, dimensions) after.
 SSVGI_INLINE ivec3 wrapCoordinate(ivec3 coordinate, ivec3 dimensions) {
-  return (coordinate + dimensions * 65536) % dimensions;
+  ivec3 wrapped = coordinate - dimensions * ivec3(floor(vec3(coordinate) / vec3(dimensions)));
+  wrapped += dimensions * ivec3(lessThan(wrapped, ivec3(0)));
+  return wrapped - dimensions * ivec3(greaterThanEqual(wrapped, dimensions));
 }
 
 SSVGI_INLINE uint brickCellIndex(ivec3 worldBrick, ivec3 dimensions) {

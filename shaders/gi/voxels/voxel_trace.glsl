@@ -53,6 +53,7 @@ struct VoxelWalk {
   ivec3 voxel;          // the voxel the walk is in
   float distance;       // metres along the ray to where it entered that voxel
   float maxDistance;
+  ivec3 originCell;     // volumeOriginCell(): the cells' toroidal indices without a division
 };
 
 // Where the ray crosses the plane `coordinate = plane` of an axis, in metres. `precise`: no contraction into a
@@ -85,17 +86,20 @@ int entryPlane(int voxel, int step) { return step > 0 ? voxel : voxel + 1; }
 
 // The voxel coordinate along `axis` once the ray has made every crossing that comes before the one at
 // `eventDistance` of `eventAxis`, knowing that it has reached `reached` and does not pass `limit` by then. The
-// position at that distance is only a guess (rounding may put it a voxel off); the crossings themselves decide.
+// position at that distance is only a guess: rounding may put it a voxel off where the ray passes within a few ulps of
+// a voxel plane, never more (coordinates stay below 2^12 voxels, so those ulps are under 10^-3 voxels); the crossings
+// themselves decide, one each way. Not a loop: lavapipe runs a loop's body at least once for all its lanes, and these
+// corrections, two an axis on every step, cost a fifth of the trace as loops.
 int coordinateAtCrossing(VoxelWalk walk, int axis, float eventDistance, int eventAxis, int reached, int limit) {
   int step = walk.step[axis];
   if (step == 0) return reached;
   float position = walk.origin[axis] + walk.voxelsPerMetre[axis] * eventDistance;
   int coordinate = int(clamp(floor(position), float(min(reached, limit)), float(max(reached, limit))));
-  while (coordinate != reached && !crossesBefore(walk, axis, entryPlane(coordinate, step), eventDistance, eventAxis))
-    coordinate -= step;
-  while (coordinate != limit && crossesBefore(walk, axis, entryPlane(coordinate + step, step), eventDistance, eventAxis))
-    coordinate += step;
-  return coordinate;
+  bool pastIt =
+      coordinate != reached && !crossesBefore(walk, axis, entryPlane(coordinate, step), eventDistance, eventAxis);
+  bool shortOfIt =
+      coordinate != limit && crossesBefore(walk, axis, entryPlane(coordinate + step, step), eventDistance, eventAxis);
+  return coordinate + (pastIt ? -step : (shortOfIt ? step : 0));
 }
 
 ivec3 volumeSizeVoxels() { return volumeDimensions() * int(kBrickSizeVoxels); }
@@ -110,6 +114,7 @@ bool beginVoxelWalk(vec3 origin, vec3 direction, float maxDistance, out VoxelWal
   walk.voxelsPerMetre = direction / voxelSize;
   walk.metresPerVoxel = voxelSize / mix(direction, vec3(1.0), equal(walk.step, ivec3(0)));
   walk.maxDistance = maxDistance;
+  walk.originCell = volumeOriginCell();
   ivec3 size = volumeSizeVoxels();
 
   // The ray enters the volume with the last of its entries into the slabs its origin lies outside of…
@@ -163,10 +168,12 @@ bool isCached(CachedBrick cached, ivec3 brick) { return all(equal(cached.brick, 
 // behind the wall. A trace that watches observed space meets the surface beside it or ends unknown in its brick
 // (meetsSurfaceBeside, unknownBesideSurface). Only in a brick holding surface: an empty brick of the pool is one being
 // filled or released, and a trace that steps over empty bricks never looks in.
-void loadBrick(inout CachedBrick cached, ivec3 brick, bool watchesVoxels, inout uint reads) {
+void loadBrick(inout CachedBrick cached, VoxelWalk walk, bool watchesVoxels, inout uint reads) {
+  ivec3 brick = walk.voxel >> kBrickLevel;
   if (isCached(cached, brick)) return;
   cached.brick = brick;
-  cached.index = brickAt(brick + volume.originBrick);
+  uint index = brickLookup[localCellIndex(brick, 0u, walk.originCell)];
+  cached.index = index == kAllocatingBrick ? kInvalidBrick : index;
   cached.mask = uvec2(0u);
   cached.unobserved = uvec2(0u);
   reads += 1u;
@@ -206,9 +213,9 @@ CachedGridWords noCachedGridWords() { return CachedGridWords(uvec3(0xffffffffu),
 
 // Whether the level-`level` cell holding `voxel` has its bit set in the occupancy grid or, with `observedSpaceBits`,
 // in the observed space's bit volumes (the same layout; GLSL cannot pass a buffer, so a flag picks it).
-bool gridCellBitSet(bool observedSpaceBits, int level, ivec3 voxel, inout CachedGridWords cached, inout uint reads) {
-  ivec3 worldCell = (voxel + volume.originBrick * int(kBrickSizeVoxels)) >> level;
-  uvec2 address = gridBitAddress(uint(level), worldCell);
+bool gridCellBitSet(bool observedSpaceBits, int level, VoxelWalk walk, inout CachedGridWords cached, inout uint reads) {
+  uint shift = uint(level - kBrickLevel);
+  uvec2 address = gridBitAddressOfCell(uint(level), localCellIndex(walk.voxel >> level, shift, walk.originCell));
   int slot = level - kBrickLevel;
   if (cached.address[slot] != address.x) {
     cached.address[slot] = address.x;
@@ -218,18 +225,18 @@ bool gridCellBitSet(bool observedSpaceBits, int level, ivec3 voxel, inout Cached
   return (cached.bits[slot] & address.y) != 0u;
 }
 
-bool gridCellOccupied(int level, ivec3 voxel, inout CachedGridWords cached, inout uint reads) {
-  return gridCellBitSet(false, level, voxel, cached, reads);
+bool gridCellOccupied(int level, VoxelWalk walk, inout CachedGridWords cached, inout uint reads) {
+  return gridCellBitSet(false, level, walk, cached, reads);
 }
 
-bool gridCellObserved(int level, ivec3 voxel, inout CachedGridWords cached, inout uint reads) {
-  return gridCellBitSet(true, level, voxel, cached, reads);
+bool gridCellObserved(int level, VoxelWalk walk, inout CachedGridWords cached, inout uint reads) {
+  return gridCellBitSet(true, level, walk, cached, reads);
 }
 
 // Whether the brick cell a walk is in holds no voxel and has not been observed (the flat DDA's test; the hierarchical
 // one makes it from its grid words).
 bool brickUnobserved(VoxelWalk walk, CachedBrick brick, inout CachedGridWords observed, inout uint reads) {
-  return all(equal(brick.mask, uvec2(0u))) && !gridCellObserved(kBrickLevel, walk.voxel, observed, reads);
+  return all(equal(brick.mask, uvec2(0u))) && !gridCellObserved(kBrickLevel, walk, observed, reads);
 }
 
 // What a cell of the walk holds for the hierarchical DDA: nothing it must look into, something (an occupied voxel
@@ -251,18 +258,24 @@ bool countsAsUnobservedVoxel(VoxelWalk walk, CachedBrick brick) {
 // unobserved voxels do.
 uint cellContents(VoxelWalk walk, int level, bool watchesCells, bool watchesVoxels, inout CachedBrick brick,
                   inout CachedGridWords grid, inout CachedGridWords observed, inout uint reads) {
-  if (level >= kBrickLevel) {
-    bool occupied = level == kBrickLevel && isCached(brick, walk.voxel >> kBrickLevel)
-                        ? any(notEqual(brick.mask, uvec2(0u)))
-                        : gridCellOccupied(level, walk.voxel, grid, reads);
-    if (occupied) return kCellOccupied;
-    if (!watchesCells || gridCellObserved(level, walk.voxel, observed, reads)) return kCellEmpty;
-    return level == kBrickLevel ? kCellUnobserved : kCellOccupied;
-  }
+  bool gridLevel = level >= kBrickLevel;
   // A walk at a finer level can step straight into the next brick, which no test at the brick level has seen.
   bool newBrick = !isCached(brick, walk.voxel >> kBrickLevel);
-  loadBrick(brick, walk.voxel >> kBrickLevel, watchesVoxels, reads);
-  if (watchesCells && newBrick && brickUnobserved(walk, brick, observed, reads)) return kCellUnobserved;
+  if (!gridLevel) loadBrick(brick, walk, watchesVoxels, reads);
+  bool brickEmpty = all(equal(brick.mask, uvec2(0u)));
+  bool occupied = gridLevel && (level == kBrickLevel && !newBrick ? !brickEmpty
+                                                                  : gridCellOccupied(level, walk, grid, reads));
+  // Whether the cell is unobserved, asked at one place for both kinds of level — at a grid level of an empty cell, at
+  // a finer one of a brick just entered that holds no voxel — because on lavapipe every place in a loop that reads a
+  // buffer costs a read, lane by lane, on every step of the loop, whether or not a lane takes it.
+  bool asksObserved = watchesCells && (gridLevel ? !occupied : newBrick && brickEmpty);
+  bool unobservedCell = asksObserved && !gridCellObserved(gridLevel ? level : kBrickLevel, walk, observed, reads);
+  if (gridLevel) {
+    if (occupied) return kCellOccupied;
+    if (!unobservedCell) return kCellEmpty;
+    return level == kBrickLevel ? kCellUnobserved : kCellOccupied;
+  }
+  if (unobservedCell) return kCellUnobserved;
   ivec3 inBrick = voxelInBrick(walk.voxel);
   if (level == kVoxelLevel) {
     if (voxelBitSet(brick.mask, inBrick)) return kCellOccupied;
@@ -427,35 +440,52 @@ VoxelHit walkOccupancyHierarchy(vec3 origin, vec3 direction, float maxDistance, 
   bool unobserved = false;
   float unobservedDistance = maxDistance;
   UnobservedVoxelPassed passed = kNoUnobservedVoxelPassed;
+  bool stepsFirst = false;  // the walk is done with the cell it is in
   for (;;) {
-    uint contents = cellContents(walk, level, watchesObservedSpace && !unobserved, watchesObservedSpace, cached, grid,
-                                 observed, reads);
+    // The walk to the next voxel it must look into: an occupied voxel, or an unobserved one. Looking into a voxel
+    // (voxelHitAt, meetsSurfaceBeside) is the heavier part and the rarer one, so it stays out of this loop: lavapipe
+    // runs a loop's whole body, every branch, on each step of any of its lanes (SIMD masks, not jumps).
+    uint contents = kCellEmpty;
+    bool walking = true;
+    for (;;) {
+      if (stepsFirst) {
+        ivec3 previous = walk.voxel;
+        if (!stepOverCell(walk, level) || leftUnobservedVoxelsBrick(passed, walk)) {
+          walking = false;
+          break;
+        }
+        // The cells that changed are those of the levels up to the highest bit in which the voxel coordinates
+        // changed.
+        ivec3 changedBits = previous ^ walk.voxel;
+        int highestChangedLevel = findMSB(changedBits.x | changedBits.y | changedBits.z);
+        knownOccupiedLevels &= ~((2u << uint(highestChangedLevel)) - 1u);
+        if (level < kTopLevel && (knownOccupiedLevels & (1u << uint(level + 1))) == 0u) ++level;
+      }
+      stepsFirst = true;
+      contents = cellContents(walk, level, watchesObservedSpace && !unobserved, watchesObservedSpace, cached, grid,
+                              observed, reads);
+      if (contents == kCellUnobserved) {
+        unobserved = true;
+        unobservedDistance = walk.distance;
+      } else if (contents == kCellOccupied && level != kVoxelLevel) {
+        knownOccupiedLevels |= 1u << uint(level);
+        --level;
+        stepsFirst = false;
+      } else if (contents != kCellEmpty) {
+        break;
+      }
+    }
+    if (!walking) break;
     if (contents == kCellUnobservedVoxel) {
       VoxelHit met;
       if (meetsSurfaceBeside(walk, cached, direction, reads, met))
         return withObservation(met, unobserved, unobservedDistance);
       passed = passUnobservedVoxel(passed, walk, unobserved, unobservedDistance);
-    } else if (contents == kCellUnobserved) {
-      unobserved = true;
-      unobservedDistance = walk.distance;
-    } else if (contents == kCellOccupied) {
-      if (level != kVoxelLevel) {
-        knownOccupiedLevels |= 1u << uint(level);
-        --level;
-        continue;
-      }
+    } else {
       VoxelHit hit = voxelHitAt(walk, cached, direction, reads);
       if (hit.hit) return withObservation(hit, unobserved, unobservedDistance);
       reads = hit.reads;  // in front of the voxel's surface all the way through: on, as past an empty voxel
     }
-    ivec3 previous = walk.voxel;
-    if (!stepOverCell(walk, level)) break;
-    if (leftUnobservedVoxelsBrick(passed, walk)) return unknownBesideSurface(passed, maxDistance, reads);
-    // The cells that changed are those of the levels up to the highest bit in which the voxel coordinates changed.
-    ivec3 changedBits = previous ^ walk.voxel;
-    int highestChangedLevel = findMSB(changedBits.x | changedBits.y | changedBits.z);
-    knownOccupiedLevels &= ~((2u << uint(highestChangedLevel)) - 1u);
-    if (level < kTopLevel && (knownOccupiedLevels & (1u << uint(level + 1))) == 0u) ++level;
   }
   if (passed.passed) return unknownBesideSurface(passed, maxDistance, reads);
   return withObservation(voxelMiss(maxDistance, reads), unobserved, unobservedDistance);
