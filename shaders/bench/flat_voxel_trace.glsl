@@ -10,7 +10,7 @@
 VoxelHit traceVoxelsFlat(vec3 origin, vec3 direction, float maxDistance, bool watchesObservedSpace) {
   VoxelWalk walk;
   if (!beginVoxelWalk(origin, direction, maxDistance, walk)) return voxelMiss(maxDistance, 0u);
-  ivec3 size = volumeSizeVoxels();
+  ivec3 size = walk.sizeVoxels;
   vec3 nextCrossing;
   for (int axis = 0; axis < 3; ++axis)
     nextCrossing[axis] = crossingDistance(walk, axis, exitPlane(walk.voxel[axis], kVoxelLevel, walk.step[axis]));

@@ -104,28 +104,38 @@ bool voxelOccupied(uint brick, uvec3 voxelInBrick) {
 
 // Where the bit of a grid level (2 = brick, 3 = 2×2×2 bricks, 4 = 4×4×4 bricks) for a cell of that level in world
 // units lies: x, the word in occupancyGrid; y, the bit's mask in it.
-uvec2 gridBitAddressOfCell(uint level, uint cellIndex) {
-  uint offset = level == 2u ? volume.gridWordOffsets.x : (level == 3u ? volume.gridWordOffsets.y : volume.gridWordOffsets.z);
+uvec2 gridBitAddressOfCell(uint level, uint cellIndex, uvec3 gridWordOffsets) {
+  uint offset = level == 2u ? gridWordOffsets.x : (level == 3u ? gridWordOffsets.y : gridWordOffsets.z);
   return uvec2(offset + (cellIndex >> 5u), 1u << (cellIndex & 31u));
 }
 
 uvec2 gridBitAddress(uint level, ivec3 worldCell) {
   uint shift = level - kFirstGridLevel;
-  return gridBitAddressOfCell(level, brickCellIndex(worldCell, volumeDimensions() >> shift));
+  return gridBitAddressOfCell(level, brickCellIndex(worldCell, volumeDimensions() >> shift), volume.gridWordOffsets);
 }
 
-// The toroidal brick cell (brickCellIndex) of the volume's minimum corner. A walk through the volume, which knows each
-// cell's place in it, finds the cells' toroidal indices from it without a division (localCellIndex): integer division
-// has no vector instruction on a CPU, so lavapipe makes it one lane at a time.
-ivec3 volumeOriginCell() { return wrapCoordinate(volume.originBrick, volumeDimensions()); }
+// What a walk through the volume reads of its layout at every step, read from the volume's block once: on lavapipe a
+// read of a buffer is made lane by lane, and one inside a loop again on every pass through it.
+struct VolumeLayout {
+  ivec3 dimensions;        // bricks
+  ivec3 originCell;        // the toroidal brick cell (brickCellIndex) of the volume's minimum corner
+  uvec3 gridWordOffsets;   // VoxelVolume::gridWordOffsets
+};
+
+// A walk, which knows each cell's place in the volume, finds the cells' toroidal indices from originCell without a
+// division (localCellIndex): integer division has no vector instruction on a CPU, so lavapipe makes it one lane at a
+// time.
+VolumeLayout volumeLayout() {
+  return VolumeLayout(volumeDimensions(), wrapCoordinate(volume.originBrick, volumeDimensions()),
+                      volume.gridWordOffsets);
+}
 
 // The toroidal index of the cell of grid level kFirstGridLevel + `shift` at `localCell`, counted from the volume's
-// minimum corner (0 .. dimensions >> shift − 1 on each axis), given volumeOriginCell(). The volume's origin is a
-// multiple of kScrollStepBricks bricks, and so are its dimensions: the corner's cell at a coarser level is its brick
-// cell shifted.
-uint localCellIndex(ivec3 localCell, uint shift, ivec3 originCell) {
-  ivec3 dimensions = volumeDimensions() >> shift;
-  ivec3 cell = localCell + (originCell >> shift);
+// minimum corner (0 .. dimensions >> shift − 1 on each axis). The volume's origin is a multiple of kScrollStepBricks
+// bricks, and so are its dimensions: the corner's cell at a coarser level is its brick cell shifted.
+uint localCellIndex(ivec3 localCell, uint shift, VolumeLayout volumeLayout) {
+  ivec3 dimensions = volumeLayout.dimensions >> shift;
+  ivec3 cell = localCell + (volumeLayout.originCell >> shift);
   cell -= dimensions * ivec3(greaterThanEqual(cell, dimensions));
   return uint(cell.x + dimensions.x * (cell.y + dimensions.y * cell.z));
 }

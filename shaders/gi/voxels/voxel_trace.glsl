@@ -53,7 +53,8 @@ struct VoxelWalk {
   ivec3 voxel;          // the voxel the walk is in
   float distance;       // metres along the ray to where it entered that voxel
   float maxDistance;
-  ivec3 originCell;     // volumeOriginCell(): the cells' toroidal indices without a division
+  VolumeLayout volumeLayout;  // read once
+  ivec3 sizeVoxels;     // the volume's size in voxels
 };
 
 // Where the ray crosses the plane `coordinate = plane` of an axis, in metres. `precise`: no contraction into a
@@ -102,8 +103,6 @@ int coordinateAtCrossing(VoxelWalk walk, int axis, float eventDistance, int even
   return coordinate + (pastIt ? -step : (shortOfIt ? step : 0));
 }
 
-ivec3 volumeSizeVoxels() { return volumeDimensions() * int(kBrickSizeVoxels); }
-
 // Starts a walk at the ray's origin, or where the ray enters the volume when the origin is outside (space outside the
 // volume is empty). False when the ray misses the volume within maxDistance. `direction` must be unit length.
 bool beginVoxelWalk(vec3 origin, vec3 direction, float maxDistance, out VoxelWalk walk) {
@@ -114,8 +113,9 @@ bool beginVoxelWalk(vec3 origin, vec3 direction, float maxDistance, out VoxelWal
   walk.voxelsPerMetre = direction / voxelSize;
   walk.metresPerVoxel = voxelSize / mix(direction, vec3(1.0), equal(walk.step, ivec3(0)));
   walk.maxDistance = maxDistance;
-  walk.originCell = volumeOriginCell();
-  ivec3 size = volumeSizeVoxels();
+  walk.volumeLayout = volumeLayout();
+  walk.sizeVoxels = walk.volumeLayout.dimensions * int(kBrickSizeVoxels);
+  ivec3 size = walk.sizeVoxels;
 
   // The ray enters the volume with the last of its entries into the slabs its origin lies outside of…
   float entry = 0.0;
@@ -172,7 +172,7 @@ void loadBrick(inout CachedBrick cached, VoxelWalk walk, bool watchesVoxels, ino
   ivec3 brick = walk.voxel >> kBrickLevel;
   if (isCached(cached, brick)) return;
   cached.brick = brick;
-  uint index = brickLookup[localCellIndex(brick, 0u, walk.originCell)];
+  uint index = brickLookup[localCellIndex(brick, 0u, walk.volumeLayout)];
   cached.index = index == kAllocatingBrick ? kInvalidBrick : index;
   cached.mask = uvec2(0u);
   cached.unobserved = uvec2(0u);
@@ -215,7 +215,8 @@ CachedGridWords noCachedGridWords() { return CachedGridWords(uvec3(0xffffffffu),
 // in the observed space's bit volumes (the same layout; GLSL cannot pass a buffer, so a flag picks it).
 bool gridCellBitSet(bool observedSpaceBits, int level, VoxelWalk walk, inout CachedGridWords cached, inout uint reads) {
   uint shift = uint(level - kBrickLevel);
-  uvec2 address = gridBitAddressOfCell(uint(level), localCellIndex(walk.voxel >> level, shift, walk.originCell));
+  uint cellIndex = localCellIndex(walk.voxel >> level, shift, walk.volumeLayout);
+  uvec2 address = gridBitAddressOfCell(uint(level), cellIndex, walk.volumeLayout.gridWordOffsets);
   int slot = level - kBrickLevel;
   if (cached.address[slot] != address.x) {
     cached.address[slot] = address.x;
@@ -302,7 +303,7 @@ bool stepOverCell(inout VoxelWalk walk, int level) {
     next[axis] = axis == exitAxis ? limit + walk.step[axis]
                                   : coordinateAtCrossing(walk, axis, distance, exitAxis, walk.voxel[axis], limit);
   }
-  if (next[exitAxis] < 0 || next[exitAxis] >= volumeSizeVoxels()[exitAxis]) return false;
+  if (next[exitAxis] < 0 || next[exitAxis] >= walk.sizeVoxels[exitAxis]) return false;
   walk.voxel = next;
   walk.distance = distance;
   return true;
