@@ -18,6 +18,9 @@ SSVGI_SHARED_BEGIN
 SSVGI_CONSTANT(uint, kProbeLevels, 3u);     // SPEC §4.5: 3 clipmap levels, one updated per frame
 SSVGI_CONSTANT(uint, kProbeBlockSize, 4u);  // the CPU culls a level in blocks of 4×4×4 probes (one placement group)
 SSVGI_CONSTANT(uint, kProbeTraceGroupSize, 32u);  // ProbeTrace: one workgroup per probe, one thread per ray
+// ProbeRelocate, ProbeDilate: one thread per listed probe. Not a workgroup per probe, as ProbeTrace: on lavapipe a
+// workgroup that meets a barrier costs microseconds to start, more than these passes' work for most probes.
+SSVGI_CONSTANT(uint, kProbeListGroupSize, 64u);
 // The distance SH records hit distances up to this many spacings. The gather compares it with the distance from the
 // probe to a point of one of the grid cells around it (at most √3 spacings); clamping keeps far hits and misses from
 // swamping the low-order SH of a probe beside a wall.

@@ -6,7 +6,7 @@
 // wall. Only radiance is filled: distance and normal-dot stay the probe's own, which ProbeRelocate re-checks.
 #include "shared/probe_interface.h"
 
-layout(local_size_x = kProbeTraceGroupSize) in;  // one workgroup per listed probe; thread i < 26: neighbour i
+layout(local_size_x = kProbeListGroupSize) in;  // one thread per listed probe
 
 layout(binding = kBindProbeUpdate, std140) readonly buffer ProbeUpdateBlock { ProbeUpdate update; };
 layout(binding = kBindProbes) buffer Probes { Probe probes[]; };
@@ -15,41 +15,25 @@ layout(binding = kBindProbeList) readonly buffer ProbeList {
   uint listedProbes[];
 };
 
-shared Sh2Rgb neighbourRadiance[kProbeTraceGroupSize];
-shared float neighbourUsable[kProbeTraceGroupSize];
-shared vec4 neighbourSkyVisibility[kProbeTraceGroupSize];
-
 void main() {
-  uint probeIndex = listedProbes[gl_WorkGroupID.x];
-  // The same for the whole workgroup: it leaves together, before the barrier.
+  if (gl_GlobalInvocationID.x >= list.count) return;
+  uint probeIndex = listedProbes[gl_GlobalInvocationID.x];
   if (probePlacement(probes[probeIndex].state) != kProbeStateInvalid) return;
 
-  uint thread = gl_LocalInvocationID.x;
   uint levelStart = uint(update.level) * uint(update.probesPerLevel);
-  ivec3 probe = probeWorldCoordinate(probeIndex % uint(update.probesPerLevel), update.originProbe, update.probesPerAxis);
-  neighbourRadiance[thread] = sh2Zero();
-  neighbourUsable[thread] = 0.0;
-  neighbourSkyVisibility[thread] = vec4(0.0);
-  if (thread < kProbeNeighbourCount) {
-    ivec3 coordinate = probe + probeNeighbourOffset(thread);
-    Probe neighbour = probes[levelStart + probeSlotIndex(coordinate, update.probesPerAxis)];
-    // Invalid neighbours are not usable, so no workgroup reads a probe that another one writes.
-    if (probeIsUsable(neighbour, coordinate)) {
-      neighbourRadiance[thread] = probeRadianceSh(neighbour);
-      neighbourUsable[thread] = 1.0;
-      neighbourSkyVisibility[thread] = probeSkyVisibilitySh(neighbour);
-    }
-  }
-  barrier();
-  if (thread != 0u) return;
-
+  ivec3 probesPerAxis = update.probesPerAxis;
+  ivec3 probe = probeWorldCoordinate(probeIndex % uint(update.probesPerLevel), update.originProbe, probesPerAxis);
   Sh2Rgb sum = sh2Zero();
   float count = 0.0;
   vec4 skyVisibilitySum = vec4(0.0);
   for (uint i = 0u; i < kProbeNeighbourCount; ++i) {
-    sum = sh2Add(sum, neighbourRadiance[i]);
-    skyVisibilitySum += neighbourSkyVisibility[i];
-    count += neighbourUsable[i];
+    ivec3 coordinate = probe + probeNeighbourOffset(i);
+    Probe neighbour = probes[levelStart + probeSlotIndex(coordinate, probesPerAxis)];
+    // Invalid neighbours are not usable, so no thread reads a probe that another one writes.
+    if (!probeIsUsable(neighbour, coordinate)) continue;
+    sum = sh2Add(sum, probeRadianceSh(neighbour));
+    skyVisibilitySum += probeSkyVisibilitySh(neighbour);
+    count += 1.0;
   }
   if (count == 0.0) return;  // nothing around to fill from: it keeps what it has until a neighbour is traced
   Sh2Rgb mean = sh2Divide(sum, count);

@@ -20,7 +20,7 @@
 #include "gi/work_counting.glsl"
 #include "shared/probe_interface.h"
 
-layout(local_size_x = kProbeTraceGroupSize) in;  // one workgroup per listed probe; thread i < 26: neighbour direction i
+layout(local_size_x = kProbeListGroupSize) in;  // one thread per listed probe
 
 layout(binding = kBindProbeUpdate, std140) readonly buffer ProbeUpdateBlock { ProbeUpdate update; };
 layout(binding = kBindProbes) buffer Probes { Probe probes[]; };
@@ -29,36 +29,33 @@ layout(binding = kBindProbeList) readonly buffer ProbeList {
   uint listedProbes[];
 };
 
-shared float normalDotAlong[kProbeTraceGroupSize];
-shared float distanceAlong[kProbeTraceGroupSize];
-
 // The neighbour direction of the nearest back face, or -1 when the probe sees none.
-int nearestBackFace() {
+int nearestBackFace(Probe probe, float spacing) {
+  vec4 normalDotSh = probeNormalDotSh(probe);
+  vec4 distanceSh = probeDistanceSh(probe, spacing);
   int nearest = -1;
+  float nearestNormalDot = 0.0, nearestDistance = 0.0;
   for (int i = 0; i < int(kProbeNeighbourCount); ++i) {
-    if (normalDotAlong[i] >= 0.0) continue;
-    if (nearest < 0 || distanceAlong[i] < distanceAlong[nearest] ||
-        (distanceAlong[i] == distanceAlong[nearest] && normalDotAlong[i] < normalDotAlong[nearest]))
+    vec4 basis = sh2Basis(normalize(vec3(probeNeighbourOffset(uint(i)))));
+    float normalDot = dot(normalDotSh, basis);
+    float distance = dot(distanceSh, basis);
+    if (normalDot >= 0.0) continue;
+    if (nearest < 0 || distance < nearestDistance || (distance == nearestDistance && normalDot < nearestNormalDot)) {
       nearest = i;
+      nearestNormalDot = normalDot;
+      nearestDistance = distance;
+    }
   }
   return nearest;
 }
 
 void main() {
-  uint probeIndex = listedProbes[gl_WorkGroupID.x];
-  uint thread = gl_LocalInvocationID.x;
+  if (gl_GlobalInvocationID.x >= list.count) return;
+  uint probeIndex = listedProbes[gl_GlobalInvocationID.x];
   Probe probe = probes[probeIndex];
-  if (thread < kProbeNeighbourCount) {
-    vec4 basis = sh2Basis(normalize(vec3(probeNeighbourOffset(thread))));
-    normalDotAlong[thread] = dot(probeNormalDotSh(probe), basis);
-    distanceAlong[thread] = dot(probeDistanceSh(probe, update.spacing), basis);
-  }
-  barrier();
-  if (thread != 0u) return;
-
   uint state = probe.state;
   uint nextDirection = probeNextDirection(state);
-  int nearest = nearestBackFace();
+  int nearest = nearestBackFace(probe, update.spacing);
   if (nearest < 0) {
     if (probePlacement(state) == kProbeStateInvalid)
       probes[probeIndex].state = packProbeState(probeHistoryCount(state), nextDirection, kProbeStateActive);

@@ -8,7 +8,9 @@ ProbeDilate::ProbeDilate(gpu::Device& device) : pipeline_(device, shaders::probe
 void ProbeDilate::record(gpu::CommandList& commands, const ProbeVolume& probes) {
   auto scope = commands.scope("ssvgi: ProbeDilate");
   const gpu::Bindings bindings = probes.listedProbeBindings(gpu::Bindings());
-  commands.dispatchIndirect(pipeline_, bindings, probes.list(), 0);  // one workgroup per listed probe
+  // One thread per listed probe: as many as the list may hold, those past its count leave at once.
+  const uint32_t groups = (probes.current().probeBudget + shader::kProbeListGroupSize - 1) / shader::kProbeListGroupSize;
+  commands.dispatch(pipeline_, bindings, {groups, 1, 1});
 }
 
 }  // namespace ssvgi::gi

@@ -8,7 +8,9 @@ ProbeRelocate::ProbeRelocate(gpu::Device& device) : pipeline_(device, shaders::p
 void ProbeRelocate::record(gpu::CommandList& commands, const VoxelScene& scene, const ProbeVolume& probes) {
   auto scope = commands.scope("ssvgi: ProbeRelocate");
   const gpu::Bindings bindings = probes.listedProbeBindings(scene.bindings());
-  commands.dispatchIndirect(pipeline_, bindings, probes.list(), 0);  // one workgroup per listed probe
+  // One thread per listed probe: as many as the list may hold, those past its count leave at once.
+  const uint32_t groups = (probes.current().probeBudget + shader::kProbeListGroupSize - 1) / shader::kProbeListGroupSize;
+  commands.dispatch(pipeline_, bindings, {groups, 1, 1});
 }
 
 }  // namespace ssvgi::gi
