@@ -47,18 +47,32 @@ struct CornerProbe {
   float trilinear;  // its trilinear weight; 0 where it is outside the level or knows nothing
 };
 
-CornerProbe cornerProbe(uint level, ivec3 cell, vec3 fraction, int corner) {
-  ivec3 origin = gather.probeLevels[level].origin;
+// What the gather reads of a level's constants, read once for a point rather than in its loops over the probes: on
+// lavapipe a read of a buffer is made lane by lane, and one inside a loop again on every pass through it.
+struct GatherLevel {
+  ivec3 origin;         // GatherProbeLevel
+  float spacing;
+  ivec3 probesPerAxis;  // GatherConstants
+  uint firstProbe;      // the level's first probe in the probe buffer
+};
+
+GatherLevel gatherLevelConstants(uint level) {
+  GatherProbeLevel constants = gather.probeLevels[level];
+  return GatherLevel(constants.origin, constants.spacing, gather.probesPerAxis, level * uint(gather.probesPerLevel));
+}
+
+CornerProbe cornerProbe(GatherLevel level, ivec3 cell, vec3 fraction, int corner) {
   ProbeCellCorner around = probeCellCorner(cell, fraction, corner);
   ivec3 probe = around.probe;
   CornerProbe result;
   result.trilinear = 0.0;
-  if (any(lessThan(probe, origin)) || any(greaterThanEqual(probe, origin + gather.probesPerAxis))) return result;
-  result.stored = probes[level * uint(gather.probesPerLevel) + probeSlotIndex(probe, gather.probesPerAxis)];
+  if (any(lessThan(probe, level.origin)) || any(greaterThanEqual(probe, level.origin + level.probesPerAxis)))
+    return result;
+  result.stored = probes[level.firstProbe + probeSlotIndex(probe, level.probesPerAxis)];
   // A probe never traced, inside geometry, just moved, or a slot that still holds a probe the level scrolled away
   // from, knows nothing here.
   if (!probeIsUsable(result.stored, probe)) return result;
-  result.position = probeWorldPosition(probe, gather.probeLevels[level].spacing, result.stored.state);
+  result.position = probeWorldPosition(probe, level.spacing, result.stored.state);
   result.trilinear = around.weight;
   return result;
 }
@@ -84,21 +98,23 @@ float cornerWeight(CornerProbe probe, float spacing, vec3 position, vec3 normal,
 // Beyond the talk's weights, which it says only ease leaks: a probe with a voxel between it and the point does not light
 // it. The SH2 distance is far too coarse to see a wall a probe stands a few centimetres behind (the virtual offset may
 // put it on either side), and through a closed door the lit room's probes would light the dark one (`ssvgi scenario
-// leak`). A voxel within half a voxel of the biased point is the point's own surface.
-bool probeSeesPoint(vec3 probePosition, vec3 biased) {
+// leak`). A voxel within `ownSurface` (half a voxel) of the biased point is the point's own surface.
+bool probeSeesPoint(vec3 probePosition, vec3 biased, float ownSurface) {
   vec3 fromProbe = biased - probePosition;
   float pointDistance = length(fromProbe);
   if (pointDistance <= 1e-4) return true;
   VoxelHit blocker =
       traceVoxelsHierarchical(probePosition, fromProbe / pointDistance, pointDistance, kIgnoreObservedSpace);
-  return !blocker.hit || blocker.distance >= pointDistance - 0.5 * volume.voxelSize;
+  return !blocker.hit || blocker.distance >= pointDistance - ownSurface;
 }
 
 // Irradiance at a surface point from the 8 probes of a level around it, and their confidence.
 // `testVisibility`: leave out a probe with a voxel between it and the point (a voxel trace per probe). Only a pass that
 // does not write the voxels may trace them.
-GatheredLight gatherLevel(uint level, vec3 position, vec3 normal, bool testVisibility) {
-  float spacing = gather.probeLevels[level].spacing;
+GatheredLight gatherLevel(uint levelIndex, vec3 position, vec3 normal, bool testVisibility) {
+  GatherLevel level = gatherLevelConstants(levelIndex);
+  float spacing = level.spacing;
+  Sh2Rgb skyRadiance = gather.skyRadiance;
   // "Normal Bias" (the talk): interpolate and test visibility from a point off the surface, so that the probes just
   // behind a wall do not see the point on its front as unoccluded.
   vec3 biased = position + normal * (kGatherNormalBiasSpacings * spacing);
@@ -132,7 +148,7 @@ GatheredLight gatherLevel(uint level, vec3 position, vec3 normal, bool testVisib
     CornerProbe probe = cornerProbe(level, cell, fraction, corner);
     Probe stored = probe.stored;
     positions[corner] = probe.position;
-    readings[corner] = readProbeIrradiance(stored, normal, gather.skyRadiance);
+    readings[corner] = readProbeIrradiance(stored, normal, skyRadiance);
     knownFractions[corner] = probeKnownFraction(stored);
     blends[corner] = 1.0 / float(probeHistoryCount(stored.state) + 1u);
     meanReading += weights[corner] * readings[corner];
@@ -156,10 +172,11 @@ GatheredLight gatherLevel(uint level, vec3 position, vec3 normal, bool testVisib
     uint heaviestBit = 1u << uint(heaviest);
     uint toTrace = agree ? heaviestBit : kept;
     visible = 0u;
+    float ownSurface = 0.5 * volume.voxelSize;
     while (toTrace != 0u) {
       int corner = findLSB(toTrace);
       toTrace &= toTrace - 1u;
-      if (probeSeesPoint(positions[corner], biased)) visible |= 1u << uint(corner);
+      if (probeSeesPoint(positions[corner], biased, ownSurface)) visible |= 1u << uint(corner);
       if (toTrace == 0u && agree) {  // the heaviest traced: all seen, or none yet and the rest to trace
         agree = false;
         if (visible != 0u)
