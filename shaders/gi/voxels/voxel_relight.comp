@@ -60,19 +60,28 @@ bool relightVoxel(uint brick, uint occupiedVoxel) {
   return true;
 }
 
+// Whether the brick at pool index `brick` is live and relit this frame.
+bool relitThisFrame(uint brick) {
+  return bricks[brick].live != 0u && relightPhase(bricks[brick].coordinate, period) == phase;
+}
+
 void main() {
   uint end = pool.bumpCount;
   uint relitVoxels = 0u;
   uint brickOfWorkgroup = gl_LocalInvocationID.x / kRelightVoxelsAtOnce;
   uint firstVoxel = gl_LocalInvocationID.x % kRelightVoxelsAtOnce;
-  for (uint brick = gl_WorkGroupID.x * kRelightBricksAtOnce + brickOfWorkgroup; brick < end;
-       brick += gl_NumWorkGroups.x * kRelightBricksAtOnce) {
-    if (bricks[brick].live == 0u) continue;  // free
-    if (relightPhase(bricks[brick].coordinate, period) != phase) continue;
+  uint stride = gl_NumWorkGroups.x * kRelightBricksAtOnce;
+  uint brick = gl_WorkGroupID.x * kRelightBricksAtOnce + brickOfWorkgroup;
+  for (;;) {
+    // The bricks of other phases are passed over in a loop of their own: lavapipe runs the whole body of a loop, every
+    // branch, on each pass of any lane, and the relight below is the heavy part.
+    while (brick < end && !relitThisFrame(brick)) brick += stride;
+    if (brick >= end) break;
     uvec2 occupancy = bricks[brick].occupancy;
     uint occupied = uint(bitCount(occupancy.x) + bitCount(occupancy.y));
     for (uint voxel = firstVoxel; voxel < occupied; voxel += kRelightVoxelsAtOnce)
       if (relightVoxel(brick, voxel)) ++relitVoxels;
+    brick += stride;
   }
   if (countsWork()) {
     atomicAdd(work.relightVoxels, relitVoxels);
