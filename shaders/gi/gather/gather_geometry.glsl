@@ -72,22 +72,36 @@ const ivec2 kOuterTileOffsets[12] = ivec2[](ivec2(-1, -1), ivec2(0, -1), ivec2(1
                                             ivec2(2, 0), ivec2(-1, 1), ivec2(2, 1), ivec2(-1, 2), ivec2(0, 2),
                                             ivec2(1, 2), ivec2(2, 2));
 
-TileTap tileTap(Surface surface, ivec2 tile, ivec2 sampleOffset) {
-  if (any(lessThan(tile, ivec2(0))) || any(greaterThanEqual(tile, ivec2(gather.tiles)))) return TileTap(vec4(0.0), 0.0);
+// What the taps read of the frame's constants, read once for a pixel rather than in its loop over the taps: on
+// lavapipe a read of a buffer is made lane by lane, and one inside a loop again on every pass through it.
+struct TapFrame {
+  mat4 inverseViewProjection;  // GiFrame
+  ivec2 size;
+  ivec2 tiles;                 // GatherConstants
+  ivec2 sampleOffset;          // the pixel each tile sampled this frame, in its tile
+};
+
+TapFrame tapFrame() {
+  return TapFrame(frame.inverseViewProjection, ivec2(frame.size), ivec2(gather.tiles),
+                  ivec2(gatherSampleOffset(gather.frameIndex)));
+}
+
+TileTap tileTap(Surface surface, ivec2 tile, TapFrame taps) {
+  if (any(lessThan(tile, ivec2(0))) || any(greaterThanEqual(tile, taps.tiles))) return TileTap(vec4(0.0), 0.0);
   // The tile's geometry is that of the pixel it sampled.
-  ivec2 samplePixel = min(tile * int(kGatherTileSize) + sampleOffset, ivec2(frame.size) - 1);
+  ivec2 samplePixel = min(tile * int(kGatherTileSize) + taps.sampleOffset, taps.size - 1);
   float sampleDepth = texelFetch(depthBuffer, samplePixel, 0).r;
   if (sampleDepth <= 0.0) return TileTap(vec4(0.0), 0.0);  // the tile's sample saw nothing
-  vec3 samplePosition = reconstructPosition(frame.inverseViewProjection, vec2(samplePixel), vec2(frame.size),
-                                            sampleDepth);
+  vec3 samplePosition =
+      reconstructPosition(taps.inverseViewProjection, vec2(samplePixel), vec2(taps.size), sampleDepth);
   float geometry = planeWeight(surface, samplePosition) *
                    normalWeight(surface, normalize(texelFetch(normalBuffer, samplePixel, 0).xyz));
   return TileTap(geometry > 0.0 ? imageLoad(tileIrradiance, tile) : vec4(0.0), geometry);
 }
 
 TileNeighbourhood tileNeighbourhood(Surface surface, ivec2 pixel) {
-  ivec2 sampleOffset = ivec2(gatherSampleOffset(gather.frameIndex));
-  vec2 tileCoordinate = vec2(pixel - sampleOffset) / float(kGatherTileSize);
+  TapFrame taps = tapFrame();
+  vec2 tileCoordinate = vec2(pixel - taps.sampleOffset) / float(kGatherTileSize);
   ivec2 firstTile = ivec2(floor(tileCoordinate));
   TileNeighbourhood result = TileNeighbourhood(vec3(0.0), 0.0, vec3(1e30), vec3(0.0), 0.0, false);
   vec4 weightedSum = vec4(0.0);  // rgb E, a confidence
@@ -98,7 +112,7 @@ TileNeighbourhood tileNeighbourhood(Surface surface, ivec2 pixel) {
     ivec2 offset = tap < 4 ? ivec2(tap & 1, tap >> 1) : kOuterTileOffsets[tap - 4];
     if (tap == 4 && totalWeight > 0.0) break;
     ivec2 tile = firstTile + offset;
-    TileTap tileSample = tileTap(surface, tile, sampleOffset);
+    TileTap tileSample = tileTap(surface, tile, taps);
     vec2 tent = max(vec2(1.0) - abs(vec2(tile) - tileCoordinate), vec2(kOuterTapWeight));
     float weight = tent.x * tent.y * tileSample.geometry;
     weightedSum += weight * tileSample.irradiance;

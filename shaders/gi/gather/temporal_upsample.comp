@@ -44,13 +44,16 @@ vec4 reprojectHistory(Surface surface, vec2 size) {
   vec2 fraction = texelCoordinate - vec2(firstTexel);
   vec3 sum = vec3(0.0);
   float totalWeight = 0.0;
+  // Read once, not in the loop (gather_geometry.glsl's TapFrame says why).
+  ivec2 halfSize = ivec2(gather.halfSize);
+  mat4 historyInverseViewProjection = gather.historyInverseViewProjection;
   for (int corner = 0; corner < 4; ++corner) {
     ivec2 offset = ivec2(corner & 1, corner >> 1);
     ivec2 texel = firstTexel + offset;
-    if (any(lessThan(texel, ivec2(0))) || any(greaterThanEqual(texel, ivec2(gather.halfSize)))) continue;
+    if (any(lessThan(texel, ivec2(0))) || any(greaterThanEqual(texel, halfSize))) continue;
     vec4 stored = imageLoad(history, texel);
     if (stored.a <= 0.0) continue;
-    vec3 storedPosition = reconstructPosition(gather.historyInverseViewProjection, vec2(2 * texel), size, stored.a);
+    vec3 storedPosition = reconstructPosition(historyInverseViewProjection, vec2(2 * texel), size, stored.a);
     vec2 bilinear = mix(vec2(1.0) - fraction, fraction, vec2(offset));
     float weight = bilinear.x * bilinear.y * planeWeight(surface, storedPosition);
     sum += weight * stored.rgb;

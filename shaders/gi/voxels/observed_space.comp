@@ -23,15 +23,18 @@ const float kNothingDrawnDepth = 1e-6;
 // Marks a brick cell observed. The walk that observes the last brick cell of a level-3 cell marks that one too, and so
 // on for level 4. (Two walks that observe a cell's last two bricks at once may both miss it; the trace then goes
 // down to the bricks, which is only slower.)
-void markObserved(ivec3 worldBrick) {
-  uvec2 address = gridBitAddress(kFirstGridLevel, worldBrick);
+void markObserved(ivec3 worldBrick, VolumeLayout volumeLayout) {
+  uvec2 address = gridBitAddressInVolume(kFirstGridLevel, worldBrick, volumeLayout);
   if ((observedSpace[address.x] & address.y) != 0u) return;
   if ((atomicOr(observedSpace[address.x], address.y) & address.y) != 0u) return;
   for (uint level = kFirstGridLevel + 1u; level < kOccupancyLevels; ++level) {
     ivec3 cell = worldBrick >> (level - kFirstGridLevel);
-    for (int child = 0; child < 8; ++child)
-      if (!cellObserved(level - 1u, cell * 2 + ivec3(child & 1, (child >> 1) & 1, child >> 2))) return;
-    uvec2 parent = gridBitAddress(level, cell);
+    for (int child = 0; child < 8; ++child) {
+      uvec2 childAddress =
+          gridBitAddressInVolume(level - 1u, cell * 2 + ivec3(child & 1, (child >> 1) & 1, child >> 2), volumeLayout);
+      if ((observedSpace[childAddress.x] & childAddress.y) == 0u) return;
+    }
+    uvec2 parent = gridBitAddressInVolume(level, cell, volumeLayout);
     atomicOr(observedSpace[parent.x], parent.y);
   }
 }
@@ -43,12 +46,17 @@ struct CellFootprint {
   vec2 high;
   float farthestDepth;
   bool texelsWiderThanVoxel;  // the view's texels, in metres along its rows or columns
+  // What seesThroughCell reads of the frame, read once rather than on every step of the walk (voxel_access.glsl's
+  // VolumeLayout says why).
+  mat4 viewProjection;
+  float brickSize;
 };
 
 CellFootprint orthographicCellFootprint(vec2 size) {
   vec4 origin = frame.viewProjection * vec4(0.0, 0.0, 0.0, 1.0);
   vec2 originPixel = ssvgiNdcToPixel(origin.xy, size);
-  CellFootprint footprint = CellFootprint(vec2(1e30), vec2(-1e30), 1e30, false);
+  CellFootprint footprint =
+      CellFootprint(vec2(1e30), vec2(-1e30), 1e30, false, frame.viewProjection, volume.brickSize);
   for (int corner = 0; corner < 8; ++corner) {
     vec3 point = vec3(corner & 1, (corner >> 1) & 1, corner >> 2) * volume.brickSize;
     vec4 clip = frame.viewProjection * vec4(point, 1.0);
@@ -74,7 +82,7 @@ CellFootprint orthographicCellFootprint(vec2 size) {
 // it would leave the cells beside every wall unobserved. A wider texel counts wherever the footprint touches it: its
 // centre may lie beyond a rim while it covers the wall under it.
 bool seesThroughCell(ivec3 worldBrick, vec2 size, CellFootprint footprint) {
-  vec4 corner = frame.viewProjection * vec4(vec3(worldBrick) * volume.brickSize, 1.0);
+  vec4 corner = footprint.viewProjection * vec4(vec3(worldBrick) * footprint.brickSize, 1.0);
   vec2 cornerPixel = ssvgiNdcToPixel(corner.xy, size);
   vec2 low = cornerPixel + footprint.low, high = cornerPixel + footprint.high;
   float farthestDepth = corner.z + footprint.farthestDepth;
@@ -133,11 +141,12 @@ void main() {
   bool orthographic = frame.viewProjection[0][3] == 0.0 && frame.viewProjection[1][3] == 0.0 &&
                       frame.viewProjection[2][3] == 0.0;
   CellFootprint footprint = orthographicCellFootprint(size);
+  VolumeLayout layoutOfVolume = volumeLayout();
   uint crossedCells = 0u;
   for (int stepCount = 0; stepCount < maxSteps; ++stepCount) {
     bool atLastCell = all(equal(cell, lastCell));
     if (atLastCell && surfaceCellKept) break;
-    if (atLastCell || !orthographic || seesThroughCell(cell, size, footprint)) markObserved(cell);
+    if (atLastCell || !orthographic || seesThroughCell(cell, size, footprint)) markObserved(cell, layoutOfVolume);
     ++crossedCells;
     if (atLastCell) break;
     int axis = nextCrossing.x <= nextCrossing.y && nextCrossing.x <= nextCrossing.z ? 0

@@ -117,6 +117,7 @@ uvec2 gridBitAddress(uint level, ivec3 worldCell) {
 // What a walk through the volume reads of its layout at every step, read from the volume's block once: on lavapipe a
 // read of a buffer is made lane by lane, and one inside a loop again on every pass through it.
 struct VolumeLayout {
+  ivec3 originBrick;       // VoxelVolume::originBrick
   ivec3 dimensions;        // bricks
   ivec3 originCell;        // the toroidal brick cell (brickCellIndex) of the volume's minimum corner
   uvec3 gridWordOffsets;   // VoxelVolume::gridWordOffsets
@@ -126,7 +127,7 @@ struct VolumeLayout {
 // division (localCellIndex): integer division has no vector instruction on a CPU, so lavapipe makes it one lane at a
 // time.
 VolumeLayout volumeLayout() {
-  return VolumeLayout(volumeDimensions(), wrapCoordinate(volume.originBrick, volumeDimensions()),
+  return VolumeLayout(volume.originBrick, volumeDimensions(), wrapCoordinate(volume.originBrick, volumeDimensions()),
                       volume.gridWordOffsets);
 }
 
@@ -140,12 +141,13 @@ uint localCellIndex(ivec3 localCell, uint shift, VolumeLayout volumeLayout) {
   return uint(cell.x + dimensions.x * (cell.y + dimensions.y * cell.z));
 }
 
-// Whether a cell of a grid level in world units has been observed: at level 2 the brick cell, at levels 3 and 4 all
-// of its brick cells.
-bool cellObserved(uint level, ivec3 worldCell) {
-  uvec2 address = gridBitAddress(level, worldCell);
-  return (observedSpace[address.x] & address.y) != 0u;
+// gridBitAddress of a cell that lies in the volume, from its layout.
+uvec2 gridBitAddressInVolume(uint level, ivec3 worldCell, VolumeLayout volumeLayout) {
+  uint shift = level - kFirstGridLevel;
+  ivec3 localCell = worldCell - (volumeLayout.originBrick >> shift);
+  return gridBitAddressOfCell(level, localCellIndex(localCell, shift, volumeLayout), volumeLayout.gridWordOffsets);
 }
+
 
 bool gridOccupied(uint level, ivec3 worldCell) {
   uvec2 address = gridBitAddress(level, worldCell);
