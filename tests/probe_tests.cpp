@@ -953,6 +953,26 @@ TEST_F(ProbeCache, aProbeInsideAWallMovesOutInFrontOfItWithinHalfASpacingAndThen
   });
 }
 
+TEST_F(ProbeCache, everyListedProbeInsideAWallMovesOutNotOnlyAWorkgroupsWorth) {
+  // Level 0's 128 probes at x = 0 (y −4..3, z 2..17) lie inside the wall's voxels, and ProbePlacement lists them with
+  // their neighbours at x = ±1: hundreds of probes, more than a workgroup of ProbeRelocate's threads. Each of them that
+  // has been traced has moved out in front of the wall, as kProbe does in the test above.
+  create(probeTestSettings());
+  writeScene(wallThroughTheProbe());
+  runUpdates(4);
+  const std::vector<shader::Probe> probes = readProbes();
+  uint32_t traced = 0;
+  for (int z = 2; z <= 17; ++z)
+    for (int y = -4; y <= 3; ++y) {
+      const glm::ivec3 coordinate(0, y, z);
+      const shader::Probe& probe = probes[shader::probeSlotIndex(coordinate, probeGrid())];  // level 0 comes first
+      if (!shader::probeHoldsCoordinate(probe, coordinate) || historyCount(probe) == 0u) continue;
+      ++traced;
+      EXPECT_LT(offsetOf(probe, spacing(0)).x, 0.0f) << "probe (0, " << y << ", " << z << ")";
+    }
+  EXPECT_GT(traced, shader::kProbeListGroupSize);
+}
+
 // A solid block of 2×2×2 full bricks around kProbe (±1 m), radiance `radiance`, all its voxels facing up.
 std::vector<TestBrick> solidBlock(glm::vec3 radiance) {
   std::vector<TestBrick> bricks;

@@ -9,8 +9,7 @@ void ProbeDilate::record(gpu::CommandList& commands, const ProbeVolume& probes) 
   auto scope = commands.scope("ssvgi: ProbeDilate");
   const gpu::Bindings bindings = probes.listedProbeBindings(gpu::Bindings());
   // One thread per listed probe: as many as the list may hold, those past its count leave at once.
-  const uint32_t groups = (probes.current().probeBudget + shader::kProbeListGroupSize - 1) / shader::kProbeListGroupSize;
-  commands.dispatch(pipeline_, bindings, {groups, 1, 1});
+  commands.dispatch(pipeline_, bindings, {probes.current().probeBudget, 1, 1});
 }
 
 }  // namespace ssvgi::gi
