@@ -29,6 +29,14 @@ layout(binding = kBindInjectionBricks) readonly buffer VisibleBricks {
   uint visibleBricks[];
 };
 
+// The view's matrices and the volume's constants that the helpers below use, read once at the start of main rather
+// than at each use: on lavapipe a read of a buffer is made lane by lane, and litShareOfPlane's lattice, unrolled,
+// would make each read nine times over, taken or not (lavapipe runs both sides of a branch).
+mat4 litViewProjection;
+mat4 litInverseViewProjection;
+float voxelSize;
+vec3 volumeMiddlePoint;
+
 // What a voxel the view writes takes from its pixel: for a view whose colour is all of its light, that light, an extra
 // view's averaged with what the voxel held (kVoxelExtraViewRadianceBlend); for a view lit by direct light only, that
 // light and the albedo (an extra view's averaged alike). The light after the first bounce: for the camera's lit
@@ -87,15 +95,14 @@ struct ViewSample {
 ViewSample viewSampleAt(ivec2 texel, vec2 litSize) {
   ViewSample seen = ViewSample(texel, texelFetch(litDepth, texel, 0).r, vec3(0.0), vec3(0.0), vec3(0.0));
   if (seen.depth <= 0.0) return seen;
-  seen.surface = reconstructPosition(frame.litInverseViewProjection, vec2(texel), litSize, seen.depth);
+  seen.surface = reconstructPosition(litInverseViewProjection, vec2(texel), litSize, seen.depth);
   seen.normal = normalize(texelFetch(litNormal, texel, 0).xyz);
-  seen.held = heldSurfacePoint(seen.surface, seen.normal);
+  seen.held = heldSurfacePoint(seen.surface, seen.normal, volumeMiddlePoint, voxelSize);
   return seen;
 }
 
 // Whether the tangent plane of the surface a texel shows cuts the voxel's box.
 bool surfacePlaneCutsVoxel(ViewSample seen, vec3 voxelMin) {
-  float voxelSize = volume.voxelSize;
   float halfExtent = 0.5 * voxelSize * dot(abs(seen.normal), vec3(1.0));
   return abs(dot(voxelMin + 0.5 * voxelSize - seen.held, seen.normal)) < halfExtent;
 }
@@ -105,7 +112,6 @@ bool surfacePlaneCutsVoxel(ViewSample seen, vec3 voxelMin) {
 // normals that agree (kOwnSurfaceFacing) it is taken for the voxel's own surface.
 const float kOwnSurfaceFacing = 0.9;
 bool showsSurfaceAt(ViewSample seen, vec3 voxelMin) {
-  float voxelSize = volume.voxelSize;
   return seen.depth > 0.0 && surfacePlaneCutsVoxel(seen, voxelMin) &&
          distance(seen.held, clamp(seen.held, voxelMin, voxelMin + voxelSize)) <= voxelSize;
 }
@@ -115,10 +121,10 @@ bool showsSurfaceAt(ViewSample seen, vec3 voxelMin) {
 // at all, where the texel shows none). A texel is as wide as a voxel or wider, and its depth says nothing of the space
 // beside that line: a random point of a voxel that projects into the texel may lie off it, hidden behind an edge the
 // line passes (a wall's top under a roof's rim, seen from above past the rim).
-bool sightCrossesVoxel(ViewSample seen, vec3 voxelMin, float voxelSize, vec2 litSize, float margin) {
+bool sightCrossesVoxel(ViewSample seen, vec3 voxelMin, vec2 litSize, float margin) {
   vec2 centre = vec2(seen.texel);
-  vec3 nearPoint = reconstructPosition(frame.litInverseViewProjection, centre, litSize, 1.0);
-  vec3 direction = viewRayDirection(frame.litInverseViewProjection, ssvgiPixelToNdc(centre, litSize));
+  vec3 nearPoint = reconstructPosition(litInverseViewProjection, centre, litSize, 1.0);
+  vec3 direction = viewRayDirection(litInverseViewProjection, ssvgiPixelToNdc(centre, litSize));
   vec2 span = intersectBounds(nearPoint, safeInverseDirection(direction), voxelMin, voxelMin + voxelSize);
   float surfaceDistance = seen.depth <= 0.0 ? 1e30 : dot(seen.surface - nearPoint, direction);
   return span.y > max(span.x, 0.0) && span.y < surfaceDistance - margin;
@@ -129,9 +135,8 @@ bool sightCrossesVoxel(ViewSample seen, vec3 voxelMin, float voxelSize, vec2 lit
 // of the voxel volume, where the camera is — the side its surroundings see — rather than flipping between the two with
 // the views (the dark room's walls turned black from inside, and flickered: QUALITY.md, "Views beyond the camera").
 bool holdsSeenSurface(ViewSample seen, vec3 voxelMin, bool occupied, vec3 storedNormal) {
-  float voxelSize = volume.voxelSize;
   bool turnsSurfaceAround = occupied && dot(storedNormal, seen.normal) < 0.0 &&
-                            dot(seen.normal, volumeMiddle() - (voxelMin + 0.5 * voxelSize)) <= 0.0;
+                            dot(seen.normal, volumeMiddlePoint - (voxelMin + 0.5 * voxelSize)) <= 0.0;
   return seen.depth > 0.0 && !turnsSurfaceAround && all(greaterThanEqual(seen.held, voxelMin)) &&
          all(lessThan(seen.held, voxelMin + voxelSize));
 }
@@ -139,10 +144,10 @@ bool holdsSeenSurface(ViewSample seen, vec3 voxelMin, bool occupied, vec3 stored
 // A random texel (new every frame and view) of the voxel's footprint in the view: the bounding rectangle of its
 // corners' projections, clipped to the image. (-1, -1) where the footprint lies off the image or a corner lies behind
 // a perspective view's eye.
-ivec2 footprintTexel(vec3 voxelMin, float voxelSize, vec2 litSize, uvec3 worldVoxel) {
+ivec2 footprintTexel(vec3 voxelMin, vec2 litSize, uvec3 worldVoxel) {
   // The projection is linear in clip space: one product for the minimum corner, the matrix's columns for the edges.
-  vec4 minimumClip = frame.litViewProjection * vec4(voxelMin, 1.0);
-  mat3x4 edges = mat3x4(frame.litViewProjection[0], frame.litViewProjection[1], frame.litViewProjection[2]) * voxelSize;
+  vec4 minimumClip = litViewProjection * vec4(voxelMin, 1.0);
+  mat3x4 edges = mat3x4(litViewProjection[0], litViewProjection[1], litViewProjection[2]) * voxelSize;
   vec2 lowest = vec2(3.0e38), highest = vec2(-3.0e38);
   for (int corner = 0; corner < 8; ++corner) {
     vec4 clip = minimumClip + edges * vec3(corner & 1, (corner >> 1) & 1, corner >> 2);
@@ -168,7 +173,7 @@ bool surfaceAround(ivec2 firstTexel, vec2 litSize, vec3 voxelMin) {
   for (int corner = 0; corner < 4; ++corner) {
     ViewSample around = viewSampleAt(aroundTexel(firstTexel, corner, litSize), litSize);
     if (around.depth > 0.0 && all(greaterThanEqual(around.held, voxelMin)) &&
-        all(lessThan(around.held, voxelMin + volume.voxelSize)))
+        all(lessThan(around.held, voxelMin + voxelSize)))
       return true;
   }
   return false;
@@ -179,7 +184,7 @@ bool surfaceAround(ivec2 firstTexel, vec2 litSize, vec3 voxelMin) {
 // lies in that light's shadow (litShareOfPlane).
 vec3 ontoVoxelPlane(vec3 point, Voxel voxel, vec3 voxelMin) {
   vec3 normal = voxelNormal(voxel);
-  vec3 planePoint = voxelMin + volume.voxelSize * (0.5 + normal * unpackVoxelPlane(voxelPlaneCode(voxel)));
+  vec3 planePoint = voxelMin + voxelSize * (0.5 + normal * unpackVoxelPlane(voxelPlaneCode(voxel)));
   return point - normal * dot(point - planePoint, normal);
 }
 
@@ -193,7 +198,7 @@ struct ViewPoint {
 };
 
 ViewPoint projectIntoView(vec3 point, vec2 litSize) {
-  vec4 clip = frame.litViewProjection * vec4(point, 1.0);
+  vec4 clip = litViewProjection * vec4(point, 1.0);
   vec3 ndc = clip.xyz / clip.w;
   ViewPoint projected;
   projected.ndc = ndc.xy;
@@ -223,13 +228,13 @@ LitShare litShareOfPlane(vec3 firstPoint, Voxel voxel, vec3 voxelMin, vec2 litSi
   vec3 normal = abs(voxelFacing);
   int dropped = normal.x >= normal.y && normal.x >= normal.z ? 0 : (normal.y >= normal.z ? 1 : 2);
   int first = (dropped + 1) % 3, second = (dropped + 2) % 3;
-  vec3 jitter = (firstPoint - voxelMin) / volume.voxelSize;
+  vec3 jitter = (firstPoint - voxelMin) / voxelSize;
   for (int i = 0; i < kLitShareLattice; ++i)
     for (int j = 0; j < kLitShareLattice; ++j) {
       vec3 lattice = jitter;
       lattice[first] = fract(jitter[first] + float(i) / float(kLitShareLattice));
       lattice[second] = fract(jitter[second] + float(j) / float(kLitShareLattice));
-      vec3 point = ontoVoxelPlane(voxelMin + lattice * volume.voxelSize, voxel, voxelMin);
+      vec3 point = ontoVoxelPlane(voxelMin + lattice * voxelSize, voxel, voxelMin);
       ViewPoint projected = projectIntoView(point, litSize);
       if (!projected.inView) continue;
       ViewSample seen = viewSampleAt(ivec2(projected.pixel), litSize);
@@ -239,7 +244,7 @@ LitShare litShareOfPlane(vec3 firstPoint, Voxel voxel, vec3 voxelMin, vec2 litSi
       // thick, which the light reaches and the voxel's face does not).
       bool atVoxel = showsSurfaceAt(seen, voxelMin);
       float facing = dot(seen.normal, voxelFacing);
-      float beyond = dot(seen.surface - point, viewRayDirection(frame.litInverseViewProjection, projected.ndc));
+      float beyond = dot(seen.surface - point, viewRayDirection(litInverseViewProjection, projected.ndc));
       if (atVoxel && facing > kOwnSurfaceFacing) {
         ++share.lit;
         share.litTexel = seen.texel;
@@ -269,12 +274,15 @@ void countBrickWork() {
 }
 
 void main() {
+  litViewProjection = frame.litViewProjection;
+  litInverseViewProjection = frame.litInverseViewProjection;
+  voxelSize = volume.voxelSize;
+  volumeMiddlePoint = volumeMiddle();
   uint brick = visibleBricks[gl_WorkGroupID.x];
   uint voxelIndex = gl_LocalInvocationID.x;
   uvec3 voxelInBrick = uvec3(voxelIndex & 3u, (voxelIndex >> 2u) & 3u, voxelIndex >> 4u);
   ivec3 worldBrick = bricks[brick].coordinate;
   ivec3 worldVoxel = worldBrick * int(kBrickSizeVoxels) + ivec3(voxelInBrick);
-  float voxelSize = volume.voxelSize;
   uint bit = voxelBit(voxelInBrick);
   bool occupied = voxelOccupied(brick, voxelInBrick);
   bool wasObserved = (((bit < 32u ? bricks[brick].observed.x : bricks[brick].observed.y) >> (bit & 31u)) & 1u) != 0u;
@@ -314,8 +322,8 @@ void main() {
     ivec2 firstTexel = ivec2(floor(pixel - 0.5));
     for (int corner = 0; corner < 4; ++corner)
       nearestDepth = max(nearestDepth, texelFetch(litDepth, aroundTexel(firstTexel, corner, litSize), 0).r);
-    vec3 nearestSurface = reconstructPosition(frame.litInverseViewProjection, pixel - 0.5, litSize, nearestDepth);
-    vec3 viewDirection = viewRayDirection(frame.litInverseViewProjection, projected.ndc);
+    vec3 nearestSurface = reconstructPosition(litInverseViewProjection, pixel - 0.5, litSize, nearestDepth);
+    vec3 viewDirection = viewRayDirection(litInverseViewProjection, projected.ndc);
     bool inFront = dot(nearestSurface - samplePoint, viewDirection) > clearMargin;
     // Seeing through one point of a voxel proves only that point empty. A voxel that the surface seen there passes
     // through (its tangent plane cuts the voxel's box) may hold that surface elsewhere: at a grazing view most of
@@ -332,7 +340,7 @@ void main() {
     // anywhere in its footprint took the light of neighbouring surfaces into it (cornell's light panel grew; docs/
     // QUALITY.md, "Holes in walls a view grazes, and a wall's two faces").
     if (!holdsSurface && !occupied) {
-      ivec2 footprint = footprintTexel(voxelMin, voxelSize, litSize, uvec3(worldVoxel));
+      ivec2 footprint = footprintTexel(voxelMin, litSize, uvec3(worldVoxel));
       if (footprint.x >= 0) {
         ViewSample second = viewSampleAt(footprint, litSize);
         if (holdsSeenSurface(second, voxelMin, occupied, storedNormal)) {
@@ -389,7 +397,7 @@ void main() {
     // Once observed, a voxel stays so (the mask is sticky): only one not yet observed is looked at again, and the
     // cheap tests come first.
     observedNow = !wasObserved && !holdsSurface && !refreshesColour && !cutBySurfacePlane &&
-                  sightCrossesVoxel(seen, voxelMin, voxelSize, litSize, clearMargin) &&
+                  sightCrossesVoxel(seen, voxelMin, litSize, clearMargin) &&
                   !surfaceAround(firstTexel, litSize, voxelMin);
     if (occupied && seenThrough) {
       uint lastHit = min(voxelSeenThroughCount(voxel) + 1u, kVoxelMaxLastHit);

@@ -65,10 +65,13 @@ vec3 volumeMiddle() { return (vec3(volume.originBrick) + 0.5 * vec3(volume.dimen
 // inside met its back and found it black (docs/QUALITY.md, "A plane's two faces"). A surface whose plane passes
 // within half a voxel of the middle counts as facing it: the middle lies on the grid (a ground at y = 0 holds it), and
 // its side must not flip with the depth's rounding from one pixel to the next.
-vec3 heldSurfacePoint(vec3 surface, vec3 normal) {
-  float voxelSize = volume.voxelSize;
-  float behind = dot(normal, volumeMiddle() - surface) < -0.5 * voxelSize ? -1.0 : 1.0;
+vec3 heldSurfacePoint(vec3 surface, vec3 normal, vec3 middle, float voxelSize) {
+  float behind = dot(normal, middle - surface) < -0.5 * voxelSize ? -1.0 : 1.0;
   return surface - normal * (behind * 0.01 * voxelSize);
+}
+
+vec3 heldSurfacePoint(vec3 surface, vec3 normal) {
+  return heldSurfacePoint(surface, normal, volumeMiddle(), volume.voxelSize);
 }
 
 // The bit index of the n-th set bit of a 32-bit word (n < bitCount(word)), by halving: 5 steps.
