@@ -86,33 +86,35 @@ TapFrame tapFrame() {
                   ivec2(gatherSampleOffset(gather.frameIndex)));
 }
 
-TileTap tileTap(Surface surface, ivec2 tile, TapFrame taps) {
-  if (any(lessThan(tile, ivec2(0))) || any(greaterThanEqual(tile, taps.tiles))) return TileTap(vec4(0.0), 0.0);
+TileTap tileTap(Surface surface, ivec2 tile, TapFrame frameOfTaps) {
+  if (any(lessThan(tile, ivec2(0))) || any(greaterThanEqual(tile, frameOfTaps.tiles))) return TileTap(vec4(0.0), 0.0);
   // The tile's geometry is that of the pixel it sampled.
-  ivec2 samplePixel = min(tile * int(kGatherTileSize) + taps.sampleOffset, taps.size - 1);
+  ivec2 samplePixel = min(tile * int(kGatherTileSize) + frameOfTaps.sampleOffset, frameOfTaps.size - 1);
   float sampleDepth = texelFetch(depthBuffer, samplePixel, 0).r;
   if (sampleDepth <= 0.0) return TileTap(vec4(0.0), 0.0);  // the tile's sample saw nothing
   vec3 samplePosition =
-      reconstructPosition(taps.inverseViewProjection, vec2(samplePixel), vec2(taps.size), sampleDepth);
+      reconstructPosition(frameOfTaps.inverseViewProjection, vec2(samplePixel), vec2(frameOfTaps.size), sampleDepth);
   float geometry = planeWeight(surface, samplePosition) *
                    normalWeight(surface, normalize(texelFetch(normalBuffer, samplePixel, 0).xyz));
   return TileTap(geometry > 0.0 ? imageLoad(tileIrradiance, tile) : vec4(0.0), geometry);
 }
 
 TileNeighbourhood tileNeighbourhood(Surface surface, ivec2 pixel) {
-  TapFrame taps = tapFrame();
-  vec2 tileCoordinate = vec2(pixel - taps.sampleOffset) / float(kGatherTileSize);
+  TapFrame frameOfTaps = tapFrame();
+  vec2 tileCoordinate = vec2(pixel - frameOfTaps.sampleOffset) / float(kGatherTileSize);
   ivec2 firstTile = ivec2(floor(tileCoordinate));
   TileNeighbourhood result = TileNeighbourhood(vec3(0.0), 0.0, vec3(1e30), vec3(0.0), 0.0, false);
   vec4 weightedSum = vec4(0.0);  // rgb E, a confidence
   float totalWeight = 0.0;
   float sameSurfaceWeight = 0.0;
-  for (int tap = 0; tap < 16; ++tap) {
-    // The bilinear four first (taps 0–3); the twelve around them only where none of the four is on the surface.
+  // The bilinear four first (taps 0–3); the twelve around them only where none of the four is on the surface. The
+  // count is not a constant, so that the loop stays a loop: unrolled, lavapipe would run all sixteen taps for every
+  // pixel (it runs both sides of a branch); as a loop it stops once no pixel of a group needs more.
+  int taps = 4;
+  for (int tap = 0; tap < taps; ++tap) {
     ivec2 offset = tap < 4 ? ivec2(tap & 1, tap >> 1) : kOuterTileOffsets[tap - 4];
-    if (tap == 4 && totalWeight > 0.0) break;
     ivec2 tile = firstTile + offset;
-    TileTap tileSample = tileTap(surface, tile, taps);
+    TileTap tileSample = tileTap(surface, tile, frameOfTaps);
     vec2 tent = max(vec2(1.0) - abs(vec2(tile) - tileCoordinate), vec2(kOuterTapWeight));
     float weight = tent.x * tent.y * tileSample.geometry;
     weightedSum += weight * tileSample.irradiance;
@@ -123,6 +125,7 @@ TileNeighbourhood tileNeighbourhood(Surface surface, ivec2 pixel) {
       result.probeBlend += weight * imageLoad(tileProbeBlend, tile).r;
       sameSurfaceWeight += weight;
     }
+    if (tap == 3 && totalWeight == 0.0) taps = 16;
   }
   result.sampled = totalWeight > 0.0;
   result.blended = totalWeight > 0.0 ? weightedSum.rgb / totalWeight : vec3(0.0);
