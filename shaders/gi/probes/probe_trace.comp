@@ -117,7 +117,8 @@ vec3 skyRadiance(vec3 direction) {
 // weights are zero (a probe on a coarser probe takes exactly that probe's value). False where no coarser probe around
 // it is usable, and always on the coarsest level: the probe then starts from its first trace alone. A coarser probe
 // with a voxel between it and this one is left out: it may stand on the other side of a wall (`ssvgi scenario leak`).
-bool coarserLevelRadiance(ivec3 probe, vec3 position, out Sh2Rgb radiance, out vec4 skyVisibility) {
+// False too for a probe that does not start afresh (`startsAfresh`).
+bool coarserLevelRadiance(ivec3 probe, vec3 position, bool startsAfresh, out Sh2Rgb radiance, out vec4 skyVisibility) {
   radiance = sh2Zero();
   skyVisibility = vec4(0.0);
   uint coarserLevel = uint(update.level) + 1u;
@@ -125,18 +126,25 @@ bool coarserLevelRadiance(ivec3 probe, vec3 position, out Sh2Rgb radiance, out v
   ivec3 cell = probe >> 1;  // the coarser cell holding the probe (arithmetic shift: floor for negative coordinates)
   vec3 fraction = vec3(probe & 1) * 0.5;
   float weightSum = 0.0;
-  for (int corner = 0; corner < kProbeCellCorners; ++corner) {
+  // The count is not a constant, so that the loop stays a loop: unrolled, it would hold eight traces, which lavapipe
+  // would run for every probe (it runs both sides of a branch), where only a probe that starts afresh needs them.
+  int corners = startsAfresh ? kProbeCellCorners : 0;
+  // Read once, not in the loop (voxel_access.glsl's VolumeLayout says why).
+  uint firstCoarserProbe = coarserLevel * uint(update.probesPerLevel);
+  ivec3 probesPerAxis = update.probesPerAxis;
+  float coarserSpacing = 2.0 * update.spacing;
+  float ownVoxel = 0.5 * volume.voxelSize;
+  for (int corner = 0; corner < corners; ++corner) {
     ProbeCellCorner around = probeCellCorner(cell, fraction, corner);
     float weight = around.weight;
     ivec3 coarser = around.probe;
-    uint slot = coarserLevel * uint(update.probesPerLevel) + probeSlotIndex(coarser, update.probesPerAxis);
-    Probe candidate = probes[slot];
+    Probe candidate = probes[firstCoarserProbe + probeSlotIndex(coarser, probesPerAxis)];
     if (weight == 0.0 || !probeIsUsable(candidate, coarser)) continue;
-    vec3 coarserPosition = probeWorldPosition(coarser, 2.0 * update.spacing, candidate.state);
+    vec3 coarserPosition = probeWorldPosition(coarser, coarserSpacing, candidate.state);
     float separation = distance(coarserPosition, position);
-    if (separation > 0.5 * volume.voxelSize &&
-        traceVoxelsHierarchical(coarserPosition, (position - coarserPosition) / separation,
-                                separation - 0.5 * volume.voxelSize, kIgnoreObservedSpace).hit)
+    if (separation > ownVoxel &&
+        traceVoxelsHierarchical(coarserPosition, (position - coarserPosition) / separation, separation - ownVoxel,
+                                kIgnoreObservedSpace).hit)
       continue;
     radiance = sh2Add(radiance, sh2Scale(probeRadianceSh(candidate), weight));
     skyVisibility += probeSkyVisibilitySh(candidate) * weight;
@@ -358,7 +366,7 @@ void holdRadiance(ListedProbe probe) {
   Sh2Rgb start;
   vec4 startSkyVisibility;
   startsFromCoarserLevel =
-      probe.historyCount == 0u && coarserLevelRadiance(probe.coordinate, probe.origin, start, startSkyVisibility);
+      coarserLevelRadiance(probe.coordinate, probe.origin, probe.historyCount == 0u, start, startSkyVisibility);
   heldRadiance = probe.historyCount > 0u ? probe.history : start;
   heldSkyVisibility = probe.historyCount > 0u ? probeSkyVisibilitySh(probe.stored) : startSkyVisibility;
 }
@@ -409,7 +417,8 @@ void averageKnownRays() {
     skySum[side] = vec3(0.0);
     count[side] = skyRays[side] = 0u;
   }
-  for (uint other = 0u; other < update.raysPerProbe; ++other) {
+  uint raysPerProbe = update.raysPerProbe;
+  for (uint other = 0u; other < raysPerProbe; ++other) {
     uint found = rayFound[other];
     if (found == kRayUnknownInSpace || found == kRayUnknownBesideSurface) continue;
     uint side = rayHalf[other];
