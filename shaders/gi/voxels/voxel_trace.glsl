@@ -211,33 +211,33 @@ struct CachedGridWords {
 
 CachedGridWords noCachedGridWords() { return CachedGridWords(uvec3(0xffffffffu), uvec3(0u)); }
 
-// Whether the level-`level` cell holding `voxel` has its bit set in the occupancy grid or, with `observedSpaceBits`,
-// in the observed space's bit volumes (the same layout; GLSL cannot pass a buffer, so a flag picks it).
-bool gridCellBitSet(bool observedSpaceBits, int level, VoxelWalk walk, inout CachedGridWords cached, inout uint reads) {
-  uint shift = uint(level - kBrickLevel);
-  uint cellIndex = localCellIndex(walk.voxel >> level, shift, walk.volumeLayout);
-  uvec2 address = gridBitAddressOfCell(uint(level), cellIndex, walk.volumeLayout.gridWordOffsets);
-  int slot = level - kBrickLevel;
-  if (cached.address[slot] != address.x) {
-    cached.address[slot] = address.x;
-    cached.bits[slot] = observedSpaceBits ? observedSpace[address.x] : occupancyGrid[address.x];
+// Where the bit of the level-`level` cell holding the walk's voxel lies: in the occupancy grid, and at the same place
+// in the observed space's bit volumes (the same layout), so that a step that asks both works it out once.
+struct GridBit {
+  uvec2 address;  // gridBitAddressOfCell
+  int slot;       // the level's place in CachedGridWords
+};
+
+GridBit gridBitOf(int level, VoxelWalk walk) {
+  uint cellIndex = localCellIndex(walk.voxel >> level, uint(level - kBrickLevel), walk.volumeLayout);
+  return GridBit(gridBitAddressOfCell(uint(level), cellIndex, walk.volumeLayout.gridWordOffsets), level - kBrickLevel);
+}
+
+// Whether a cell's bit is set in the occupancy grid or, with `observedSpaceBits`, in the observed space's bit volumes
+// (GLSL cannot pass a buffer, so a flag picks it).
+bool gridBitSet(bool observedSpaceBits, GridBit bit, inout CachedGridWords cached, inout uint reads) {
+  if (cached.address[bit.slot] != bit.address.x) {
+    cached.address[bit.slot] = bit.address.x;
+    cached.bits[bit.slot] = observedSpaceBits ? observedSpace[bit.address.x] : occupancyGrid[bit.address.x];
     reads += 1u;
   }
-  return (cached.bits[slot] & address.y) != 0u;
-}
-
-bool gridCellOccupied(int level, VoxelWalk walk, inout CachedGridWords cached, inout uint reads) {
-  return gridCellBitSet(false, level, walk, cached, reads);
-}
-
-bool gridCellObserved(int level, VoxelWalk walk, inout CachedGridWords cached, inout uint reads) {
-  return gridCellBitSet(true, level, walk, cached, reads);
+  return (cached.bits[bit.slot] & bit.address.y) != 0u;
 }
 
 // Whether the brick cell a walk is in holds no voxel and has not been observed (the flat DDA's test; the hierarchical
 // one makes it from its grid words).
 bool brickUnobserved(VoxelWalk walk, CachedBrick brick, inout CachedGridWords observed, inout uint reads) {
-  return all(equal(brick.mask, uvec2(0u))) && !gridCellObserved(kBrickLevel, walk, observed, reads);
+  return all(equal(brick.mask, uvec2(0u))) && !gridBitSet(true, gridBitOf(kBrickLevel, walk), observed, reads);
 }
 
 // What a cell of the walk holds for the hierarchical DDA: nothing it must look into, something (an occupied voxel
@@ -264,13 +264,15 @@ uint cellContents(VoxelWalk walk, int level, bool watchesCells, bool watchesVoxe
   bool newBrick = !isCached(brick, walk.voxel >> kBrickLevel);
   if (!gridLevel) loadBrick(brick, walk, watchesVoxels, reads);
   bool brickEmpty = all(equal(brick.mask, uvec2(0u)));
-  bool occupied = gridLevel && (level == kBrickLevel && !newBrick ? !brickEmpty
-                                                                  : gridCellOccupied(level, walk, grid, reads));
+  // The cell's bit in the grids; at a finer level its brick's, which the observed space below asks about.
+  GridBit cellBit = gridBitOf(gridLevel ? level : kBrickLevel, walk);
+  bool occupied =
+      gridLevel && (level == kBrickLevel && !newBrick ? !brickEmpty : gridBitSet(false, cellBit, grid, reads));
   // Whether the cell is unobserved, asked at one place for both kinds of level — at a grid level of an empty cell, at
   // a finer one of a brick just entered that holds no voxel — because on lavapipe every place in a loop that reads a
   // buffer costs a read, lane by lane, on every step of the loop, whether or not a lane takes it.
   bool asksObserved = watchesCells && (gridLevel ? !occupied : newBrick && brickEmpty);
-  bool unobservedCell = asksObserved && !gridCellObserved(gridLevel ? level : kBrickLevel, walk, observed, reads);
+  bool unobservedCell = asksObserved && !gridBitSet(true, cellBit, observed, reads);
   if (gridLevel) {
     if (occupied) return kCellOccupied;
     if (!unobservedCell) return kCellEmpty;
