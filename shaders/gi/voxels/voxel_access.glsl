@@ -45,13 +45,6 @@ ivec3 worldBrickOfCell(uint cell) {
 // The world brick containing a world position.
 ivec3 worldBrickOf(vec3 position) { return ivec3(floor(position * volume.bricksPerMetre)); }
 
-// Pool index of the brick at a world brick coordinate, or kInvalidBrick (also outside the volume or mid-allocation).
-uint brickAt(ivec3 worldBrick) {
-  if (!brickInVolume(worldBrick, volume)) return kInvalidBrick;
-  uint index = brickLookup[brickCellIndex(worldBrick, volumeDimensions())];
-  return index == kAllocatingBrick ? kInvalidBrick : index;
-}
-
 // The middle of the voxel volume, where the camera is.
 vec3 volumeMiddle() { return (vec3(volume.originBrick) + 0.5 * vec3(volume.dimensionsBricks)) * volume.brickSize; }
 

@@ -53,8 +53,8 @@ struct VoxelWalk {
   ivec3 voxel;          // the voxel the walk is in
   float distance;       // metres along the ray to where it entered that voxel
   float maxDistance;
-  VolumeLayout volumeLayout;  // read once
-  ivec3 sizeVoxels;     // the volume's size in voxels
+  VolumeLayout volumeLayout;  // the volume's layout, read once
+  ivec3 sizeVoxels;           // the volume's size in voxels
 };
 
 // Where the ray crosses the plane `coordinate = plane` of an axis, in metres. `precise`: no contraction into a
@@ -173,7 +173,7 @@ void loadBrick(inout CachedBrick cached, VoxelWalk walk, bool watchesVoxels, ino
   if (isCached(cached, brick)) return;
   cached.brick = brick;
   uint index = brickLookup[localCellIndex(brick, 0u, walk.volumeLayout)];
-  cached.index = index == kAllocatingBrick ? kInvalidBrick : index;
+  cached.index = index == kAllocatingBrick ? kInvalidBrick : index;  // mid-allocation: not there yet
   cached.mask = uvec2(0u);
   cached.unobserved = uvec2(0u);
   reads += 1u;
