@@ -19,7 +19,7 @@ SSVGI_CONSTANT(uint, kProbeLevels, 3u);     // SPEC §4.5: 3 clipmap levels, one
 SSVGI_CONSTANT(uint, kProbeBlockSize, 4u);  // the CPU culls a level in blocks of 4×4×4 probes (one placement group)
 SSVGI_CONSTANT(uint, kProbeTraceGroupSize, 32u);  // ProbeTrace: one workgroup per probe, one thread per ray
 // ProbeRelocate, ProbeDilate: one thread per listed probe. Not a workgroup per probe, as ProbeTrace: on lavapipe a
-// workgroup that meets a barrier costs microseconds to start, more than these passes' work for most probes.
+// workgroup that meets a barrier costs more to start than these passes' work for most probes (docs/PERFORMANCE.md).
 SSVGI_CONSTANT(uint, kProbeListGroupSize, 64u);
 // The distance SH records hit distances up to this many spacings. The gather compares it with the distance from the
 // probe to a point of one of the grid cells around it (at most √3 spacings); clamping keeps far hits and misses from
@@ -140,8 +140,7 @@ SSVGI_INLINE uint packProbeTag(ivec3 worldProbe, float knownFraction, float dith
 
 // Index of a probe within its level: its toroidal slot, linearised.
 SSVGI_INLINE uint probeSlotIndex(ivec3 worldProbe, ivec3 dimensions) {
-  ivec3 slot = wrapCoordinate(worldProbe, dimensions);
-  return uint(slot.x + dimensions.x * (slot.y + dimensions.y * slot.z));
+  return linearCellIndex(wrapCoordinate(worldProbe, dimensions), dimensions);
 }
 
 // The world coordinate of the probe in a slot: the one coordinate in [origin, origin + dimensions) that wraps to it.

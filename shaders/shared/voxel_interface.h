@@ -270,9 +270,13 @@ SSVGI_INLINE ivec3 wrapCoordinate(ivec3 coordinate, ivec3 dimensions) {
   return wrapped - dimensions * ivec3(greaterThanEqual(wrapped, dimensions));
 }
 
-SSVGI_INLINE uint brickCellIndex(ivec3 worldBrick, ivec3 dimensions) {
-  ivec3 cell = wrapCoordinate(worldBrick, dimensions);
+// The index of a cell of a box of `dimensions` cells (0 ≤ cell < dimensions), x fastest.
+SSVGI_INLINE uint linearCellIndex(ivec3 cell, ivec3 dimensions) {
   return uint(cell.x + dimensions.x * (cell.y + dimensions.y * cell.z));
+}
+
+SSVGI_INLINE uint brickCellIndex(ivec3 worldBrick, ivec3 dimensions) {
+  return linearCellIndex(wrapCoordinate(worldBrick, dimensions), dimensions);
 }
 
 SSVGI_INLINE bool brickInVolume(ivec3 worldBrick, VoxelVolume volume) {

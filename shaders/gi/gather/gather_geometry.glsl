@@ -72,8 +72,8 @@ const ivec2 kOuterTileOffsets[12] = ivec2[](ivec2(-1, -1), ivec2(0, -1), ivec2(1
                                             ivec2(2, 0), ivec2(-1, 1), ivec2(2, 1), ivec2(-1, 2), ivec2(0, 2),
                                             ivec2(1, 2), ivec2(2, 2));
 
-// What the taps read of the frame's constants, read once for a pixel rather than in its loop over the taps: on
-// lavapipe a read of a buffer is made lane by lane, and one inside a loop again on every pass through it.
+// What the taps read of the frame's constants, read once for a pixel rather than in its loop over the taps
+// (gi/voxels/voxel_access.glsl's VolumeLayout says why).
 struct TapFrame {
   mat4 inverseViewProjection;  // GiFrame
   ivec2 size;

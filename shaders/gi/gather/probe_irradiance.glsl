@@ -47,8 +47,8 @@ struct CornerProbe {
   float trilinear;  // its trilinear weight; 0 where it is outside the level or knows nothing
 };
 
-// What the gather reads of a level's constants, read once for a point rather than in its loops over the probes: on
-// lavapipe a read of a buffer is made lane by lane, and one inside a loop again on every pass through it.
+// What the gather reads of a level's constants, read once for a point rather than in its loops over the probes
+// (gi/voxels/voxel_access.glsl's VolumeLayout says why).
 struct GatherLevel {
   ivec3 origin;         // GatherProbeLevel
   float spacing;

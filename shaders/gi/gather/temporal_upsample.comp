@@ -44,7 +44,7 @@ vec4 reprojectHistory(Surface surface, vec2 size) {
   vec2 fraction = texelCoordinate - vec2(firstTexel);
   vec3 sum = vec3(0.0);
   float totalWeight = 0.0;
-  // Read once, not in the loop (gather_geometry.glsl's TapFrame says why).
+  // Read once, not in the loop (gi/voxels/voxel_access.glsl's VolumeLayout says why).
   ivec2 halfSize = ivec2(gather.halfSize);
   mat4 historyInverseViewProjection = gather.historyInverseViewProjection;
   for (int corner = 0; corner < 4; ++corner) {

@@ -98,13 +98,14 @@ bool voxelOccupied(uint brick, uvec3 voxelInBrick) {
   return (word & (1u << (bit & 31u))) != 0u;
 }
 
-// Where the bit of a grid level (2 = brick, 3 = 2×2×2 bricks, 4 = 4×4×4 bricks) for a cell of that level in world
-// units lies: x, the word in occupancyGrid; y, the bit's mask in it.
+// Where the bit of a grid level (2 = brick, 3 = 2×2×2 bricks, 4 = 4×4×4 bricks) for the cell of that level with
+// toroidal index `cellIndex` lies: x, the word in occupancyGrid; y, the bit's mask in it.
 uvec2 gridBitAddressOfCell(uint level, uint cellIndex, uvec3 gridWordOffsets) {
   uint offset = level == 2u ? gridWordOffsets.x : (level == 3u ? gridWordOffsets.y : gridWordOffsets.z);
   return uvec2(offset + (cellIndex >> 5u), 1u << (cellIndex & 31u));
 }
 
+// The same for a cell of that level in world units.
 uvec2 gridBitAddress(uint level, ivec3 worldCell) {
   uint shift = level - kFirstGridLevel;
   return gridBitAddressOfCell(level, brickCellIndex(worldCell, volumeDimensions() >> shift), volume.gridWordOffsets);
@@ -134,16 +135,20 @@ uint localCellIndex(ivec3 localCell, uint shift, VolumeLayout volumeLayout) {
   ivec3 dimensions = volumeLayout.dimensions >> shift;
   ivec3 cell = localCell + (volumeLayout.originCell >> shift);
   cell -= dimensions * ivec3(greaterThanEqual(cell, dimensions));
-  return uint(cell.x + dimensions.x * (cell.y + dimensions.y * cell.z));
+  return linearCellIndex(cell, dimensions);
 }
 
-// gridBitAddress of a cell that lies in the volume, from its layout.
+// gridBitAddress of a cell counted from the volume's minimum corner, from the volume's layout.
+uvec2 gridBitAddressOfLocalCell(uint level, ivec3 localCell, VolumeLayout volumeLayout) {
+  uint cellIndex = localCellIndex(localCell, level - kFirstGridLevel, volumeLayout);
+  return gridBitAddressOfCell(level, cellIndex, volumeLayout.gridWordOffsets);
+}
+
+// gridBitAddress of a cell in world units that lies in the volume, from the volume's layout.
 uvec2 gridBitAddressInVolume(uint level, ivec3 worldCell, VolumeLayout volumeLayout) {
-  uint shift = level - kFirstGridLevel;
-  ivec3 localCell = worldCell - (volumeLayout.originBrick >> shift);
-  return gridBitAddressOfCell(level, localCellIndex(localCell, shift, volumeLayout), volumeLayout.gridWordOffsets);
+  return gridBitAddressOfLocalCell(level, worldCell - (volumeLayout.originBrick >> (level - kFirstGridLevel)),
+                                   volumeLayout);
 }
-
 
 bool gridOccupied(uint level, ivec3 worldCell) {
   uvec2 address = gridBitAddress(level, worldCell);

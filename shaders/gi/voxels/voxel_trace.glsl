@@ -90,7 +90,8 @@ int entryPlane(int voxel, int step) { return step > 0 ? voxel : voxel + 1; }
 // position at that distance is only a guess: rounding may put it a voxel off where the ray passes within a few ulps of
 // a voxel plane, never more (coordinates stay below 2^12 voxels, so those ulps are under 10^-3 voxels); the crossings
 // themselves decide, one each way. Not a loop: lavapipe runs a loop's body at least once for all its lanes, and these
-// corrections, two an axis on every step, cost a fifth of the trace as loops.
+// corrections come two an axis on every step of the walk (docs/PERFORMANCE.md, "Lavapipe runs every branch of a
+// loop").
 int coordinateAtCrossing(VoxelWalk walk, int axis, float eventDistance, int eventAxis, int reached, int limit) {
   int step = walk.step[axis];
   if (step == 0) return reached;
@@ -219,8 +220,7 @@ struct GridBit {
 };
 
 GridBit gridBitOf(int level, VoxelWalk walk) {
-  uint cellIndex = localCellIndex(walk.voxel >> level, uint(level - kBrickLevel), walk.volumeLayout);
-  return GridBit(gridBitAddressOfCell(uint(level), cellIndex, walk.volumeLayout.gridWordOffsets), level - kBrickLevel);
+  return GridBit(gridBitAddressOfLocalCell(uint(level), walk.voxel >> level, walk.volumeLayout), level - kBrickLevel);
 }
 
 // Whether a cell's bit is set in the occupancy grid or, with `observedSpaceBits`, in the observed space's bit volumes
