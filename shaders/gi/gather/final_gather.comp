@@ -29,7 +29,7 @@ void main() {
   }
   vec3 normal = normalize(texelFetch(normalBuffer, pixel, 0).xyz);
   vec3 position = reconstructPosition(frame.inverseViewProjection, vec2(pixel), vec2(frame.size), depth);
-  GatheredLight light = probeLight(position, normal, hashToUnitCube(uvec3(tile, frameIndex)).x, true);
+  GatheredLight light = probeLight(position, normal, hashToUnitCube(uvec3(tile, frameIndex)).x);
   if (countsWork()) {
     atomicAdd(work.gatherTiles, 1u);
     atomicAdd(work.gatherRays, tracedWork.rays);

@@ -2,8 +2,8 @@
 #define SSVGI_PROBE_IRRADIANCE_GLSL
 // Irradiance at a surface point from the probe volume (SPEC §4.6; the talk's "Probe Volume sampling with custom
 // weights"): the level choice with noise at level boundaries, and the 8-probe weights with the talk's three leak
-// remedies. FinalGather samples it for the screen; SceneVoxelization for the voxels of views lit by direct light only
-// (SPEC §6.3), so that they carry the multi-bounce loop as the lit frame's voxels do.
+// remedies and a voxel visibility test. FinalGather samples it for the screen, VoxelRelight for the voxels its views lit
+// with direct light only (SPEC §6.1), ConfidenceDebugView for the voxels the camera looks at.
 #include "gi/voxels/voxel_trace.glsl"
 #include "shared/gather_interface.h"
 
@@ -108,10 +108,9 @@ bool probeSeesPoint(vec3 probePosition, vec3 biased, float ownSurface) {
   return !blocker.hit || blocker.distance >= pointDistance - ownSurface;
 }
 
-// Irradiance at a surface point from the 8 probes of a level around it, and their confidence.
-// `testVisibility`: leave out a probe with a voxel between it and the point (a voxel trace per probe). Only a pass that
-// does not write the voxels may trace them.
-GatheredLight gatherLevel(uint levelIndex, vec3 position, vec3 normal, bool testVisibility) {
+// Irradiance at a surface point from the 8 probes of a level around it, and their confidence, leaving out a probe with a
+// voxel between it and the point (a voxel trace per probe). Only a pass that does not write the voxels may trace them.
+GatheredLight gatherLevel(uint levelIndex, vec3 position, vec3 normal) {
   GatherLevel level = gatherLevelConstants(levelIndex);
   float spacing = level.spacing;
   Sh2Rgb skyRadiance = gather.skyRadiance;
@@ -159,7 +158,7 @@ GatheredLight gatherLevel(uint levelIndex, vec3 position, vec3 normal, bool test
   // shows that some probe sees the point, and the others are not traced. One loop of traces, because lavapipe pays for
   // every copy of the trace in a shader, taken or not.
   uint visible = kept;  // bit per corner
-  if (testVisibility && keptWeight > 0.0) {
+  if (keptWeight > 0.0) {
     meanReading /= keptWeight;
     float tolerance = kGatherAgreement * max(meanReading.r, max(meanReading.g, meanReading.b));
     bool agree = true;
@@ -206,16 +205,16 @@ GatheredLight gatherLevel(uint levelIndex, vec3 position, vec3 normal, bool test
 // Irradiance and confidence at a surface point from the finest level that holds it (near a level's boundary, by
 // `noise` in [0, 1), the next coarser one); where a level's probes are stale or untraced, a coarser level (seeded
 // earlier, SPEC §4.5) answers.
-GatheredLight probeLight(vec3 position, vec3 normal, float noise, bool testVisibility) {
+GatheredLight probeLight(vec3 position, vec3 normal, float noise) {
   GatheredLight light = GatheredLight(vec3(0.0), 0.0, 1.0, false);
   for (uint level = chooseLevel(position, noise); level < kProbeLevels && !light.found; ++level)
-    light = gatherLevel(level, position, normal, testVisibility);
+    light = gatherLevel(level, position, normal);
   return light;
 }
 
 // probeLight's irradiance: rgb E; a: 1 when some probe contributed.
-vec4 probeIrradiance(vec3 position, vec3 normal, float noise, bool testVisibility) {
-  GatheredLight light = probeLight(position, normal, noise, testVisibility);
+vec4 probeIrradiance(vec3 position, vec3 normal, float noise) {
+  GatheredLight light = probeLight(position, normal, noise);
   return vec4(light.irradiance, light.found ? 1.0 : 0.0);
 }
 

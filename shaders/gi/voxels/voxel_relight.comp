@@ -53,7 +53,7 @@ bool relightVoxel(uint brick, uint occupiedVoxel) {
   float noise = hashToUnitCube(uvec3(worldVoxel)).x;
   // With the gather's visibility trace (this pass writes only radiance, which no trace reads): without it the lit
   // room's probes lit the dark side of `two-rooms`' wall (docs/QUALITY.md, "Voxels follow the light").
-  vec4 irradiance = probeIrradiance(surface, normal, noise, true);
+  vec4 irradiance = probeIrradiance(surface, normal, noise);
   if (irradiance.a == 0.0) return true;  // no probe knows its surroundings yet: it keeps the light it has
   vec3 direct = unpackR11G11B10F(voxel.directRadiance);
   voxels[index].radiance = packR11G11B10F(direct + unpackVoxelAlbedo(voxel.albedo) * (1.0 / kPi) * irradiance.rgb);
