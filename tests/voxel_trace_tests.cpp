@@ -412,11 +412,13 @@ class VoxelSceneTest : public testing::GpuTest {
     buildOctree_ = std::make_unique<gi::BuildOctree>(device());
     hierarchical_ = std::make_unique<gi::TraceRays>(device(), gi::TraceMethod::Hierarchical);
     flat_ = std::make_unique<gi::TraceRays>(device(), gi::TraceMethod::Flat);
+    nearSurfaces_ = std::make_unique<gi::TraceRays>(device(), gi::TraceMethod::NearSurfaces);
   }
   static void TearDownTestSuite() {
     buildOctree_.reset();
     hierarchical_.reset();
     flat_.reset();
+    nearSurfaces_.reset();
   }
 
   void SetUp() override {
@@ -480,6 +482,7 @@ class VoxelSceneTest : public testing::GpuTest {
   static inline std::unique_ptr<gi::BuildOctree> buildOctree_;
   static inline std::unique_ptr<gi::TraceRays> hierarchical_;
   static inline std::unique_ptr<gi::TraceRays> flat_;
+  static inline std::unique_ptr<gi::TraceRays> nearSurfaces_;
   gpu::DescriptorArena descriptors_{device()};
   std::unique_ptr<gi::VoxelScene> scene_;
   std::unique_ptr<CpuVoxelScene> cpu_;
@@ -557,37 +560,40 @@ TEST_F(BuildOctreePass, clearingABrickClearsOnlyTheAncestorsLeftWithoutChildren)
 
 using VoxelTrace = VoxelSceneTest;
 
-TEST_F(VoxelTrace, hierarchicalTraceFindsTheSameFirstHitAsTheFlatDda) {
+// From the top level (rays into open space) and from the brick level (visibility tests between points near
+// surfaces, traceVoxelsNearSurfaces), the hierarchical walk meets the voxel the flat DDA meets.
+TEST_F(VoxelTrace, hierarchicalTraceFindsTheSameFirstHitAsTheFlatDdaFromEitherStartLevel) {
   buildRandomScene(3);
   std::mt19937_64 rng(4);
   std::vector<VoxelTraceRay> rays = randomRays(*cpu_, rng, 100'000);
   const std::vector<VoxelTraceRay> onBoundaries = boundaryRays(*cpu_, rng, 60'000);
   rays.insert(rays.end(), onBoundaries.begin(), onBoundaries.end());
 
-  const TraceRun hierarchical = trace(*hierarchical_, rays);
   const TraceRun flat = trace(*flat_, rays);
-  size_t hits = 0, boundaryHits = 0, mismatches = 0;
-  for (size_t i = 0; i < rays.size(); ++i) {
-    const VoxelTraceHit& h = hierarchical.hits[i];
-    const VoxelTraceHit& f = flat.hits[i];
-    const bool same = h.brick == f.brick && h.voxelBit == f.voxelBit &&
-                      std::abs(h.distance - f.distance) <= 1e-4f &&
-                      h.radiance == f.radiance;
-    if (!same && ++mismatches <= 10) {
-      ADD_FAILURE() << "ray " << i << " from " << rays[i].origin.x << " " << rays[i].origin.y
-                    << " " << rays[i].origin.z << " along " << rays[i].direction.x << " "
-                    << rays[i].direction.y << " " << rays[i].direction.z << ": hierarchical brick " << h.brick
-                    << " voxel " << h.voxelBit << " at " << h.distance << ", flat brick " << f.brick
-                    << " voxel " << f.voxelBit << " at " << f.distance;
+  for (gi::TraceRays* tracer : {hierarchical_.get(), nearSurfaces_.get()}) {
+    SCOPED_TRACE(tracer->method() == gi::TraceMethod::NearSurfaces ? "from the brick level" : "from the top level");
+    const TraceRun hierarchical = trace(*tracer, rays);
+    size_t hits = 0, boundaryHits = 0, mismatches = 0;
+    for (size_t i = 0; i < rays.size(); ++i) {
+      const VoxelTraceHit& h = hierarchical.hits[i];
+      const VoxelTraceHit& f = flat.hits[i];
+      const bool same = h.brick == f.brick && h.voxelBit == f.voxelBit && std::abs(h.distance - f.distance) <= 1e-4f &&
+                        h.radiance == f.radiance;
+      if (!same && ++mismatches <= 10) {
+        ADD_FAILURE() << "ray " << i << " from " << rays[i].origin.x << " " << rays[i].origin.y << " "
+                      << rays[i].origin.z << " along " << rays[i].direction.x << " " << rays[i].direction.y << " "
+                      << rays[i].direction.z << ": hierarchical brick " << h.brick << " voxel " << h.voxelBit << " at "
+                      << h.distance << ", flat brick " << f.brick << " voxel " << f.voxelBit << " at " << f.distance;
+      }
+      hits += isHit(h) ? 1 : 0;
+      boundaryHits += (i >= rays.size() - onBoundaries.size() && isHit(h)) ? 1 : 0;
     }
-    hits += isHit(h) ? 1 : 0;
-    boundaryHits += (i >= rays.size() - onBoundaries.size() && isHit(h)) ? 1 : 0;
+    EXPECT_EQ(mismatches, 0u) << "of " << rays.size() << " rays";
+    // The rays see the scene: neither almost all hits nor almost all misses.
+    EXPECT_GT(hits, rays.size() / 5);
+    EXPECT_LT(hits, rays.size() * 9 / 10);
+    EXPECT_GT(boundaryHits, onBoundaries.size() / 10);
   }
-  EXPECT_EQ(mismatches, 0u) << "of " << rays.size() << " rays";
-  // The rays see the scene: neither almost all hits nor almost all misses.
-  EXPECT_GT(hits, rays.size() / 5);
-  EXPECT_LT(hits, rays.size() * 9 / 10);
-  EXPECT_GT(boundaryHits, onBoundaries.size() / 10);
 }
 
 // Unknown is not sky (SPEC §6.4): watching observed space, both traces report the same first hit, and whether and

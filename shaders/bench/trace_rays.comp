@@ -1,7 +1,7 @@
 #version 450
 // TraceRays: one thread per ray of a buffer, traced through the voxel scene with the hierarchical or the flat voxel
 // DDA (voxel_trace.glsl, flat_voxel_trace.glsl), for the tests and for the benchmark that compares the two on the same
-// rays (SPEC §7).
+// rays (SPEC §7); or, for the tests, with the hierarchical DDA from the brick level (the visibility tests' trace).
 #include "bench/flat_voxel_trace.glsl"
 #include "shared/voxel_trace_interface.h"
 
@@ -22,9 +22,13 @@ void main() {
   float maxDistance = ray.maxDistance;
   vec3 direction = ray.direction;
   bool watchesObservedSpace = ray.watchesObservedSpace != 0u;
-  VoxelHit hit = kTraceMethod == kTraceMethodFlat
-                     ? traceVoxelsFlat(origin, direction, maxDistance, watchesObservedSpace)
-                     : traceVoxelsHierarchical(origin, direction, maxDistance, watchesObservedSpace);
+  VoxelHit hit;
+  if (kTraceMethod == kTraceMethodFlat)
+    hit = traceVoxelsFlat(origin, direction, maxDistance, watchesObservedSpace);
+  else if (kTraceMethod == kTraceMethodNearSurfaces)
+    hit = traceVoxelsNearSurfaces(origin, direction, maxDistance);  // ignores observed space
+  else
+    hit = traceVoxelsHierarchical(origin, direction, maxDistance, watchesObservedSpace);
   hits[index] = VoxelTraceHit(hit.radiance, hit.distance, hit.normal, hit.brick, hit.voxelIndex, hit.reads,
                               hit.endedBesideSurface ? kTraceEndedBesideSurface
                                                      : (hit.unobserved ? kTraceCrossedUnobservedSpace : kTraceObserved),

@@ -142,9 +142,8 @@ bool coarserLevelRadiance(ivec3 probe, vec3 position, bool startsAfresh, out Sh2
     if (weight == 0.0 || !probeIsUsable(candidate, coarser)) continue;
     vec3 coarserPosition = probeWorldPosition(coarser, coarserSpacing, candidate.state);
     float separation = distance(coarserPosition, position);
-    if (separation > ownVoxel &&
-        traceVoxelsHierarchical(coarserPosition, (position - coarserPosition) / separation, separation - ownVoxel,
-                                kIgnoreObservedSpace).hit)
+    vec3 towardProbe = (position - coarserPosition) / separation;
+    if (separation > ownVoxel && traceVoxelsNearSurfaces(coarserPosition, towardProbe, separation - ownVoxel).hit)
       continue;
     radiance = sh2Add(radiance, sh2Scale(probeRadianceSh(candidate), weight));
     skyVisibility += probeSkyVisibilitySh(candidate) * weight;
