@@ -2,8 +2,8 @@
 #define SSVGI_PROBE_IRRADIANCE_GLSL
 // Irradiance at a surface point from the probe volume (SPEC §4.6; the talk's "Probe Volume sampling with custom
 // weights"): the level choice with noise at level boundaries, and the 8-probe weights with the talk's three leak
-// remedies and a voxel visibility test. FinalGather samples it for the screen, VoxelRelight for the voxels its views lit
-// with direct light only (SPEC §6.1), ConfidenceDebugView for the voxels the camera looks at.
+// remedies and a voxel visibility test. FinalGather samples it for the screen, VoxelRelight for the voxels its views
+// lit with direct light only (SPEC §6.1), ConfidenceDebugView for the voxels the camera looks at.
 #include "gi/voxels/voxel_trace.glsl"
 #include "shared/gather_interface.h"
 
@@ -107,8 +107,9 @@ bool probeSeesPoint(vec3 probePosition, vec3 biased, float ownSurface) {
   return !blocker.hit || blocker.distance >= pointDistance - ownSurface;
 }
 
-// Irradiance at a surface point from the 8 probes of a level around it, and their confidence, leaving out a probe with a
-// voxel between it and the point (a voxel trace per probe). Only a pass that does not write the voxels may trace them.
+// Irradiance at a surface point from the 8 probes of a level around it, and their confidence, leaving out a probe with
+// a voxel between it and the point (a voxel trace per probe). Only a pass that does not write the voxels may trace
+// them.
 GatheredLight gatherLevel(uint levelIndex, vec3 position, vec3 normal) {
   GatherLevel level = gatherLevelConstants(levelIndex);
   float spacing = level.spacing;
