@@ -12,7 +12,7 @@ namespace ssvgi::gi {
 enum class TraceMethod : uint32_t {
   Hierarchical = shader::kTraceMethodHierarchical,  // over the occupancy hierarchy (SPEC §4.4)
   Flat = shader::kTraceMethodFlat,                  // voxel by voxel: the baseline
-  NearSurfaces = shader::kTraceMethodNearSurfaces,  // hierarchical from the brick level, observed space ignored
+  NearSurfaces = shader::kTraceMethodNearSurfaces,  // hierarchical from the brick level (the probes' rays)
 };
 
 class TraceRays {

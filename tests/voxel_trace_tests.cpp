@@ -643,36 +643,39 @@ TEST_F(VoxelTrace, watchingObservedSpaceBothTracesAgreeOnTheHitAndOnWhereUnobser
 
   std::vector<VoxelTraceRay> rays = randomRays(*cpu_, rng, 60'000);
   for (VoxelTraceRay& ray : rays) ray.watchesObservedSpace = 1u;
-  const TraceRun hierarchical = trace(*hierarchical_, rays);
   const TraceRun flat = trace(*flat_, rays);
-  size_t mismatches = 0, unobservedMisses = 0, unobservedHits = 0, observedMisses = 0, endsAtUnobservedVoxel = 0;
-  for (size_t i = 0; i < rays.size(); ++i) {
-    const VoxelTraceHit& h = hierarchical.hits[i];
-    const VoxelTraceHit& f = flat.hits[i];
-    const bool same = h.brick == f.brick && h.voxelBit == f.voxelBit && h.unobserved == f.unobserved &&
-                      std::abs(h.distance - f.distance) <= 1e-4f &&
-                      std::abs(h.unobservedDistance - f.unobservedDistance) <= 1e-4f;
-    if (!same && ++mismatches <= 10)
-      ADD_FAILURE() << "ray " << i << ": hierarchical brick " << h.brick << " voxel " << h.voxelBit << " unobserved "
-                    << h.unobserved << " from " << h.unobservedDistance << " at " << h.distance
-                    << ", flat brick " << f.brick << " voxel " << f.voxelBit << " unobserved "
-                    << f.unobserved << " from " << f.unobservedDistance << " at " << f.distance;
-    if (h.unobserved != shader::kTraceObserved) (isHit(h) ? unobservedHits : unobservedMisses) += 1;
-    if (h.unobserved == shader::kTraceObserved && !isHit(h)) ++observedMisses;
-    // A ray that ends at an unobserved voxel: unknown from a point inside a brick holding voxels.
-    if (h.unobserved == shader::kTraceEndedBesideSurface && h.unobservedDistance > 0.0f) {
-      const glm::vec3 at = glm::vec3(rays[i].origin) + glm::vec3(rays[i].direction) * (h.unobservedDistance + 1e-3f);
-      const glm::ivec3 voxel = glm::ivec3(glm::floor((at - cpu_->minimumCorner()) / cpu_->voxelSize()));
-      if (cpu_->maskAt(voxel / int(shader::kBrickSizeVoxels)) != 0) ++endsAtUnobservedVoxel;
+  for (gi::TraceRays* tracer : {hierarchical_.get(), nearSurfaces_.get()}) {
+    SCOPED_TRACE(tracer->method() == gi::TraceMethod::NearSurfaces ? "from the brick level" : "from the top level");
+    const TraceRun hierarchical = trace(*tracer, rays);
+    size_t mismatches = 0, unobservedMisses = 0, unobservedHits = 0, observedMisses = 0, endsAtUnobservedVoxel = 0;
+    for (size_t i = 0; i < rays.size(); ++i) {
+      const VoxelTraceHit& h = hierarchical.hits[i];
+      const VoxelTraceHit& f = flat.hits[i];
+      const bool same = h.brick == f.brick && h.voxelBit == f.voxelBit && h.unobserved == f.unobserved &&
+                        std::abs(h.distance - f.distance) <= 1e-4f &&
+                        std::abs(h.unobservedDistance - f.unobservedDistance) <= 1e-4f;
+      if (!same && ++mismatches <= 10)
+        ADD_FAILURE() << "ray " << i << ": hierarchical brick " << h.brick << " voxel " << h.voxelBit << " unobserved "
+                      << h.unobserved << " from " << h.unobservedDistance << " at " << h.distance
+                      << ", flat brick " << f.brick << " voxel " << f.voxelBit << " unobserved "
+                      << f.unobserved << " from " << f.unobservedDistance << " at " << f.distance;
+      if (h.unobserved != shader::kTraceObserved) (isHit(h) ? unobservedHits : unobservedMisses) += 1;
+      if (h.unobserved == shader::kTraceObserved && !isHit(h)) ++observedMisses;
+      // A ray that ends at an unobserved voxel: unknown from a point inside a brick holding voxels.
+      if (h.unobserved == shader::kTraceEndedBesideSurface && h.unobservedDistance > 0.0f) {
+        const glm::vec3 at = glm::vec3(rays[i].origin) + glm::vec3(rays[i].direction) * (h.unobservedDistance + 1e-3f);
+        const glm::ivec3 voxel = glm::ivec3(glm::floor((at - cpu_->minimumCorner()) / cpu_->voxelSize()));
+        if (cpu_->maskAt(voxel / int(shader::kBrickSizeVoxels)) != 0) ++endsAtUnobservedVoxel;
+      }
     }
+    EXPECT_EQ(mismatches, 0u) << "of " << rays.size() << " rays";
+    // Every outcome occurs: misses through observed space (the sky), misses and hits beyond unobserved space, rays that
+    // end at an unobserved voxel.
+    EXPECT_GT(unobservedMisses, rays.size() / 50);
+    EXPECT_GT(unobservedHits, rays.size() / 50);
+    EXPECT_GT(observedMisses, rays.size() / 200);
+    EXPECT_GT(endsAtUnobservedVoxel, rays.size() / 100);
   }
-  EXPECT_EQ(mismatches, 0u) << "of " << rays.size() << " rays";
-  // Every outcome occurs: misses through observed space (the sky), misses and hits beyond unobserved space, rays that
-  // end at an unobserved voxel.
-  EXPECT_GT(unobservedMisses, rays.size() / 50);
-  EXPECT_GT(unobservedHits, rays.size() / 50);
-  EXPECT_GT(observedMisses, rays.size() / 200);
-  EXPECT_GT(endsAtUnobservedVoxel, rays.size() / 100);
 }
 
 TEST_F(VoxelTrace, bothTracesMatchACpuReferenceDda) {

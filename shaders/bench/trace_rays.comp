@@ -26,7 +26,7 @@ void main() {
   if (kTraceMethod == kTraceMethodFlat)
     hit = traceVoxelsFlat(origin, direction, maxDistance, watchesObservedSpace);
   else if (kTraceMethod == kTraceMethodNearSurfaces)
-    hit = traceVoxelsNearSurfaces(origin, direction, maxDistance);  // ignores observed space
+    hit = traceVoxelsNearSurfaces(origin, direction, maxDistance, watchesObservedSpace);
   else
     hit = traceVoxelsHierarchical(origin, direction, maxDistance, watchesObservedSpace);
   hits[index] = VoxelTraceHit(hit.radiance, hit.distance, hit.normal, hit.brick, hit.voxelIndex, hit.reads,

@@ -13,7 +13,7 @@ SSVGI_CONSTANT(uint, kBindTraceRaysHits, kBindFirstPassSlot + 1u);  // VoxelTrac
 // TraceRays' specialization constant 0.
 SSVGI_CONSTANT(uint, kTraceMethodHierarchical, 0u);  // over the occupancy hierarchy (SPEC §4.4)
 SSVGI_CONSTANT(uint, kTraceMethodFlat, 1u);          // voxel by voxel: the baseline
-SSVGI_CONSTANT(uint, kTraceMethodNearSurfaces, 2u);  // hierarchical from the brick level (traceVoxelsNearSurfaces)
+SSVGI_CONSTANT(uint, kTraceMethodNearSurfaces, 2u);  // hierarchical from the brick level: traceVoxelsNearSurfaces
 
 struct VoxelTraceRay {
   vec3 origin;                // world position, m

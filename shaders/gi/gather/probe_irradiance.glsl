@@ -103,7 +103,8 @@ bool probeSeesPoint(vec3 probePosition, vec3 biased, float ownSurface) {
   vec3 fromProbe = biased - probePosition;
   float pointDistance = length(fromProbe);
   if (pointDistance <= 1e-4) return true;
-  VoxelHit blocker = traceVoxelsNearSurfaces(probePosition, fromProbe / pointDistance, pointDistance);
+  VoxelHit blocker =
+      traceVoxelsNearSurfaces(probePosition, fromProbe / pointDistance, pointDistance, kIgnoreObservedSpace);
   return !blocker.hit || blocker.distance >= pointDistance - ownSurface;
 }
 

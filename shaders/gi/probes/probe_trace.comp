@@ -143,7 +143,8 @@ bool coarserLevelRadiance(ivec3 probe, vec3 position, bool startsAfresh, out Sh2
     vec3 coarserPosition = probeWorldPosition(coarser, coarserSpacing, candidate.state);
     float separation = distance(coarserPosition, position);
     vec3 towardProbe = (position - coarserPosition) / separation;
-    if (separation > ownVoxel && traceVoxelsNearSurfaces(coarserPosition, towardProbe, separation - ownVoxel).hit)
+    if (separation > ownVoxel &&
+        traceVoxelsNearSurfaces(coarserPosition, towardProbe, separation - ownVoxel, kIgnoreObservedSpace).hit)
       continue;
     radiance = sh2Add(radiance, sh2Scale(probeRadianceSh(candidate), weight));
     skyVisibility += probeSkyVisibilitySh(candidate) * weight;
@@ -380,7 +381,7 @@ VoxelHit traceRay(ListedProbe probe, ProbeRay chosen, uint ray) {
   VoxelHit hit;
   if (!chosen.traced) return hit;
   bool watchesObservedSpace = volume.skyOnlyThroughObservedSpace != 0u;
-  hit = traceVoxelsHierarchical(probe.origin, chosen.direction, update.rayLength, watchesObservedSpace);
+  hit = traceVoxelsNearSurfaces(probe.origin, chosen.direction, update.rayLength, watchesObservedSpace);
   if (hit.hit) {
     rayFound[ray] = kRayMetSurface;
     vec3 direct = unpackR11G11B10F(voxels[hit.brick * kVoxelsPerBrick + hit.voxelIndex].directRadiance);

@@ -440,8 +440,8 @@ VoxelHit walkOccupancyHierarchy(vec3 origin, vec3 direction, float maxDistance, 
   // The talk starts at the finest level. A ray into open space starts at the coarsest: that settles the common case, a
   // ray leaving open space, with one read of a 4 m cell and costs an occupied start only the grid words on the way
   // down, which later steps often reuse (in the tests' room scene: 6.3 reads per ray from the top, 6.8 from the voxel
-  // level). A visibility test between points near surfaces starts at the brick level: around its ends the coarser
-  // cells are occupied, and a walk from the top would only step down through them.
+  // level). A ray from a point near surfaces starts at the brick level: around it the coarser cells are occupied, and a
+  // walk from the top would only step down through them.
   int level = startLevel;
   uint knownOccupiedLevels = 0u;  // bit L: the walk came down from its current level-L cell
   bool unobserved = false;
@@ -516,10 +516,11 @@ VoxelHit traceVoxelsHierarchical(vec3 origin, vec3 direction, float maxDistance,
   return countTrace(walkOccupancyHierarchy(origin, direction, maxDistance, watchesObservedSpace, kTopLevel));
 }
 
-// A visibility test between two points near surfaces — a probe and a point it lights, or two probes — which takes every
-// brick cell without voxels for empty. It finds what traceVoxelsHierarchical finds, in fewer steps.
-VoxelHit traceVoxelsNearSurfaces(vec3 origin, vec3 direction, float maxDistance) {
-  return countTrace(walkOccupancyHierarchy(origin, direction, maxDistance, kIgnoreObservedSpace, kBrickLevel));
+// A trace from a point near surfaces: a probe's ray (ProbePlacement keeps the probes with voxels within their reach),
+// a visibility test between a probe and a point it lights or between two probes. It finds what traceVoxelsHierarchical
+// finds, in fewer steps.
+VoxelHit traceVoxelsNearSurfaces(vec3 origin, vec3 direction, float maxDistance, bool watchesObservedSpace) {
+  return countTrace(walkOccupancyHierarchy(origin, direction, maxDistance, watchesObservedSpace, kBrickLevel));
 }
 
 #endif
