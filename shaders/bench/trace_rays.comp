@@ -1,7 +1,8 @@
 #version 450
 // TraceRays: one thread per ray of a buffer, traced through the voxel scene with the hierarchical or the flat voxel
 // DDA (voxel_trace.glsl, flat_voxel_trace.glsl), for the tests and for the benchmark that compares the two on the same
-// rays (SPEC §7); or, for the tests, with the hierarchical DDA from the brick level (the visibility tests' trace).
+// rays (SPEC §7); or, for the tests, with the hierarchical DDA from the brick level (traceVoxelsNearSurfaces: the
+// probes' rays and the visibility tests).
 #include "bench/flat_voxel_trace.glsl"
 #include "shared/voxel_trace_interface.h"
 

@@ -427,8 +427,7 @@ VoxelHit voxelHitAt(VoxelWalk walk, CachedBrick cached, vec3 direction, uint rea
 // of the talk's rule saves reads without skipping any cell: after a step the walk goes up only if the parent cell's
 // occupancy is unknown — it is known (occupied) while the walk is still inside a cell it came down from.
 // A trace that watches observed space looks for unobserved brick cells (cellContents) until it has crossed one, and
-// for unobserved voxels all the way.
-// The walk starts at `startLevel` (below).
+// for unobserved voxels all the way. The walk starts at `startLevel` (below).
 VoxelHit walkOccupancyHierarchy(vec3 origin, vec3 direction, float maxDistance, bool watchesObservedSpace,
                                 int startLevel) {
   VoxelWalk walk;
@@ -437,11 +436,11 @@ VoxelHit walkOccupancyHierarchy(vec3 origin, vec3 direction, float maxDistance, 
   CachedGridWords grid = noCachedGridWords();
   CachedGridWords observed = noCachedGridWords();
   uint reads = 0u;
-  // The talk starts at the finest level. A ray into open space starts at the coarsest: that settles the common case, a
-  // ray leaving open space, with one read of a 4 m cell and costs an occupied start only the grid words on the way
-  // down, which later steps often reuse (in the tests' room scene: 6.3 reads per ray from the top, 6.8 from the voxel
-  // level). A ray from a point near surfaces starts at the brick level: around it the coarser cells are occupied, and a
-  // walk from the top would only step down through them.
+  // The talk starts at the finest level. traceVoxelsHierarchical starts at the coarsest: that settles a ray leaving
+  // open space with one read of a 4 m cell and costs an occupied start only the grid words on the way down, which
+  // later steps often reuse (in the tests' room scene: 6.3 reads per ray from the top, 6.8 from the voxel level).
+  // traceVoxelsNearSurfaces starts at the brick level: around a point near surfaces the coarser cells are occupied,
+  // and a walk from the top would only step down through them.
   int level = startLevel;
   uint knownOccupiedLevels = 0u;  // bit L: the walk came down from its current level-L cell
   bool unobserved = false;
