@@ -165,30 +165,38 @@ TEST_F(Scenario, aClosedRoomOfEmittingPlanesOnTheVoxelGridGetsPiTimesTheirRadian
   // The ceiling is above the camera's view: only the capture around the camera sees it from inside, and the sun's
   // view (given with the sun off too) sees its other face from above. A plane's two faces on a voxel boundary once
   // landed in the two voxels beside it, the outer face in front of the inner one: the probes met its back, black, and
-  // E was 0.84 π·Le on average, 0.51 at worst (docs/QUALITY.md, "A plane's two faces").
+  // E was 0.84 π·Le on average, 0.51 at worst (docs/QUALITY.md, "A plane's two faces"). At 160×90 from this camera, a
+  // tile sampling the left wall's foot once found no probe every sixteenth frame, and its 0 darkened the pixels
+  // around it to 0.43 (docs/QUALITY.md, "A tile without probes"): every pixel of every frame from the 48th is held.
   constexpr float kHalfSize = 4.0f, kRadiance = 1.0f;
   bench::ScenarioView view{emittingPlanesRoom(kHalfSize, kRadiance), {}};
   view.camera.position = {0.3f, -1.5f, 2.5f};
   view.camera.target = {0.3f, -1.5f, -4.0f};
-  view.camera.verticalFov = glm::radians(69.0f);
+  view.camera.verticalFov = 1.2f;
   view.scene.cameras.push_back(view.camera);
-  const bench::ScenarioRendering rendering = testRendering(view.scene);
+  bench::ScenarioRendering rendering = testRendering(view.scene);
+  rendering.width = 160;
+  rendering.height = 90;
   ASSERT_EQ(std::fmod(kHalfSize, rendering.gi.voxelSize), 0.0f) << "the planes lie on voxel boundaries";
   bench::ScenarioRenderer room(device(), view.scene, rendering);
-  room.render(view.camera, 48);
-  std::vector<double> irradiance = bench::luminance(room.renderer().indirectIrradiance());
+  const double exact = shader::kPi * kRadiance;
+  constexpr uint32_t kFrames = 96, kHeldFrom = 48;
+  uint32_t frame = 0;
+  double lowestOfFrames = exact;
+  std::vector<double> irradiance;
+  room.render(view.camera, kFrames, [&] {
+    if (++frame < kHeldFrom) return;
+    irradiance = bench::luminance(room.renderer().indirectIrradiance());
+    lowestOfFrames = std::min(lowestOfFrames, *std::min_element(irradiance.begin(), irradiance.end()));
+  });
   std::sort(irradiance.begin(), irradiance.end());
   double sum = 0.0;
   for (const double e : irradiance) sum += e;
-  const double exact = shader::kPi * kRadiance;
-  const double percentile1 = irradiance[irradiance.size() / 100];
-  std::printf("E / (pi Le): mean %.4f, lowest %.4f, 1st percentile %.4f, highest %.4f\n",
-              sum / double(irradiance.size()) / exact, irradiance.front() / exact, percentile1 / exact,
-              irradiance.back() / exact);
+  std::printf("E / (pi Le), last frame: mean %.4f, lowest %.4f, highest %.4f; lowest of frames %u-%u: %.4f\n",
+              sum / double(irradiance.size()) / exact, irradiance.front() / exact, irradiance.back() / exact,
+              kHeldFrom, kFrames, lowestOfFrames / exact);
   EXPECT_NEAR(sum / double(irradiance.size()), exact, 0.02 * exact);
-  // The 1st percentile, not the lowest pixel: at 160×90 a spot of 23 pixels at the left wall's foot comes out at
-  // 0.56, not analysed yet (docs/QUALITY.md, "A plane's two faces"); at this size the lowest is 0.94.
-  EXPECT_GT(percentile1, 0.9 * exact);
+  EXPECT_GT(lowestOfFrames, 0.9 * exact);
   EXPECT_LT(irradiance.back(), 1.03 * exact);
 }
 

@@ -38,5 +38,6 @@ void main() {
   // A host pixel whose depth or normal is not finite gives no light rather than a NaN, and no confidence.
   float confidence = light.confidence >= 0.0 ? min(light.confidence, 1.0) : 0.0;  // a NaN fails the test
   imageStore(tileIrradiance, ivec2(tile), vec4(finiteHalf(light.irradiance), confidence));
-  imageStore(tileProbeBlend, ivec2(tile), vec4(light.probeBlend >= 0.0 ? light.probeBlend : 1.0));
+  float probeBlend = light.probeBlend >= 0.0 ? light.probeBlend : 1.0;
+  imageStore(tileProbeBlend, ivec2(tile), vec4(light.found ? probeBlend : kTileFoundNoProbe));
 }

@@ -60,11 +60,12 @@ struct TileNeighbourhood {
   bool sampled;
 };
 
-// One tile's sample as it bears on a pixel's surface: its light and confidence (a), and its geometry weight (0 where
-// the tile is outside the image or its sample saw nothing).
+// One tile's sample as it bears on a pixel's surface: its light and confidence (a), its geometry weight (0 where the
+// tile is outside the image, its sample saw nothing or its gather found no probe) and its probe blend.
 struct TileTap {
   vec4 irradiance;
   float geometry;
+  float probeBlend;
 };
 
 // The tiles around the bilinear four, in the 4×4 block from (-1, -1) to (2, 2).
@@ -87,16 +88,22 @@ TapFrame tapFrame() {
 }
 
 TileTap tileTap(Surface surface, ivec2 tile, TapFrame frameOfTaps) {
-  if (any(lessThan(tile, ivec2(0))) || any(greaterThanEqual(tile, frameOfTaps.tiles))) return TileTap(vec4(0.0), 0.0);
+  TileTap none = TileTap(vec4(0.0), 0.0, 0.0);
+  if (any(lessThan(tile, ivec2(0))) || any(greaterThanEqual(tile, frameOfTaps.tiles))) return none;
   // The tile's geometry is that of the pixel it sampled.
   ivec2 samplePixel = min(tile * int(kGatherTileSize) + frameOfTaps.sampleOffset, frameOfTaps.size - 1);
   float sampleDepth = texelFetch(depthBuffer, samplePixel, 0).r;
-  if (sampleDepth <= 0.0) return TileTap(vec4(0.0), 0.0);  // the tile's sample saw nothing
+  if (sampleDepth <= 0.0) return none;  // the tile's sample saw nothing
+  // No probe lit the sample (a corner whose probes all stand in its walls): its 0 is not light. Taken for light, with
+  // the blend of probes that start afresh, it replaced the history of the pixels around it at every sixteenth frame
+  // (docs/QUALITY.md, "A tile without probes").
+  float probeBlend = imageLoad(tileProbeBlend, tile).r;
+  if (probeBlend == kTileFoundNoProbe) return none;
   vec3 samplePosition =
       reconstructPosition(frameOfTaps.inverseViewProjection, vec2(samplePixel), vec2(frameOfTaps.size), sampleDepth);
   float geometry = planeWeight(surface, samplePosition) *
                    normalWeight(surface, normalize(texelFetch(normalBuffer, samplePixel, 0).xyz));
-  return TileTap(geometry > 0.0 ? imageLoad(tileIrradiance, tile) : vec4(0.0), geometry);
+  return TileTap(geometry > 0.0 ? imageLoad(tileIrradiance, tile) : vec4(0.0), geometry, probeBlend);
 }
 
 TileNeighbourhood tileNeighbourhood(Surface surface, ivec2 pixel) {
@@ -122,7 +129,7 @@ TileNeighbourhood tileNeighbourhood(Surface surface, ivec2 pixel) {
     if (tap < 4 && tileSample.geometry >= kSameSurfaceWeight) {
       result.lowest = min(result.lowest, tileSample.irradiance.rgb);
       result.highest = max(result.highest, tileSample.irradiance.rgb);
-      result.probeBlend += weight * imageLoad(tileProbeBlend, tile).r;
+      result.probeBlend += weight * tileSample.probeBlend;
       sameSurfaceWeight += weight;
     }
     if (tap == 3 && totalWeight == 0.0) taps = 16;
