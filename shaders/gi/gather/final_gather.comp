@@ -38,6 +38,8 @@ void main() {
   // A host pixel whose depth or normal is not finite gives no light rather than a NaN, and no confidence.
   float confidence = light.confidence >= 0.0 ? min(light.confidence, 1.0) : 0.0;  // a NaN fails the test
   imageStore(tileIrradiance, ivec2(tile), vec4(finiteHalf(light.irradiance), confidence));
-  float probeBlend = light.probeBlend >= 0.0 ? light.probeBlend : 1.0;
+  // At least the r8's least step where a probe was found, so that no rounding makes it read as kTileFoundNoProbe
+  // (the blend of a history cap of 255 is 1/256).
+  float probeBlend = max(light.probeBlend >= 0.0 ? light.probeBlend : 1.0, 1.0 / 255.0);
   imageStore(tileProbeBlend, ivec2(tile), vec4(light.found ? probeBlend : kTileFoundNoProbe));
 }
