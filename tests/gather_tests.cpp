@@ -33,17 +33,51 @@ namespace {
 
 using shader::kPi;
 
-TEST(GatherJitter, anySixteenConsecutiveFramesSampleEveryPixelOfATile) {
-  for (uint32_t first = 0; first < 16; ++first) {
-    std::set<std::pair<uint32_t, uint32_t>> visited;
-    for (uint32_t frame = first; frame < first + 16; ++frame) {
-      const glm::uvec2 offset = shader::gatherSampleOffset(frame);
-      ASSERT_LT(offset.x, shader::kGatherTileSize);
-      ASSERT_LT(offset.y, shader::kGatherTileSize);
-      visited.insert({offset.x, offset.y});
+TEST(GatherJitter, eachTileIsSampledEveryOtherFrameAndAtEveryPixelInAnyThirtyTwoConsecutiveFrames) {
+  for (uint32_t first = 0; first < 32; ++first)
+    for (const glm::uvec2 tile : {glm::uvec2(0, 0), glm::uvec2(1, 0), glm::uvec2(4, 7), glm::uvec2(5, 7)}) {
+      std::set<std::pair<uint32_t, uint32_t>> visited;
+      uint32_t sampledFrames = 0;
+      for (uint32_t frame = first; frame < first + 32; ++frame) {
+        if (!shader::gatherSamplesTile(tile, frame)) continue;
+        ASSERT_NE(shader::gatherSamplesTile(tile, frame + 1), true) << "every other frame";
+        ++sampledFrames;
+        const glm::uvec2 offset = shader::gatherSampleOffset(frame);
+        ASSERT_LT(offset.x, shader::kGatherTileSize);
+        ASSERT_LT(offset.y, shader::kGatherTileSize);
+        visited.insert({offset.x, offset.y});
+      }
+      EXPECT_EQ(sampledFrames, 16u);
+      EXPECT_EQ(visited.size(), 16u) << "tile " << tile.x << ", " << tile.y << " from frame " << first;
     }
-    EXPECT_EQ(visited.size(), 16u) << "from frame " << first;
+}
+
+TEST(GatherJitter, finalGathersThreadsCoverEachTileOfTheFramesHalfOnce) {
+  constexpr glm::uvec2 kTiles(7, 5);  // odd: the last column is covered in every other row
+  for (uint32_t frame = 0; frame < 2; ++frame) {
+    std::set<std::pair<uint32_t, uint32_t>> covered;
+    for (uint32_t y = 0; y < kTiles.y; ++y)
+      for (uint32_t x = 0; x < (kTiles.x + 1) / 2; ++x) {  // FinalGather's dispatch
+        const glm::uvec2 tile = shader::gatherTileOfThread(glm::uvec2(x, y), frame);
+        if (tile.x >= kTiles.x) continue;
+        ASSERT_TRUE(shader::gatherSamplesTile(tile, frame));
+        covered.insert({tile.x, tile.y});
+      }
+    uint32_t sampled = 0;
+    for (uint32_t y = 0; y < kTiles.y; ++y)
+      for (uint32_t x = 0; x < kTiles.x; ++x) sampled += shader::gatherSamplesTile(glm::uvec2(x, y), frame) ? 1u : 0u;
+    EXPECT_EQ(covered.size(), sampled) << "frame " << frame;
   }
+}
+
+TEST(GatherJitter, theSampledTilesAreTheIntegerPointsOfTheTurnedLattice) {
+  for (uint32_t parity = 0; parity < 2; ++parity)
+    for (int u = -3; u <= 3; ++u)
+      for (int v = -3; v <= 3; ++v) {
+        const glm::ivec2 tile = shader::tileAtLatticePoint(glm::ivec2(u, v), parity);
+        EXPECT_EQ(shader::sampledLatticeCoordinate(glm::vec2(tile), parity), glm::vec2(u, v));
+        if (tile.x >= 0 && tile.y >= 0) EXPECT_TRUE(shader::gatherSamplesTile(glm::uvec2(tile), parity));
+      }
 }
 
 TEST(HalfFloatStore, nearestHalfIsTheNearestHalfFloatWhateverTheConversionRounds) {
@@ -318,11 +352,12 @@ TEST_F(GatherFilters, temporalFilterKeepsTheHistoryOfASurfaceNoSampleOfTheFrameL
 
 TEST_F(GatherFilters, upsampleReadsTheTilesAroundTheBilinearFourWhereNoneOfThemLiesOnThePixelsSurface) {
   // The far wall's tile samples (frame index 0: each tile's top-left pixel) lie 1 m in front of it, except in every
-  // third column of tiles. A pixel between two such columns finds none of its bilinear four on its surface; it must
-  // take its light from its own surface one tile further out, not from the samples in front and not nothing.
+  // fourth column of tiles. The frame's tiles lie on the turned lattice (shader::sampledLatticeCoordinate), whose
+  // bilinear four span three columns: a pixel between two such columns may find none of its four on its surface; it
+  // must take its light from its own surface further out, not from the samples in front and not nothing.
   const glm::vec3 position(0.0f);
   const TestView view =
-      withFarWallTileSamplesInFront(viewFrom(position), [](uint32_t column) { return column % 3 != 0; });
+      withFarWallTileSamplesInFront(viewFrom(position), [](uint32_t column) { return column % 4 != 0; });
   const TestView unchanged = viewFrom(position);
   const auto sampleOnWall = [&](size_t pixel) { return view.depth[pixel] == unchanged.depth[pixel]; };
   setFrame(view, position);
@@ -334,8 +369,23 @@ TEST_F(GatherFilters, upsampleReadsTheTilesAroundTheBilinearFourWhereNoneOfThemL
     const size_t x = texel % (kSize / 2), y = texel / (kSize / 2);
     const size_t pixel = 2 * y * kSize + 2 * x;
     if (view.onNearWall[pixel] || !sampleOnWall(pixel)) continue;
-    const uint32_t firstTileColumn = uint32_t(2 * x) / shader::kGatherTileSize;
-    const bool bilinearFourInFront = firstTileColumn % 3 == 1;
+    // The lattice points the taps read: the bilinear four (0 to 1 on both axes), then the twelve around them.
+    const glm::vec2 lattice = shader::sampledLatticeCoordinate(glm::vec2(2 * x, 2 * y) / float(shader::kGatherTileSize),
+                                                               shader::gatherTileParity(0));
+    const glm::ivec2 firstPoint(glm::floor(lattice));
+    const auto farWallSampleAmong = [&](int first, int last) {
+      for (int u = first; u <= last; ++u)
+        for (int v = first; v <= last; ++v) {
+          const glm::ivec2 tile = shader::tileAtLatticePoint(firstPoint + glm::ivec2(u, v), shader::gatherTileParity(0));
+          const int tiles = int(kSize / shader::kGatherTileSize);
+          if (tile.x < 0 || tile.y < 0 || tile.x >= tiles || tile.y >= tiles) continue;
+          const size_t sample = size_t(tile.y) * shader::kGatherTileSize * kSize + tile.x * shader::kGatherTileSize;
+          if (!view.onNearWall[sample] && sampleOnWall(sample)) return true;
+        }
+      return false;
+    };
+    if (!farWallSampleAmong(-1, 2)) continue;  // no sample on the far wall within reach: no light is right
+    const bool bilinearFourInFront = !farWallSampleAmong(0, 1);
     fromOuterTiles += bilinearFourInFront ? 1u : 0u;
     ASSERT_NEAR(values[texel], kFarValue, kFarValue * kHalfStep) << "texel " << texel;
   }
@@ -346,7 +396,7 @@ TEST_F(GatherFilters, upsampleReadsTheTilesAroundTheBilinearFourWhereNoneOfThemL
 // FinalGather through the public API: every probe of every level active, with the same radiance and distance SH.
 
 // A GI context whose every probe of every level is active with radiance L everywhere (set by the test), dispatched
-// once more over them from a camera at `position` looking along −Z. No lit frame: nothing is injected and no probe is
+// twice more over them from a camera at `position` looking along −Z. No lit frame: nothing is injected and no probe is
 // traced, so the test's probes stay. Each probe's known fraction (SPEC §6.4) is `known(level, world coordinate)`, and
 // its radiance L times `brightness(world coordinate)` where given.
 class GatherOverConstantProbes : public GatherFilters {
@@ -399,6 +449,7 @@ class GatherOverConstantProbes : public GatherFilters {
       }
     }
     gpu::uploadBuffer(device(), volume.probes(), std::as_bytes(std::span(probes_)));
+    dispatch();  // two frames, so that FinalGather gathers every tile (each frame gathers half: gatherSamplesTile)
     dispatch();
     return *context_;
   }
@@ -421,7 +472,7 @@ class GatherOverConstantProbes : public GatherFilters {
   }
 
   // One counted frame over the test's probes, with nothing drawn right of column 19 (which the tiles of column 4 sample
-  // at this frame's offset (2, 0) but at others not). Returns the tiles whose sample shows a surface.
+  // at this frame's offset (2, 0) but at others not). Returns the tiles the frame gathers whose sample shows a surface.
   uint32_t dispatchCountedFrame(Context& context, glm::vec3 position) {
     constexpr uint32_t kFirstColumnShowingNothing = 19;
     TestView view = viewFrom(position);
@@ -429,7 +480,7 @@ class GatherOverConstantProbes : public GatherFilters {
       for (uint32_t x = kFirstColumnShowingNothing; x < kSize; ++x) view.depth[y * kSize + x] = 0.0f;
     setFrame(view, position);
     FrameDesc frame;
-    frame.frameIndex = 2;
+    frame.frameIndex = 4;
     frame.camera = debugCamera(position);
     frame.depth.view = depthView();
     frame.normal.view = normalView();
@@ -443,10 +494,11 @@ class GatherOverConstantProbes : public GatherFilters {
     uint32_t surfaceTiles = 0;
     for (uint32_t y = 0; y < kSize / shader::kGatherTileSize; ++y)
       for (uint32_t x = 0; x < kSize / shader::kGatherTileSize; ++x) {
+        if (!shader::gatherSamplesTile(glm::uvec2(x, y), frame.frameIndex)) continue;
         const glm::uvec2 pixel = glm::uvec2(x, y) * shader::kGatherTileSize + offset;
         surfaceTiles += view.depth[pixel.y * kSize + pixel.x] > 0.0f ? 1u : 0u;
       }
-    EXPECT_EQ(surfaceTiles, 5u * (kSize / shader::kGatherTileSize));
+    EXPECT_EQ(surfaceTiles, 5u * (kSize / shader::kGatherTileSize) / 2);  // half of each of 5 columns
     return surfaceTiles;
   }
 

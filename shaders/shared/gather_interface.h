@@ -1,17 +1,17 @@
-// Final gather, upsample and temporal filter (SPEC §4.6; the talk's "Part3 Shading"): layouts, binding slots,
-// constants and the sample pattern shared by the gather shaders and the host.
+// Final gather, upsample and temporal filter (SPEC §4.6; the talk's "Part3 Shading"): layouts, binding slots, constants
+// and the sample pattern shared by the gather shaders and the host.
 //
-// Resolutions: the gather takes one sample per kGatherTileSize² pixel tile ("1/4 resolution"),
-// TemporalUpsample works at half resolution. A half-resolution pixel p stands for full-resolution pixel 2p: it takes that
-// pixel's depth and normal, so every filter weight compares real G-buffer samples. A tile's geometry is likewise that
-// of the pixel it sampled, read from the host's depth and normal rather than stored (SPEC §5's 10 MB for the gather's
-// images: at 1920×1080 the tile irradiance and probe blend, the two half-resolution images, output and history, and
-// the half-resolution confidence take 9.98 MB, 9.52 MiB).
+// Resolutions: the gather takes one sample per kGatherTileSize² pixel tile ("1/4 resolution") every other frame
+// (gatherSamplesTile), TemporalUpsample works at half resolution. A half-resolution pixel p stands for full-resolution
+// pixel 2p: it takes that pixel's depth and normal, so every filter weight compares real G-buffer samples. A tile's
+// geometry is likewise that of the pixel it sampled, read from the host's depth and normal rather than stored (SPEC
+// §5's 10 MB for the gather's images: at 1920×1080 the tile irradiance and probe blend, the two half-resolution images,
+// output and history, and the half-resolution confidence take 9.98 MB, 9.52 MiB).
 //
 // Confidence (SPEC §6.4): beside E, the gather carries how much the probes it used know of their surroundings — their
 // known fraction (probeKnownFraction), weighted exactly as their light is. FinalGather writes it into the tile
-// irradiance's alpha, and TemporalUpsample blends it with E's joint-bilateral weights into an R8 half-resolution
-// image, with no history (see temporal_upsample.comp).
+// irradiance's alpha, and TemporalUpsample blends it with E's joint-bilateral weights into an R8 half-resolution image,
+// with no history (see temporal_upsample.comp).
 #ifndef SSVGI_SHARED_GATHER_INTERFACE_H
 #define SSVGI_SHARED_GATHER_INTERFACE_H
 
@@ -88,10 +88,39 @@ struct GatherConstants {
 };
 SSVGI_CHECK_SIZE(GatherConstants, 2 * 64 + 3 * 16 + 16 + 16 + 16 + 48);
 
-// The pixel a tile samples in frame `frameIndex`: the 4×4 Bayer order, so that consecutive frames sample far apart
-// and all 16 pixels are visited in any 16 consecutive frames (SPEC §4.6).
+// The tiles FinalGather samples in frame `frameIndex`: a checkerboard, the tiles whose x + y has the frame's parity,
+// so that a frame gathers half the tiles (one sample per 32 pixels) and each tile is gathered every other frame. The
+// temporal filter, which averages the jittered samples of many frames anyway, puts the two halves together; the
+// upsampling of a frame reads that frame's half alone (gather_geometry.glsl).
+SSVGI_INLINE uint gatherTileParity(uint frameIndex) { return frameIndex & 1u; }
+
+SSVGI_INLINE bool gatherSamplesTile(uvec2 tile, uint frameIndex) {
+  return ((tile.x + tile.y + gatherTileParity(frameIndex)) & 1u) == 0u;
+}
+
+// The tile FinalGather's thread `thread` gathers in frame `frameIndex`: thread x covers the sampled tile of columns
+// 2x and 2x + 1 (FinalGather runs half as many threads across as there are tiles).
+SSVGI_INLINE uvec2 gatherTileOfThread(uvec2 thread, uint frameIndex) {
+  return uvec2(2u * thread.x + ((thread.y + gatherTileParity(frameIndex)) & 1u), thread.y);
+}
+
+// The tiles a frame samples lie on a square lattice turned by 45°, √2 tiles apart. In its own coordinates,
+// (u, v) = ((x + y − p) / 2, (x − y − p) / 2) for tile (x, y) and the frame's parity p, they are the integer points,
+// and TemporalUpsample's upsampling is bilinear there (gather_geometry.glsl).
+SSVGI_INLINE vec2 sampledLatticeCoordinate(vec2 tileCoordinate, uint parity) {
+  vec2 turned = vec2(tileCoordinate.x + tileCoordinate.y, tileCoordinate.x - tileCoordinate.y);
+  return 0.5f * (turned - float(parity));
+}
+
+SSVGI_INLINE ivec2 tileAtLatticePoint(ivec2 point, uint parity) {
+  return ivec2(point.x + point.y + int(parity), point.x - point.y);
+}
+
+// The pixel a tile samples in frame `frameIndex`, the same for every tile the frame gathers: the 4×4 Bayer order over
+// the frame pairs, so that a tile's consecutive samples lie far apart and all 16 of its pixels are sampled in any 32
+// consecutive frames (SPEC §4.6).
 SSVGI_INLINE uvec2 gatherSampleOffset(uint frameIndex) {
-  uint i = frameIndex % 16u;
+  uint i = (frameIndex >> 1u) % 16u;
   // With i = b3 b2 b1 b0 in bits, this is the inverse of the index matrix [0 8 2 10; 12 4 14 6; 3 11 1 9; 15 7 13 5]:
   // 0→(0,0), 1→(2,2), 2→(2,0), 3→(0,2), 4→(1,1), …
   uint b0 = i & 1u, b1 = (i >> 1u) & 1u, b2 = (i >> 2u) & 1u, b3 = (i >> 3u) & 1u;

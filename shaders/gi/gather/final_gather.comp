@@ -1,8 +1,10 @@
 #version 450
 // FinalGather (SPEC §4.6; the talk's "DownSample: Probe Volume sampling with custom weights, 1 sample per 4x4 pixels,
-// temporal jitter; output indirect light + normal + depth"): one thread per 4×4 tile samples the probe volume at one
-// pixel of its tile, a different one each frame (gatherSampleOffset), with the talk's three leak remedies and a voxel
-// visibility test. The tile's normal and depth are that pixel's in the host's G-buffer, where TemporalUpsample reads them.
+// temporal jitter; output indirect light + normal + depth"): one thread per 4×4 tile of the frame's half of them (a
+// checkerboard, gatherSamplesTile) samples the probe volume at one pixel of its tile, a different one each time
+// (gatherSampleOffset), with the talk's three leak remedies and a voxel visibility test. Half the tiles a frame: the
+// visibility tests are most of the pass's cost, and the temporal filter averages the samples of many frames anyway.
+// The tile's normal and depth are that pixel's in the host's G-buffer, where TemporalUpsample reads them.
 // Beside E it stores the tile's confidence (SPEC §6.4): the known fraction of the probes it used, weighted as their
 // light is; 0 where no probe contributed or nothing was drawn.
 #include "gi/gi_frame.glsl"
@@ -17,9 +19,9 @@ layout(binding = kBindGatherTileIrradiance, rgba16f) writeonly uniform image2D t
 layout(binding = kBindGatherTileProbeBlend, r8) writeonly uniform image2D tileProbeBlend;
 
 void main() {
-  uvec2 tile = gl_GlobalInvocationID.xy;
-  if (any(greaterThanEqual(tile, gather.tiles))) return;
   uint frameIndex = gather.frameIndex;
+  uvec2 tile = gatherTileOfThread(gl_GlobalInvocationID.xy, frameIndex);
+  if (any(greaterThanEqual(tile, gather.tiles))) return;
   ivec2 pixel = ivec2(min(tile * kGatherTileSize + gatherSampleOffset(frameIndex), frame.size - 1u));
   float depth = texelFetch(depthBuffer, pixel, 0).r;
   if (depth <= 0.0) {  // nothing drawn (TemporalUpsample skips the tile)

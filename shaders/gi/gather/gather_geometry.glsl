@@ -46,7 +46,8 @@ const float kOuterTapWeight = 1e-3;
 // A tap whose geometry weight reaches this lies on the pixel's surface for the temporal filter's neighbourhood clamp.
 const float kSameSurfaceWeight = 0.5;
 
-// This frame's tile samples around a surface pixel (FinalGather sampled pixel t·4 + offset of tile t).
+// This frame's tile samples around a surface pixel (FinalGather sampled pixel t·4 + offset of each tile t of the
+// frame's half).
 struct TileNeighbourhood {
   vec3 blended;  // the upsampled light: bilinear in the sample grid × geometry weights (joint bilateral)
   float confidence;  // the tiles' confidence blended with the same weights (0 where no tile's sample is on the surface)
@@ -68,8 +69,8 @@ struct TileTap {
   float probeBlend;
 };
 
-// The tiles around the bilinear four, in the 4×4 block from (-1, -1) to (2, 2).
-const ivec2 kOuterTileOffsets[12] = ivec2[](ivec2(-1, -1), ivec2(0, -1), ivec2(1, -1), ivec2(2, -1), ivec2(-1, 0),
+// The lattice points around the bilinear four, in the 4×4 block from (-1, -1) to (2, 2).
+const ivec2 kOuterLatticeOffsets[12] = ivec2[](ivec2(-1, -1), ivec2(0, -1), ivec2(1, -1), ivec2(2, -1), ivec2(-1, 0),
                                             ivec2(2, 0), ivec2(-1, 1), ivec2(2, 1), ivec2(-1, 2), ivec2(0, 2),
                                             ivec2(1, 2), ivec2(2, 2));
 
@@ -80,11 +81,12 @@ struct TapFrame {
   ivec2 size;
   ivec2 tiles;                 // GatherConstants
   ivec2 sampleOffset;          // the pixel each tile sampled this frame, in its tile
+  uint parity;                 // which half of the tiles FinalGather sampled this frame (gatherTileParity)
 };
 
 TapFrame tapFrame() {
   return TapFrame(frame.inverseViewProjection, ivec2(frame.size), ivec2(gather.tiles),
-                  ivec2(gatherSampleOffset(gather.frameIndex)));
+                  ivec2(gatherSampleOffset(gather.frameIndex)), gatherTileParity(gather.frameIndex));
 }
 
 TileTap tileTap(Surface surface, ivec2 tile, TapFrame frameOfTaps) {
@@ -109,7 +111,8 @@ TileTap tileTap(Surface surface, ivec2 tile, TapFrame frameOfTaps) {
 TileNeighbourhood tileNeighbourhood(Surface surface, ivec2 pixel) {
   TapFrame frameOfTaps = tapFrame();
   vec2 tileCoordinate = vec2(pixel - frameOfTaps.sampleOffset) / float(kGatherTileSize);
-  ivec2 firstTile = ivec2(floor(tileCoordinate));
+  vec2 latticeCoordinate = sampledLatticeCoordinate(tileCoordinate, frameOfTaps.parity);
+  ivec2 firstPoint = ivec2(floor(latticeCoordinate));
   TileNeighbourhood result = TileNeighbourhood(vec3(0.0), 0.0, vec3(1e30), vec3(0.0), 0.0, false);
   vec4 weightedSum = vec4(0.0);  // rgb E, a confidence
   float totalWeight = 0.0;
@@ -119,10 +122,9 @@ TileNeighbourhood tileNeighbourhood(Surface surface, ivec2 pixel) {
   // pixel (it runs both sides of a branch); as a loop it stops once no pixel of a group needs more.
   int taps = 4;
   for (int tap = 0; tap < taps; ++tap) {
-    ivec2 offset = tap < 4 ? ivec2(tap & 1, tap >> 1) : kOuterTileOffsets[tap - 4];
-    ivec2 tile = firstTile + offset;
-    TileTap tileSample = tileTap(surface, tile, frameOfTaps);
-    vec2 tent = max(vec2(1.0) - abs(vec2(tile) - tileCoordinate), vec2(kOuterTapWeight));
+    ivec2 point = firstPoint + (tap < 4 ? ivec2(tap & 1, tap >> 1) : kOuterLatticeOffsets[tap - 4]);
+    TileTap tileSample = tileTap(surface, tileAtLatticePoint(point, frameOfTaps.parity), frameOfTaps);
+    vec2 tent = max(vec2(1.0) - abs(vec2(point) - latticeCoordinate), vec2(kOuterTapWeight));
     float weight = tent.x * tent.y * tileSample.geometry;
     weightedSum += weight * tileSample.irradiance;
     totalWeight += weight;

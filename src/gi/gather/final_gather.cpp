@@ -12,7 +12,9 @@ void FinalGather::record(gpu::CommandList& commands, const GatherInputs& inputs,
                                      .buffer(shader::kBindGatherProbes, probes)
                                      .image(shader::kBindGatherTileIrradiance, targets.tileIrradiance())
                                      .image(shader::kBindGatherTileProbeBlend, targets.tileProbeBlend());
-  commands.dispatch(pipeline_, bindings, glm::uvec3(targets.tiles(), 1));  // one thread per tile
+  // One thread per tile the frame gathers: half of each row (shader::gatherTileOfThread).
+  const glm::uvec2 tiles = targets.tiles();
+  commands.dispatch(pipeline_, bindings, {(tiles.x + 1) / 2, tiles.y, 1});
 }
 
 }  // namespace ssvgi::gi
