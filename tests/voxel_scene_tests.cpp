@@ -2,6 +2,8 @@
 // clearing behind a moving object, release and reuse of bricks, pool accounting, exhaustion and the memory budget.
 #include "camera.h"
 #include "gi/context_internals.h"
+#include "gi/memory_budget.h"
+#include "gi/voxels/voxel_passes.h"
 #include "gpu_host/transfers.h"
 #include "gpu_test_device.h"
 #include "voxel_readback.h"
@@ -1325,6 +1327,66 @@ ContextDesc testDeviceDesc() {
   desc.device = device.device();
   desc.maxWidth = desc.maxHeight = kSize;
   return desc;
+}
+
+// HiZBuild on its own: a depth image of odd size at every level, of random depths, against the pyramid built on the
+// CPU — each texel the farthest (smallest reversed-Z) depth of the 2×2 texels below it, or of the 2 or 1 of them an
+// odd-sized level's last column or row has.
+class HiZPyramid : public testing::GpuTest {};
+
+TEST_F(HiZPyramid, eachTexelIsTheFarthestDepthOfTheTexelsItCoversOnTheLevelBelow) {
+  constexpr uint32_t kWidth = 45, kHeight = 27;  // 23×14, 12×7, 6×4, 3×2, 2×1, 1×1
+  std::vector<float> depth(size_t(kWidth) * kHeight);
+  uint32_t state = 12345u;
+  for (float& value : depth) {
+    state = state * 1664525u + 1013904223u;
+    value = float(state >> 8) / float(1u << 24);
+  }
+  shader::GiFrame frame{};
+  frame.size = frame.litSize = glm::uvec2(kWidth, kHeight);
+  frame.hizLevelCount = gi::hizLayout(kWidth, kHeight, frame.hizLevels);
+  ASSERT_EQ(frame.hizLevelCount, 6u);
+  gpu::Buffer frameBuffer(device(), "test gi frame", sizeof(frame), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                          gpu::MemoryUsage::HostUpload);
+  std::memcpy(frameBuffer.mapped(), &frame, sizeof(frame));
+  gpu::Image depthImage(device(), {"test depth", VK_FORMAT_R32_SFLOAT, kWidth, kHeight, 1, 1, VK_IMAGE_USAGE_SAMPLED_BIT});
+  gpu::uploadImage(device(), depthImage, std::as_bytes(std::span(depth)));
+  const shader::HiZLevel& lastLevel = frame.hizLevels[frame.hizLevelCount - 1];
+  gpu::Buffer hiz(device(), "test hi-z", VkDeviceSize(lastLevel.firstTexel + 1) * sizeof(float),
+                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  gpu::Buffer unusedBricks(device(), "test visible bricks", 64, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  VkSamplerCreateInfo pointSampler{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+  pointSampler.magFilter = pointSampler.minFilter = VK_FILTER_NEAREST;
+  pointSampler.addressModeU = pointSampler.addressModeV = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  gpu::Sampler sampler(device(), pointSampler, "test point sampler");
+  gi::HiZBuild hizBuild(device());
+  gpu::DescriptorArena descriptors(device());
+  device().submitAndWait([&](VkCommandBuffer commandBuffer) {
+    gpu::CommandList commands(device(), commandBuffer, descriptors);
+    hizBuild.record(commands, {frameBuffer, sampler.handle(), depthImage.view(), depthImage.view(), hiz, unusedBricks},
+                    frame, frame.hizLevelCount);
+  });
+  const std::vector<float> pyramid = gpu::readBufferAs<float>(device(), hiz);
+
+  std::vector<float> below = depth;
+  glm::uvec2 belowSize(kWidth, kHeight);
+  for (uint32_t level = 0; level < frame.hizLevelCount; ++level) {
+    const shader::HiZLevel& target = frame.hizLevels[level];
+    std::vector<float> expected(size_t(target.size.x) * target.size.y);
+    for (uint32_t y = 0; y < target.size.y; ++y)
+      for (uint32_t x = 0; x < target.size.x; ++x) {
+        const uint32_t lastX = std::min(2 * x + 1, belowSize.x - 1);
+        const uint32_t lastY = std::min(2 * y + 1, belowSize.y - 1);
+        float farthest = 1.0f;
+        for (uint32_t by = 2 * y; by <= lastY; ++by)
+          for (uint32_t bx = 2 * x; bx <= lastX; ++bx) farthest = std::min(farthest, below[by * belowSize.x + bx]);
+        expected[y * target.size.x + x] = farthest;
+        ASSERT_EQ(pyramid[target.firstTexel + y * target.size.x + x], farthest)
+            << "level " << level << " texel " << x << ", " << y;
+      }
+    below = expected;
+    belowSize = target.size;
+  }
 }
 
 TEST(VoxelSceneApi, aDescriptionWithoutADeviceIsRefused) {

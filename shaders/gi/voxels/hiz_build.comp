@@ -10,10 +10,13 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = kBindHiZDepth) uniform sampler2D depthBuffer;
 layout(binding = kBindHiZPyramid) buffer HiZ { float hiz[]; };
 layout(push_constant) uniform Push { uint level; } push;
+// Level 0 reads the depth, the others the level before: two pipelines rather than a branch on the level, whose both
+// sides lavapipe would run for every texel (it masks lanes rather than jumping).
+layout(constant_id = 0) const bool kFromDepth = true;
 
 float source(ivec2 texel, HiZLevel sourceLevel) {
   texel = min(texel, ivec2(sourceLevel.size) - 1);
-  if (push.level == 0u) return texelFetch(depthBuffer, texel, 0).r;
+  if (kFromDepth) return texelFetch(depthBuffer, texel, 0).r;
   return hiz[sourceLevel.firstTexel + uint(texel.y) * sourceLevel.size.x + uint(texel.x)];
 }
 
@@ -22,10 +25,11 @@ void main() {
   uvec2 texel = gl_GlobalInvocationID.xy;
   if (any(greaterThanEqual(texel, target.size))) return;
   HiZLevel sourceLevel = HiZLevel(frame.size, 0u, 0u);  // level 0 reads the depth itself
-  if (push.level > 0u) sourceLevel = frame.hizLevels[push.level - 1u];
-  // An odd-sized source has a last row/column no 2×2 block covers: the last texel of the target takes it too.
+  if (!kFromDepth) sourceLevel = frame.hizLevels[push.level - 1u];
+  // Each level is half the one below rounded up: on an odd-sized source the last texel covers its last column (or
+  // row) alone, the second being clamped onto the first.
   ivec2 first = ivec2(texel * 2u);
-  ivec2 last = first + 1 + ivec2(equal(texel + 1u, target.size)) * ivec2(sourceLevel.size & 1u);
+  ivec2 last = first + 1;
   float farthest = 1.0;
   for (int y = first.y; y <= last.y; ++y)
     for (int x = first.x; x <= last.x; ++x) farthest = min(farthest, source(ivec2(x, y), sourceLevel));

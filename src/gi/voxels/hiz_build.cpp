@@ -3,7 +3,8 @@
 
 namespace ssvgi::gi {
 
-HiZBuild::HiZBuild(gpu::Device& device) : pipeline_(device, shaders::hiz_build_comp) {}
+HiZBuild::HiZBuild(gpu::Device& device)
+    : fromDepth_(device, shaders::hiz_build_comp, {VK_TRUE}), fromLevelBefore_(device, shaders::hiz_build_comp, {VK_FALSE}) {}
 
 void HiZBuild::record(gpu::CommandList& commands, const VoxelFrameInputs& inputs, const shader::GiFrame& frame,
                       uint32_t levels) {
@@ -14,7 +15,7 @@ void HiZBuild::record(gpu::CommandList& commands, const VoxelFrameInputs& inputs
                                      .buffer(shader::kBindHiZPyramid, inputs.hiz);
   for (uint32_t level = 0; level < levels; ++level) {
     const glm::uvec3 texels(frame.hizLevels[level].size, 1);
-    commands.dispatch(pipeline_, bindings, texels, level);
+    commands.dispatch(level == 0 ? fromDepth_ : fromLevelBefore_, bindings, texels, level);
   }
 }
 

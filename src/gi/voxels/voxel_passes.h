@@ -24,7 +24,8 @@ class HiZBuild {
   void record(gpu::CommandList& commands, const VoxelFrameInputs& inputs, const shader::GiFrame& frame, uint32_t levels);
 
  private:
-  gpu::ComputePipeline pipeline_;
+  gpu::ComputePipeline fromDepth_;  // level 0
+  gpu::ComputePipeline fromLevelBefore_;
 };
 
 // VolumeScroll: releases the bricks the moved volume left behind.
