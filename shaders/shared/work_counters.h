@@ -45,7 +45,8 @@ struct WorkCounters {
   // ProbeRelocate: the rays traced back to the surface a probe inside geometry moves past.
   uint relocateRays;
   uint relocateReads;
-  // FinalGather: the tiles whose sample shows a surface (the others gather nothing), and its visibility rays.
+  // FinalGather: the tiles it gathered whose sample shows a surface (the others gather nothing), and its visibility
+  // rays.
   uint gatherTiles;
   uint gatherRays;
   uint gatherReads;
