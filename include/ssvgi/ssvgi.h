@@ -301,8 +301,8 @@ struct WorkCounts {
   struct { uint32_t probes = 0; VoxelRays rays; VoxelRays seedVisibility; } probeTrace;
   // ProbeRelocate: the rays traced back to the surface a probe inside geometry moves past.
   VoxelRays probeRelocate;
-  // FinalGather: the tiles of 4×4 pixels it gathered (half of them a frame, a checkerboard) whose sample shows a surface
-  // (those showing nothing gather nothing), and its visibility rays.
+  // FinalGather: the tiles of 4×4 pixels it gathered (half of them a frame, a checkerboard) whose sample shows a
+  // surface (those showing nothing gather nothing), and its visibility rays.
   struct { uint32_t tiles = 0; VoxelRays visibility; } finalGather;
   // TemporalUpsample: the pixels of the half-resolution output.
   struct { uint32_t pixels = 0; } temporalUpsample;
