@@ -428,7 +428,7 @@ class ContextImplementation final : public Context {
     hizBuild_.record(commands, inputs, view.frame, view.hizLevels);
     brickAllocate_.record(commands, scene_, inputs, view.frame.size, desc_.settings.allocationPixelStride);
     if (desc_.settings.skyOnlyThroughObservedSpace)  // nothing else reads it
-      observedSpace_.record(commands, scene_, inputs, view.frame.size);
+      observedSpace_.record(commands, scene_, inputs, view.frame);
     const shader::IndirectList empty{0, 1, 1, 0};
     commands.updateBuffer(visibleBricks_, 0, &empty, sizeof(empty));
     brickCulling_.record(commands, scene_, inputs);
@@ -523,7 +523,7 @@ class ContextImplementation final : public Context {
           observedSpace_.record(commands, scene_,
                                 {slot.extraViewConstants[i], pointSampler_.handle(), view.depth.view, VK_NULL_HANDLE,
                                  hiz_, visibleBricks_},
-                                viewFrame.size);
+                                viewFrame);
         continue;
       }
       const VkImageView albedo = view.albedo.view ? view.albedo.view : view.color.view;  // bound, not read

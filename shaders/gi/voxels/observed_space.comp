@@ -15,6 +15,9 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = kBindFirstPassSlot) uniform sampler2D depthBuffer;
 
 layout(push_constant) uniform Push { uint pixelStride; };
+// Whether the view's projection is orthographic (ObservedSpace::record tells by GiFrame::viewProjection): a pipeline
+// of its own, since lavapipe would run seesThroughCell on every step of every perspective view's walk, taken or not.
+layout(constant_id = 0) const bool kOrthographic = false;
 
 // The depth at which a pixel where nothing was drawn is followed: a perspective view's far plane (depth 0) lies at
 // infinity, and this one lies beyond any volume (near plane / 1e-6); an orthographic view's is its far plane.
@@ -138,15 +141,13 @@ void main() {
   bool surfaceCellKept = (frame.viewKind & kViewObservesOnly) != 0u && depth > 0.0 && last == 1.0;
   // A perspective view's rays from inside the scene mark every cell they cross: its pixels are small where it looks
   // past a rim close by, and a cell's footprint is unbounded near its eye.
-  bool orthographic = frame.viewProjection[0][3] == 0.0 && frame.viewProjection[1][3] == 0.0 &&
-                      frame.viewProjection[2][3] == 0.0;
   CellFootprint footprint = orthographicCellFootprint(size);
   VolumeLayout layoutOfVolume = volumeLayout();
   uint crossedCells = 0u;
   for (int stepCount = 0; stepCount < maxSteps; ++stepCount) {
     bool atLastCell = all(equal(cell, lastCell));
     if (atLastCell && surfaceCellKept) break;
-    if (atLastCell || !orthographic || seesThroughCell(cell, size, footprint)) markObserved(cell, layoutOfVolume);
+    if (atLastCell || !kOrthographic || seesThroughCell(cell, size, footprint)) markObserved(cell, layoutOfVolume);
     ++crossedCells;
     if (atLastCell) break;
     int axis = nextCrossing.x <= nextCrossing.y && nextCrossing.x <= nextCrossing.z ? 0

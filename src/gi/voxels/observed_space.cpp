@@ -15,15 +15,21 @@ constexpr double kRaysPerView = 16384.0;
 
 }  // namespace
 
-ObservedSpace::ObservedSpace(gpu::Device& device) : pipeline_(device, shaders::observed_space_comp) {}
+ObservedSpace::ObservedSpace(gpu::Device& device)
+    : perspective_(device, shaders::observed_space_comp, {VK_FALSE}),
+      orthographic_(device, shaders::observed_space_comp, {VK_TRUE}) {}
 
 void ObservedSpace::record(gpu::CommandList& commands, const VoxelScene& scene, const VoxelFrameInputs& inputs,
-                           glm::uvec2 depthSize) {
+                           const shader::GiFrame& frame) {
   auto scope = commands.scope("ssvgi: ObservedSpace");
+  const glm::uvec2 depthSize = frame.size;
+  // An orthographic projection leaves w alone: the bottom row of its matrix is (0, 0, 0, 1).
+  const glm::mat4& projection = frame.viewProjection;
+  const bool orthographic = projection[0][3] == 0.0f && projection[1][3] == 0.0f && projection[2][3] == 0.0f;
   const uint32_t pixelStride =
       std::max(1u, uint32_t(std::sqrt(double(depthSize.x) * double(depthSize.y) / kRaysPerView)));
   const glm::uvec2 threads = (depthSize + pixelStride - 1u) / pixelStride;
-  commands.dispatch(pipeline_,
+  commands.dispatch(orthographic ? orthographic_ : perspective_,
                     scene.bindings()
                         .buffer(shader::kBindGiFrame, inputs.frame)
                         .externalSampled(shader::kBindFirstPassSlot, inputs.depth, inputs.pointSampler),

@@ -53,11 +53,13 @@ class BrickAllocate {
 class ObservedSpace {
  public:
   explicit ObservedSpace(gpu::Device& device);
+  // `frame`: the view's constants, as uploaded to inputs.frame.
   void record(gpu::CommandList& commands, const VoxelScene& scene, const VoxelFrameInputs& inputs,
-              glm::uvec2 depthSize);
+              const shader::GiFrame& frame);
 
  private:
-  gpu::ComputePipeline pipeline_;
+  gpu::ComputePipeline perspective_;
+  gpu::ComputePipeline orthographic_;
 };
 
 // BrickCulling: the live bricks in view and not occluded, as a list with its indirect dispatch.
