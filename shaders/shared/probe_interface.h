@@ -78,7 +78,8 @@ struct ProbeUpdate {
   uint historyCap;               // Settings::probeHistoryCap
   uint probeBudget;              // probes updated per frame at most
   uint placementSearchLevel;     // the occupancy level (2–4) whose cells ProbePlacement searches for voxels
-  uint keepsReservoirs;          // 1 when this level keeps reservoirs (Settings::probeReservoirs, level 0 only)
+  uint keepsReservoirs;          // 1 when this level keeps reservoirs (Settings::probeReservoirs, level 0 only):
+                                 // ProbeTrace's pipeline (its kKeepsReservoirs)
   uint reservoirHistoryCap;      // their M cap (Settings::probeReservoirHistoryCap)
   uint frameIndex;               // seeds the reservoirs' random choices and the probes' dither
   float sampleClamp;             // Settings::probeSampleClamp (0: off)

@@ -50,6 +50,9 @@
 #include "shared/sky_map.h"
 
 layout(local_size_x = kProbeTraceGroupSize) in;
+// Whether the updated level keeps reservoirs (ProbeUpdate::keepsReservoirs, by which ProbeTrace::record picks the
+// pipeline): a pipeline of its own, since lavapipe would run the reservoirs' code for every probe, taken or not.
+layout(constant_id = 0) const bool kKeepsReservoirs = false;
 
 layout(binding = kBindProbeUpdate, std140) readonly buffer ProbeUpdateBlock { ProbeUpdate update; };
 layout(binding = kBindProbes) buffer Probes { Probe probes[]; };
@@ -332,7 +335,6 @@ struct ProbeRay {
 // or the re-traced reservoir sample (see the top of this file).
 ProbeRay chooseRay(ListedProbe probe, uint ray) {
   StratifiedRays rays = stratifiedRays();
-  bool keepsReservoirs = update.keepsReservoirs != 0u;
   ProbeRay chosen;
   chosen.traced = ray < update.raysPerProbe;
   chosen.stratum = ray / rays.raysPerStratum;
@@ -341,11 +343,11 @@ ProbeRay chooseRay(ListedProbe probe, uint ray) {
   // they hold was seen from elsewhere.
   chosen.reservoirSlot = probe.index * kProbeStrata + chosen.stratum;
   chosen.reservoir =
-      keepsReservoirs && chosen.traced && probe.historyCount > 0u ? reservoirs[chosen.reservoirSlot] : 0u;
+      kKeepsReservoirs && chosen.traced && probe.historyCount > 0u ? reservoirs[chosen.reservoirSlot] : 0u;
   chosen.direction = vec3(0.0, 0.0, 1.0);
   chosen.uniformWeight = 0.0;
   if (!chosen.traced) return chosen;
-  if (keepsReservoirs) {
+  if (kKeepsReservoirs) {
     uint sampleIndex = chosen.reusesReservoir ? probeReservoirSample(chosen.reservoir)
                                               : candidateSample(probe.firstDirection, ray % rays.raysPerStratum);
     chosen.direction = probeStratumDirection(chosen.stratum, sampleIndex);
@@ -481,7 +483,7 @@ void projectRay(ProbeRay chosen, VoxelHit hit, uint ray) {
   skyVisibilitySums[ray] = skyVisibility * weightedBasis;
   // An empty reservoir's ray stands for nothing: black, so that it neither raises the clamp's maximum nor is kept.
   bool emptyReservoir =
-      update.keepsReservoirs != 0u && chosen.reusesReservoir && probeReservoirCount(chosen.reservoir) == 0u;
+      kKeepsReservoirs && chosen.reusesReservoir && probeReservoirCount(chosen.reservoir) == 0u;
   rayRadiance[ray] = emptyReservoir ? vec3(0.0) : radiance;
 }
 
@@ -578,7 +580,7 @@ void writeProbe(ListedProbe probe) {
   // With reservoirs each stratum's candidates walk its 128-direction set, c per update: the counter runs modulo
   // c·128 so that it stays continuous modulo 128.
   StratifiedRays rays = stratifiedRays();
-  uint nextDirection = update.keepsReservoirs != 0u
+  uint nextDirection = kKeepsReservoirs
                            ? (probe.firstDirection + rays.candidates) % (rays.candidates * kProbeStratumDirectionCount)
                            : (probe.firstDirection + raysPerProbe) % kProbeRayDirectionCount;
   uint nextState =
@@ -627,7 +629,7 @@ void main() {
   // history to less than half — a change, not noise: the reservoir and the history would otherwise each follow part
   // of the way, one after the other, and cornell's lag grew (docs/QUALITY.md, "Probe stability").
   uint reusableUpdates = 2u * probe.historyCount < storedCount ? 0u : probe.historyCount;
-  if (update.keepsReservoirs != 0u) updateReservoirs(probe, chosen, ray, reusableUpdates);
+  if (kKeepsReservoirs) updateReservoirs(probe, chosen, ray, reusableUpdates);
   sumOverRays(ray);
   if (ray == 0u) {
     writeProbe(probe);

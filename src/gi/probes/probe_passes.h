@@ -32,6 +32,7 @@ class ProbeTrace {
 
  private:
   gpu::ComputePipeline pipeline_;
+  gpu::ComputePipeline keepingReservoirs_;  // for a level that keeps reservoirs (ProbeUpdate::keepsReservoirs)
 };
 
 // ProbeRelocate: the virtual offset — listed probes that see back faces move out of the geometry or become invalid.

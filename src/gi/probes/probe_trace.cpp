@@ -3,7 +3,9 @@
 
 namespace ssvgi::gi {
 
-ProbeTrace::ProbeTrace(gpu::Device& device) : pipeline_(device, shaders::probe_trace_comp) {}
+ProbeTrace::ProbeTrace(gpu::Device& device)
+    : pipeline_(device, shaders::probe_trace_comp, {VK_FALSE}),
+      keepingReservoirs_(device, shaders::probe_trace_comp, {VK_TRUE}) {}
 
 void ProbeTrace::record(gpu::CommandList& commands, const VoxelScene& scene, const ProbeVolume& probes,
                         VkImageView skyMap, VkSampler skyMapSampler) {
@@ -15,7 +17,8 @@ void ProbeTrace::record(gpu::CommandList& commands, const VoxelScene& scene, con
           .buffer(shader::kBindProbeChanges, probes.changes())
           .buffer(shader::kBindProbeChangeTally, probes.changeTally())
           .externalSampled(shader::kBindProbeSkyMap, skyMap, skyMapSampler);
-  commands.dispatchIndirect(pipeline_, bindings, probes.list(), 0);  // one workgroup per listed probe
+  const gpu::ComputePipeline& pipeline = probes.current().keepsReservoirs != 0 ? keepingReservoirs_ : pipeline_;
+  commands.dispatchIndirect(pipeline, bindings, probes.list(), 0);  // one workgroup per listed probe
 }
 
 }  // namespace ssvgi::gi
