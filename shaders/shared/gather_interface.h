@@ -60,8 +60,8 @@ SSVGI_CONSTANT(uint, kBindGatherConfidence, kBindFirstPassSlot + 7u);      // r8
 SSVGI_CONSTANT(uint, kBindGatherDebugTarget, kBindFirstPassSlot + 8u);     // rgba32f: ConfidenceDebugView's image
 SSVGI_CONSTANT(uint, kBindGatherTileProbeBlend, kBindFirstPassSlot + 9u);  // r8, 1/4: GatheredLight::probeBlend
 // A tile's probe blend where its gather found no probe (GatheredLight::found false; FinalGather stores at least 1/255
-// otherwise): the tile holds no light, and TemporalUpsample takes it as a tile whose sample saw
-// nothing, not as light 0 from probes that start afresh.
+// otherwise): the tile holds no light, and TemporalUpsample takes it as a tile whose sample saw nothing, not as light
+// 0 from probes that start afresh.
 SSVGI_CONSTANT(float, kTileFoundNoProbe, 0.0f);
 
 // Where a probe level lies this frame.

@@ -97,8 +97,8 @@ TileTap tileTap(Surface surface, ivec2 tile, TapFrame frameOfTaps) {
   float sampleDepth = texelFetch(depthBuffer, samplePixel, 0).r;
   if (sampleDepth <= 0.0) return none;  // the tile's sample saw nothing
   // No probe lit the sample (a corner whose probes all stand in its walls): its 0 is not light. Taken for light, with
-  // the blend of probes that start afresh, it replaced the history of the pixels around it at every sixteenth frame
-  // (docs/QUALITY.md, "A tile without probes").
+  // the blend of probes that start afresh, it replaced the history of the pixels around it whenever the corner was
+  // sampled (docs/QUALITY.md, "A tile without probes").
   float probeBlend = imageLoad(tileProbeBlend, tile).r;
   if (probeBlend == kTileFoundNoProbe) return none;
   vec3 samplePosition =
