@@ -76,7 +76,9 @@ TEST(GatherJitter, theSampledTilesAreTheIntegerPointsOfTheTurnedLattice) {
       for (int v = -3; v <= 3; ++v) {
         const glm::ivec2 tile = shader::tileAtLatticePoint(glm::ivec2(u, v), parity);
         EXPECT_EQ(shader::sampledLatticeCoordinate(glm::vec2(tile), parity), glm::vec2(u, v));
-        if (tile.x >= 0 && tile.y >= 0) EXPECT_TRUE(shader::gatherSamplesTile(glm::uvec2(tile), parity));
+        if (tile.x >= 0 && tile.y >= 0) {
+          EXPECT_TRUE(shader::gatherSamplesTile(glm::uvec2(tile), parity));
+        }
       }
 }
 

@@ -14,9 +14,14 @@ SSVGI_CONSTANT(uint, kVoxelsPerBrick, 64u);
 SSVGI_CONSTANT(uint, kInvalidBrick, 0xffffffffu);  // brickLookup: no brick in this cell
 SSVGI_CONSTANT(uint, kAllocatingBrick, 0xfffffffeu);  // brickLookup: a thread is allocating this cell right now
 // Occupancy hierarchy (SPEC §4.4): level 0 = voxel (the brick's 64-bit mask), 1 = 2×2×2 voxels (derived from the
-// mask), 2 = brick, 3 = 2×2×2 bricks, 4 = 4×4×4 bricks; levels 2–4 are bit volumes over the (toroidal) brick grid.
-SSVGI_CONSTANT(uint, kOccupancyLevels, 5u);
+// mask), 2 = brick, 3 = 2×2×2 bricks, 4 = 4×4×4 bricks, 5 = 8×8×8 bricks, 6 = 16×16×16 bricks; levels 2–6 are bit
+// volumes. Levels 2–4 lie over the toroidal brick grid in world cells; the volume scrolls by a level-4 cell
+// (kScrollStepBricks), so the cells of levels 5 and 6 are counted from the volume's minimum corner instead — those at
+// its far faces may reach past it — and BuildOctree makes them again every frame from level 4: they are small (1,536
+// and 192 cells at high tier) and spare a ray crossing open space most of its steps.
+SSVGI_CONSTANT(uint, kOccupancyLevels, 7u);
 SSVGI_CONSTANT(uint, kFirstGridLevel, 2u);
+SSVGI_CONSTANT(uint, kFirstLocalGridLevel, 5u);
 
 // Binding slots of the voxel scene, the same in every GI shader that reads or writes it (voxel_access.glsl declares
 // them); a pass's own bindings start at kBindFirstPassSlot.
@@ -24,12 +29,13 @@ SSVGI_CONSTANT(uint, kBindVoxelVolume, 0u);     // VoxelVolume (uniform)
 SSVGI_CONSTANT(uint, kBindBrickLookup, 1u);     // uint per brick cell: pool index or kInvalidBrick
 SSVGI_CONSTANT(uint, kBindBricks, 2u);          // Brick[capacity]
 SSVGI_CONSTANT(uint, kBindVoxels, 3u);          // Voxel[capacity * 64]
-SSVGI_CONSTANT(uint, kBindOccupancyGrid, 4u);   // bit volumes of levels 2–4 (VoxelVolume::gridWordOffsets)
+SSVGI_CONSTANT(uint, kBindOccupancyGrid, 4u);   // bit volumes of levels 2–6 (VoxelVolume::gridWordOffsets,
+                                                // localGridWordOffsets)
 // (slot 5 is the GiFrame uniform of gi_frame.h)
 SSVGI_CONSTANT(uint, kBindPoolState, 6u);       // BrickPoolState + free list (brick_pool.glsl; allocating passes only)
 SSVGI_CONSTANT(uint, kBindChangedCells, 7u);    // IndirectList of brick cells whose occupancy may have changed
 SSVGI_CONSTANT(uint, kBindObservedSpace, 8u);   // bit volumes of the observed space (below), laid out as the
-                                                // occupancy grid's levels 2–4
+                                                // occupancy grid's levels 2–6
 SSVGI_CONSTANT(uint, kBindWorkCounters, 9u);    // WorkCounters (work_counters.h; gi/work_counting.glsl)
 SSVGI_CONSTANT(uint, kBindFirstPassSlot, 10u);
 // SceneVoxelization's own slots.
@@ -64,15 +70,16 @@ struct VoxelVolume {
   uint skyOnlyThroughObservedSpace;  // 1: probe rays see the sky only through observed space (Settings::…)
   uint countsWork;              // 1: the passes count their work this frame (WorkCounters)
   uint padding;                 // std140 rounds a uniform struct up to a multiple of 16 bytes
-  uvec2 morePadding;
+  uvec2 localGridWordOffsets;   // the first uint of occupancy levels 5, 6 (cells counted from the volume's corner)
 };
 SSVGI_CHECK_SIZE(VoxelVolume, 96);
 
 // Observed space (SPEC §6.4, "unknown is not sky"): which brick cells of the volume a view — the camera or an extra
-// view — has observed, by seeing through them (known empty) or into them (they hold the surface it saw). Three bit
-// volumes in the occupancy grid's layout (VoxelVolume::gridWordOffsets): at level 2 a bit per brick cell, set once
-// observed; at levels 3 and 4 a bit per 2×2×2 and 4×4×4 bricks, set once all of them are, so that a ray crosses
-// observed space at the occupancy grid's pace. ObservedSpace sets them, VolumeScroll clears the cells that scroll in.
+// view — has observed, by seeing through them (known empty) or into them (they hold the surface it saw). Bit volumes
+// in the occupancy grid's layout: at level 2 a bit per brick cell, set once observed; at levels 3–6 a bit per cell of
+// that level, set once all of its cells of the level below inside the volume are, so that a ray crosses observed space
+// at the occupancy grid's pace. ObservedSpace sets levels 2–4, VolumeScroll clears the cells that scroll in, and
+// BuildOctree makes levels 5 and 6 from level 4 with the occupancy grid's.
 // A probe ray that enters an unobserved cell holding no voxel has found neither a surface nor the sky.
 
 // A brick of the pool.
@@ -174,8 +181,8 @@ SSVGI_INLINE uint packVoxelPlane(float offsetVoxels) {
 }
 SSVGI_INLINE float unpackVoxelPlane(uint code) { return (float(code - 1u) / 254.0f * 2.0f - 1.0f) * kVoxelPlaneRange; }
 
-// The volume's origin moves in steps of this many bricks (the cell size of the coarsest level), so that every cell of
-// every level lies wholly inside or wholly outside the volume and toroidal slots never alias.
+// The volume's origin moves in steps of this many bricks (the cell size of the coarsest toroidal level, 4), so that
+// every cell of levels 2–4 lies wholly inside or wholly outside the volume and toroidal slots never alias.
 SSVGI_CONSTANT(int, kScrollStepBricks, 4);
 
 // The largest half float. What ssvgi stores in half floats goes through finiteHalf: a NaN or an infinity that reaches

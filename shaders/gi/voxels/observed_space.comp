@@ -30,7 +30,7 @@ void markObserved(ivec3 worldBrick, VolumeLayout volumeLayout) {
   uvec2 address = gridBitAddressInVolume(kFirstGridLevel, worldBrick, volumeLayout);
   if ((observedSpace[address.x] & address.y) != 0u) return;
   if ((atomicOr(observedSpace[address.x], address.y) & address.y) != 0u) return;
-  for (uint level = kFirstGridLevel + 1u; level < kOccupancyLevels; ++level) {
+  for (uint level = kFirstGridLevel + 1u; level < kFirstLocalGridLevel; ++level) {
     ivec3 cell = worldBrick >> (level - kFirstGridLevel);
     for (int child = 0; child < 8; ++child) {
       uvec2 childAddress =

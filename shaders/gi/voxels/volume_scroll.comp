@@ -7,9 +7,10 @@
 
 layout(local_size_x = 64) in;
 
-// Clears the observed bit of a brick cell and of the level-3 and level-4 cells holding it.
+// Clears the observed bit of a brick cell and of the level-3 and level-4 cells holding it (BuildOctree makes levels 5
+// and 6 again).
 void forgetObserved(ivec3 worldBrick) {
-  for (uint level = kFirstGridLevel; level < kOccupancyLevels; ++level) {
+  for (uint level = kFirstGridLevel; level < kFirstLocalGridLevel; ++level) {
     uvec2 address = gridBitAddress(level, worldBrick >> (level - kFirstGridLevel));
     atomicAnd(observedSpace[address.x], ~address.y);
   }

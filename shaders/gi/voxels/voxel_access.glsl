@@ -98,14 +98,14 @@ bool voxelOccupied(uint brick, uvec3 voxelInBrick) {
   return (word & (1u << (bit & 31u))) != 0u;
 }
 
-// Where the bit of a grid level (2 = brick, 3 = 2×2×2 bricks, 4 = 4×4×4 bricks) for the cell of that level with
-// toroidal index `cellIndex` lies: x, the word in occupancyGrid; y, the bit's mask in it.
+// Where the bit of a toroidal grid level (2 = brick, 3 = 2×2×2 bricks, 4 = 4×4×4 bricks) for the cell of that level
+// with toroidal index `cellIndex` lies: x, the word in occupancyGrid; y, the bit's mask in it.
 uvec2 gridBitAddressOfCell(uint level, uint cellIndex, uvec3 gridWordOffsets) {
   uint offset = level == 2u ? gridWordOffsets.x : (level == 3u ? gridWordOffsets.y : gridWordOffsets.z);
   return uvec2(offset + (cellIndex >> 5u), 1u << (cellIndex & 31u));
 }
 
-// The same for a cell of that level in world units.
+// The same for a cell of a toroidal level in world units.
 uvec2 gridBitAddress(uint level, ivec3 worldCell) {
   uint shift = level - kFirstGridLevel;
   return gridBitAddressOfCell(level, brickCellIndex(worldCell, volumeDimensions() >> shift), volume.gridWordOffsets);
@@ -118,6 +118,7 @@ struct VolumeLayout {
   ivec3 dimensions;        // bricks
   ivec3 originCell;        // the toroidal brick cell (brickCellIndex) of the volume's minimum corner
   uvec3 gridWordOffsets;   // VoxelVolume::gridWordOffsets
+  uvec2 localGridWordOffsets;  // VoxelVolume::localGridWordOffsets
 };
 
 // A walk, which knows each cell's place in the volume, finds the cells' toroidal indices from originCell without a
@@ -125,7 +126,21 @@ struct VolumeLayout {
 // time.
 VolumeLayout volumeLayout() {
   return VolumeLayout(volume.originBrick, volumeDimensions(), wrapCoordinate(volume.originBrick, volumeDimensions()),
-                      volume.gridWordOffsets);
+                      volume.gridWordOffsets, volume.localGridWordOffsets);
+}
+
+// The cells of a local grid level (kFirstLocalGridLevel and up) on each axis: the volume's bricks over the cell's,
+// rounded up.
+ivec3 localGridDimensions(uint level, ivec3 dimensionsBricks) {
+  uint shift = level - kFirstGridLevel;
+  return (dimensionsBricks + ((1 << shift) - 1)) >> shift;
+}
+
+// Where the bit of the cell of a local grid level at `localCell` (counted from the volume's minimum corner) lies.
+uvec2 localGridBitAddress(uint level, ivec3 localCell, ivec3 dimensionsBricks, uvec2 localGridWordOffsets) {
+  uint cellIndex = linearCellIndex(localCell, localGridDimensions(level, dimensionsBricks));
+  uint offset = level == kFirstLocalGridLevel ? localGridWordOffsets.x : localGridWordOffsets.y;
+  return uvec2(offset + (cellIndex >> 5u), 1u << (cellIndex & 31u));
 }
 
 // The toroidal index of the cell of grid level kFirstGridLevel + `shift` at `localCell`, counted from the volume's
@@ -138,13 +153,16 @@ uint localCellIndex(ivec3 localCell, uint shift, VolumeLayout volumeLayout) {
   return linearCellIndex(cell, dimensions);
 }
 
-// gridBitAddress of a cell counted from the volume's minimum corner, from the volume's layout.
+// Where the bit of the cell of any grid level at `localCell`, counted from the volume's minimum corner, lies, from the
+// volume's layout.
 uvec2 gridBitAddressOfLocalCell(uint level, ivec3 localCell, VolumeLayout volumeLayout) {
+  if (level >= kFirstLocalGridLevel)
+    return localGridBitAddress(level, localCell, volumeLayout.dimensions, volumeLayout.localGridWordOffsets);
   uint cellIndex = localCellIndex(localCell, level - kFirstGridLevel, volumeLayout);
   return gridBitAddressOfCell(level, cellIndex, volumeLayout.gridWordOffsets);
 }
 
-// gridBitAddress of a cell in world units that lies in the volume, from the volume's layout.
+// gridBitAddress of a cell of a toroidal level in world units that lies in the volume, from the volume's layout.
 uvec2 gridBitAddressInVolume(uint level, ivec3 worldCell, VolumeLayout volumeLayout) {
   return gridBitAddressOfLocalCell(level, worldCell - (volumeLayout.originBrick >> (level - kFirstGridLevel)),
                                    volumeLayout);

@@ -12,7 +12,8 @@
 //
 // Coordinates: voxels are counted from the volume's minimum corner (0 .. dimensions · 4 - 1 on each axis); the cell of
 // level L containing voxel v is v >> L (level 2 is the brick). The volume's origin is a multiple of kScrollStepBricks
-// bricks, so these cells are exactly the world cells of the grid levels.
+// bricks, so up to level 4 these cells are exactly the world cells of the grid levels; levels 5 and 6 are counted
+// from the volume's corner anyway (voxel_interface.h).
 #ifndef SSVGI_VOXEL_TRACE_GLSL
 #define SSVGI_VOXEL_TRACE_GLSL
 
@@ -203,14 +204,14 @@ bool blockOccupied(uvec2 mask, ivec3 voxelInBrick) {
   return (word & (0x00330033u << uint(2 * block.x + 8 * block.y))) != 0u;
 }
 
-// The grid word last read at each grid level (2, 3, 4 in x, y, z): one word holds the bits of 32 consecutive cells
-// along X, which a walk often tests one after another.
+// The grid word last read at each grid level (2, 3, 4 in x, y, z; 5 or 6 in w, which hold few words): one word holds
+// the bits of 32 consecutive cells along X, which a walk often tests one after another.
 struct CachedGridWords {
-  uvec3 address;
-  uvec3 bits;
+  uvec4 address;
+  uvec4 bits;
 };
 
-CachedGridWords noCachedGridWords() { return CachedGridWords(uvec3(0xffffffffu), uvec3(0u)); }
+CachedGridWords noCachedGridWords() { return CachedGridWords(uvec4(0xffffffffu), uvec4(0u)); }
 
 // Where the bit of the level-`level` cell holding the walk's voxel lies: in the occupancy grid, and at the same place
 // in the observed space's bit volumes (the same layout), so that a step that asks both works it out once.
@@ -220,7 +221,8 @@ struct GridBit {
 };
 
 GridBit gridBitOf(int level, VoxelWalk walk) {
-  return GridBit(gridBitAddressOfLocalCell(uint(level), walk.voxel >> level, walk.volumeLayout), level - kBrickLevel);
+  return GridBit(gridBitAddressOfLocalCell(uint(level), walk.voxel >> level, walk.volumeLayout),
+                 min(level - kBrickLevel, 3));
 }
 
 // Whether a cell's bit is set in the occupancy grid or, with `observedSpaceBits`, in the observed space's bit volumes
@@ -289,7 +291,8 @@ uint cellContents(VoxelWalk walk, int level, bool watchesCells, bool watchesVoxe
 
 // Moves the walk past the level-`level` cell it is in: to the voxel the ray reaches by the first crossing of the
 // cell's boundary. Every crossing before that one is inside the cell, so on the other axes the voxel stays within
-// the cell. False when that crossing is past maxDistance or out of the volume.
+// the cell. False when that crossing is past maxDistance or out of the volume — on any axis: a cell of a local level
+// at the volume's far faces reaches past it, and a ray may leave the volume through another face on its way across.
 bool stepOverCell(inout VoxelWalk walk, int level) {
   ivec3 cellMin = (walk.voxel >> level) << level;
   ivec3 cellMax = cellMin + ((1 << level) - 1);
@@ -305,7 +308,7 @@ bool stepOverCell(inout VoxelWalk walk, int level) {
     next[axis] = axis == exitAxis ? limit + walk.step[axis]
                                   : coordinateAtCrossing(walk, axis, distance, exitAxis, walk.voxel[axis], limit);
   }
-  if (next[exitAxis] < 0 || next[exitAxis] >= walk.sizeVoxels[exitAxis]) return false;
+  if (any(lessThan(next, ivec3(0))) || any(greaterThanEqual(next, walk.sizeVoxels))) return false;
   walk.voxel = next;
   walk.distance = distance;
   return true;
@@ -436,9 +439,10 @@ VoxelHit walkOccupancyHierarchy(vec3 origin, vec3 direction, float maxDistance, 
   CachedGridWords grid = noCachedGridWords();
   CachedGridWords observed = noCachedGridWords();
   uint reads = 0u;
-  // The talk starts at the finest level. traceVoxelsHierarchical starts at the coarsest: that settles a ray leaving
-  // open space with one read of a 4 m cell and costs an occupied start only the grid words on the way down, which
-  // later steps often reuse (in the tests' room scene: 6.3 reads per ray from the top, 6.8 from the voxel level).
+  // The talk starts at the finest level. traceVoxelsHierarchical starts at the coarsest toroidal level (4 m cells):
+  // that settles a ray leaving open space with one read and costs an occupied start only the grid words on the way
+  // down, which later steps often reuse; a ray that goes on through open space climbs to the local levels as it
+  // steps. (From the 16 m level, a room's rays read more words on the way down than they save.)
   // traceVoxelsNearSurfaces starts at the brick level: around a point near surfaces the coarser cells are occupied,
   // and a walk from the top would only step down through them.
   int level = startLevel;
@@ -512,7 +516,8 @@ VoxelHit countTrace(VoxelHit hit) {
 }
 
 VoxelHit traceVoxelsHierarchical(vec3 origin, vec3 direction, float maxDistance, bool watchesObservedSpace) {
-  return countTrace(walkOccupancyHierarchy(origin, direction, maxDistance, watchesObservedSpace, kTopLevel));
+  return countTrace(
+      walkOccupancyHierarchy(origin, direction, maxDistance, watchesObservedSpace, int(kFirstLocalGridLevel) - 1));
 }
 
 // A trace from a point near surfaces: a probe's ray (ProbePlacement keeps the probes with voxels within their reach),

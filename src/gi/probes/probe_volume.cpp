@@ -86,7 +86,7 @@ OfferedProbeBlocks ProbeVolume::prepare(uint32_t frameIndex, glm::vec3 cameraPos
   // The search level of ProbePlacement: the coarsest occupancy grid level whose cells are no wider than the spacing.
   const int searchLevel =
       std::clamp(int(std::floor(std::log2(spacing / voxels.voxelSize))), int(shader::kFirstGridLevel),
-                 int(shader::kOccupancyLevels) - 1);
+                 int(shader::kFirstLocalGridLevel) - 1);
 
   current_.originProbe = origin;
   current_.level = int(level);

@@ -2,6 +2,7 @@
 
 #include "shared/work_counters.h"
 
+#include <array>
 #include <cmath>
 #include <cstring>
 
@@ -11,12 +12,30 @@ namespace {
 
 constexpr VkBufferUsageFlags kStorage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
 
-uint32_t gridWords(glm::uvec3 dimensions) { return (dimensions.x * dimensions.y * dimensions.z + 31u) / 32u; }
+glm::uvec3 volumeBricksOf(const Settings& settings) {
+  return glm::uvec3(settings.volumeBricks[0], settings.volumeBricks[1], settings.volumeBricks[2]);
+}
 
-// Bit volumes of grid levels 2–4 over the volume's brick cells (the occupancy grid, the observed space).
-VkDeviceSize gridBytes(const Settings& settings) {
-  const glm::uvec3 dimensions(settings.volumeBricks[0], settings.volumeBricks[1], settings.volumeBricks[2]);
-  return 4 * VkDeviceSize(gridWords(dimensions) + gridWords(dimensions / 2u) + gridWords(dimensions / 4u));
+// Where the bit volume of each grid level (2–6) lies in the occupancy grid's buffer, and the observed space's: the
+// toroidal levels over the volume's cells of theirs, the local ones rounded up past its far faces (voxel_interface.h).
+struct GridLayout {
+  static constexpr uint32_t kLevels = shader::kOccupancyLevels - shader::kFirstGridLevel;
+  std::array<uint32_t, kLevels> firstWord{};
+  std::array<uint32_t, kLevels> words{};
+  uint32_t totalWords = 0;
+};
+
+GridLayout gridLayout(glm::uvec3 volumeBricks) {
+  GridLayout layout;
+  for (uint32_t level = shader::kFirstGridLevel; level < shader::kOccupancyLevels; ++level) {
+    const uint32_t shift = level - shader::kFirstGridLevel;
+    const glm::uvec3 cells =
+        level < shader::kFirstLocalGridLevel ? volumeBricks >> shift : (volumeBricks + ((1u << shift) - 1u)) >> shift;
+    layout.firstWord[shift] = layout.totalWords;
+    layout.words[shift] = (cells.x * cells.y * cells.z + 31u) / 32u;
+    layout.totalWords += layout.words[shift];
+  }
+  return layout;
 }
 
 }  // namespace
@@ -31,7 +50,7 @@ VoxelScene::BufferBytes VoxelScene::bufferBytes(const Settings& settings) {
   return {VkDeviceSize(settings.volumeBricks[0]) * settings.volumeBricks[1] * settings.volumeBricks[2] * 4,
           capacity * sizeof(shader::Brick),
           capacity * shader::kVoxelsPerBrick * sizeof(shader::Voxel),
-          gridBytes(settings),
+          4 * VkDeviceSize(gridLayout(volumeBricksOf(settings)).totalWords),
           sizeof(shader::BrickPoolState) + capacity * 4,
           sizeof(shader::IndirectList) + capacity * 2 * 4,
           sizeof(shader::WorkCounters),
@@ -56,15 +75,15 @@ VoxelScene::VoxelScene(gpu::Device& device, const Settings& settings, uint32_t f
   for (uint32_t i = 0; i < framesInFlight; ++i)
     volumes_.emplace_back(device, "ssvgi voxel volume", bytes.volume, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                           gpu::MemoryUsage::HostUpload);
-  const glm::uvec3 dimensions(settings.volumeBricks[0], settings.volumeBricks[1], settings.volumeBricks[2]);
-  current_.dimensionsBricks = glm::ivec3(dimensions);
+  current_.dimensionsBricks = glm::ivec3(volumeBricksOf(settings));
   current_.brickPoolCapacity = settings.brickPoolCapacity;
   current_.voxelSize = settings.voxelSize;
   current_.brickSize = settings.voxelSize * shader::kBrickSizeVoxels;
   current_.bricksPerMetre = 1.0f / current_.brickSize;
-  const uint32_t level2 = gridWords(dimensions), level3 = gridWords(dimensions / 2u), level4 = gridWords(dimensions / 4u);
-  current_.gridWordOffsets = glm::uvec3(0, level2, level2 + level3);
-  current_.gridWords = level2 + level3 + level4;
+  const GridLayout grid = gridLayout(volumeBricksOf(settings));
+  current_.gridWordOffsets = glm::uvec3(grid.firstWord[0], grid.firstWord[1], grid.firstWord[2]);
+  current_.localGridWordOffsets = glm::uvec2(grid.firstWord[3], grid.firstWord[4]);
+  current_.gridWords = grid.totalWords;
   current_.invalidFramesToClear = settings.invalidFramesToClear;
   current_.emptyFramesToRelease = settings.emptyFramesToRelease;
   current_.skyOnlyThroughObservedSpace = settings.skyOnlyThroughObservedSpace ? 1u : 0u;
@@ -87,6 +106,10 @@ gpu::Bindings VoxelScene::bindings() const {
       .buffer(shader::kBindPoolState, poolState_)
       .buffer(shader::kBindChangedCells, changedCells_)
       .accumulator(shader::kBindWorkCounters, workCounters_);
+}
+
+uint32_t VoxelScene::localGridWords(uint32_t level) const {
+  return gridLayout(volumeBricksOf(settings_)).words[level - shader::kFirstGridLevel];
 }
 
 uint32_t VoxelScene::cellCount() const {
