@@ -13,9 +13,9 @@
 #include <cstdio>
 #include <limits>
 #include <memory>
-#include <utility>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace ssvgi {
@@ -172,6 +172,28 @@ class CpuVoxelScene {
   glm::ivec3 gridCells(uint32_t level) const {
     const int shift = int(level - shader::kFirstGridLevel);
     return level < shader::kFirstLocalGridLevel ? dimensions_ >> shift : (dimensions_ + ((1 << shift) - 1)) >> shift;
+  }
+
+  // Levels 5 and 6 of a bit volume as BuildOctree makes them from its level 4: a cell's bit is set when any (`any`) or
+  // all (not `any`) of its cells of the level below that lie inside the volume are set.
+  void makeLocalLevels(std::vector<uint32_t>& words, bool any) const {
+    for (uint32_t level = shader::kFirstLocalGridLevel; level < shader::kOccupancyLevels; ++level) {
+      const glm::ivec3 cells = gridCells(level), finerCells = gridCells(level - 1);
+      for (int z = 0; z < cells.z; ++z)
+        for (int y = 0; y < cells.y; ++y)
+          for (int x = 0; x < cells.x; ++x) {
+            bool set = !any;
+            for (int child = 0; child < 8; ++child) {
+              const glm::ivec3 finer = glm::ivec3(x, y, z) * 2 + glm::ivec3(child & 1, (child >> 1) & 1, child >> 2);
+              if (glm::any(glm::greaterThanEqual(finer, finerCells))) continue;
+              const auto [word, bit] = gridWordAndBit(level - 1, finer);
+              const bool finerSet = (words[word] >> bit) & 1u;
+              set = any ? set || finerSet : set && finerSet;
+            }
+            const auto [word, bit] = gridWordAndBit(level, glm::ivec3(x, y, z));
+            words[word] = set ? words[word] | (1u << bit) : words[word] & ~(1u << bit);
+          }
+    }
   }
 
   // The grid levels as BuildOctree must leave them: a brick cell's bit is set when it holds a brick with voxels, a
@@ -502,7 +524,7 @@ class VoxelSceneTest : public testing::GpuTest {
     buildOctree(cpu_->allocatedCells());
   }
 
-  // From the top level (rays into open space) and from the brick level (visibility tests between points near
+  // From level 4 (rays into open space) and from the brick level (visibility tests between points near
   // surfaces, traceVoxelsNearSurfaces), the hierarchical walk meets the voxel the flat DDA meets.
   void expectTheFlatDdasFirstHits(size_t randomRayCount, size_t boundaryRayCount) {
     buildRandomScene(3);
@@ -513,7 +535,7 @@ class VoxelSceneTest : public testing::GpuTest {
 
     const TraceRun flat = trace(*flat_, rays);
     for (gi::TraceRays* tracer : {hierarchical_.get(), nearSurfaces_.get()}) {
-      SCOPED_TRACE(tracer->method() == gi::TraceMethod::NearSurfaces ? "from the brick level" : "from the top level");
+      SCOPED_TRACE(tracer->method() == gi::TraceMethod::NearSurfaces ? "from the brick level" : "from level 4");
       const TraceRun hierarchical = trace(*tracer, rays);
       size_t hits = 0, boundaryHits = 0, mismatches = 0;
       for (size_t i = 0; i < rays.size(); ++i) {
@@ -541,9 +563,10 @@ class VoxelSceneTest : public testing::GpuTest {
   // Unknown is not sky (SPEC §6.4): watching observed space, both traces report the same first hit, and whether and
   // where the ray first crossed a brick cell that holds no voxel and that no view observed, or ended at an unobserved
   // voxel. The observed brick cells: the volume's lower half along X, as a view that looked round it leaves them, and
-  // 70 % of the others at random; levels 3 and 4 are set where all their bricks are — but for a tenth of them, left
-  // unset as a race between two ObservedSpace walks may leave them, which must change nothing but the cost — and
-  // BuildOctree makes the local levels from level 4. Each brick's empty voxels are observed at random, 90 % of them.
+  // 70 % of the others at random; levels 3 and 4 are set where all their bricks are — but for a tenth of those outside
+  // that half, left unset as a race between two ObservedSpace walks may leave them, which must change nothing but the
+  // cost — and BuildOctree makes the local levels from level 4, observed whole in that half. Each brick's empty voxels
+  // are observed at random, 90 % of them.
   void expectTheFlatDdasObservedSpace(size_t rayCount) {
     buildRandomScene(3);
     std::mt19937_64 rng(5);
@@ -563,11 +586,13 @@ class VoxelSceneTest : public testing::GpuTest {
       observed[word] |= 1u << bit;
     };
     std::bernoulli_distribution observedCell(0.7), keptSummary(0.9);
+    const int observedHalf = dimensions.x / 2;
     for (int z = 0; z < dimensions.z; ++z)
       for (int y = 0; y < dimensions.y; ++y)
         for (int x = 0; x < dimensions.x; ++x)
-          if (x < dimensions.x / 2 || observedCell(rng)) setBit(shader::kFirstGridLevel, glm::ivec3(x, y, z));
+          if (x < observedHalf || observedCell(rng)) setBit(shader::kFirstGridLevel, glm::ivec3(x, y, z));
     for (uint32_t level = shader::kFirstGridLevel + 1; level < shader::kFirstLocalGridLevel; ++level) {
+      const int shift = int(level - shader::kFirstGridLevel);
       const glm::ivec3 cells = cpu_->gridCells(level);
       for (int z = 0; z < cells.z; ++z)
         for (int y = 0; y < cells.y; ++y)
@@ -576,17 +601,26 @@ class VoxelSceneTest : public testing::GpuTest {
             bool all = true;
             for (int child = 0; child < 8; ++child)
               all = all && gridBit(*cpu_, observed, level - 1, cell * 2 + glm::ivec3(child & 1, (child >> 1) & 1, child >> 2));
-            if (all && keptSummary(rng)) setBit(level, cell);
+            const bool inObservedHalf = (x + 1) << shift <= observedHalf;
+            if (all && (inObservedHalf || keptSummary(rng))) setBit(level, cell);
           }
     }
     gpu::uploadBuffer(device(), scene_->observedSpace(), std::as_bytes(std::span(observed)));
     buildOctree(cpu_->allocatedCells());  // and the local levels of both bit volumes from their level 4
 
+    // The local levels of the observed space as the CPU makes them, some of their cells observed whole.
+    cpu_->makeLocalLevels(observed, false);
+    std::vector<uint32_t> observedOnGpu = gpu::readBufferAs<uint32_t>(device(), scene_->observedSpace());
+    observedOnGpu.resize(observed.size());
+    ASSERT_EQ(observedOnGpu, observed);
+    for (uint32_t level = shader::kFirstLocalGridLevel; level < shader::kOccupancyLevels; ++level)
+      ASSERT_TRUE(gridBit(*cpu_, observed, level, glm::ivec3(0))) << "level " << level;
+
     std::vector<VoxelTraceRay> rays = randomRays(*cpu_, rng, rayCount);
     for (VoxelTraceRay& ray : rays) ray.watchesObservedSpace = 1u;
     const TraceRun flat = trace(*flat_, rays);
     for (gi::TraceRays* tracer : {hierarchical_.get(), nearSurfaces_.get()}) {
-      SCOPED_TRACE(tracer->method() == gi::TraceMethod::NearSurfaces ? "from the brick level" : "from the top level");
+      SCOPED_TRACE(tracer->method() == gi::TraceMethod::NearSurfaces ? "from the brick level" : "from level 4");
       const TraceRun hierarchical = trace(*tracer, rays);
       size_t mismatches = 0, unobservedMisses = 0, unobservedHits = 0, observedMisses = 0, endsAtUnobservedVoxel = 0;
       for (size_t i = 0; i < rays.size(); ++i) {
@@ -702,7 +736,7 @@ TEST_F(BuildOctreePass, clearingABrickClearsOnlyTheAncestorsLeftWithoutChildren)
 
 using VoxelTrace = VoxelSceneTest;
 
-// From the top level (rays into open space) and from the brick level (visibility tests between points near
+// From level 4 (rays into open space) and from the brick level (visibility tests between points near
 // surfaces, traceVoxelsNearSurfaces), the hierarchical walk meets the voxel the flat DDA meets.
 TEST_F(VoxelTrace, hierarchicalTraceFindsTheSameFirstHitAsTheFlatDdaFromEitherStartLevel) {
   expectTheFlatDdasFirstHits(100'000, 60'000);

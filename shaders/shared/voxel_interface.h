@@ -69,7 +69,7 @@ struct VoxelVolume {
   ivec3 previousOriginBrick;    // originBrick of the last frame (VolumeScroll forgets what scrolled in)
   uint skyOnlyThroughObservedSpace;  // 1: probe rays see the sky only through observed space (Settings::…)
   uint countsWork;              // 1: the passes count their work this frame (WorkCounters)
-  uint padding;                 // std140 rounds a uniform struct up to a multiple of 16 bytes
+  uint padding;                 // puts the uvec2 below on its 8-byte boundary
   uvec2 localGridWordOffsets;   // the first uint of occupancy levels 5, 6 (cells counted from the volume's corner)
 };
 SSVGI_CHECK_SIZE(VoxelVolume, 96);
@@ -280,6 +280,14 @@ SSVGI_INLINE ivec3 wrapCoordinate(ivec3 coordinate, ivec3 dimensions) {
 // The index of a cell of a box of `dimensions` cells (0 ≤ cell < dimensions), x fastest.
 SSVGI_INLINE uint linearCellIndex(ivec3 cell, ivec3 dimensions) {
   return uint(cell.x + dimensions.x * (cell.y + dimensions.y * cell.z));
+}
+
+// The cells of grid level `level` (kFirstGridLevel and up) on each axis of a volume of `dimensionsBricks`: its bricks
+// over the cell's, rounded up — exact for the toroidal levels, whose cells divide the volume's sides; a local level's
+// last cells may reach past the volume.
+SSVGI_INLINE ivec3 gridLevelCells(uint level, ivec3 dimensionsBricks) {
+  int shift = int(level - kFirstGridLevel);
+  return (dimensionsBricks + ((1 << shift) - 1)) >> shift;
 }
 
 SSVGI_INLINE uint brickCellIndex(ivec3 worldBrick, ivec3 dimensions) {

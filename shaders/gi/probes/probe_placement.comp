@@ -24,8 +24,9 @@ layout(binding = kBindProbeList) buffer ProbeList {
 };
 
 // Whether any voxel lies in [lo, hi): the cells of the search level that cover it, each inside the voxel volume
-// (a cell of a grid level is wholly inside or outside it; outside, its toroidal bit belongs to another cell). The
-// cells searched are clipped to the volume first, so that no probe spacing makes the loop longer than the volume.
+// (a cell of a toroidal grid level — the search level is one — is wholly inside or outside it; outside, its toroidal
+// bit belongs to another cell). The cells searched are clipped to the volume first, so that no probe spacing makes
+// the loop longer than the volume.
 // Counts the grid words it reads in `reads`.
 bool voxelsWithin(vec3 lo, vec3 hi, inout uint reads) {
   uint level = update.placementSearchLevel;

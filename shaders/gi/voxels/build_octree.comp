@@ -1,8 +1,8 @@
 #version 450
 // BuildOctree (SPEC §4.4; the talk's "Voxel-Build Octree": 5 levels, 2×2×2 per level, 64 bits per brick): brings the
-// grid levels of the occupancy hierarchy up to date for the brick cells listed in changedCells. Dispatched once per
-// grid level, finest first; each thread takes one listed cell and sets or clears the bit of the cell's ancestor at
-// that level:
+// toroidal grid levels of the occupancy hierarchy (2–4) up to date for the brick cells listed in changedCells; the
+// local levels 5 and 6 are made after them (build_octree_local_levels.comp). Dispatched once per toroidal level,
+// finest first; each thread takes one listed cell and sets or clears the bit of the cell's ancestor at that level:
 //   level 2 (brick):            the cell holds a live brick whose occupancy mask is not empty;
 //   level 3, 4 (2, 4 bricks):   any of the ancestor's 8 children at the level below, which the previous dispatch
 //                               brought up to date.

@@ -14,10 +14,9 @@ layout(push_constant) uniform Push { uint level; };
 
 void main() {
   VolumeLayout volumeLayout = volumeLayout();
-  ivec3 cells = localGridDimensions(level, volumeLayout.dimensions);
+  ivec3 cells = gridLevelCells(level, volumeLayout.dimensions);
   uint finerLevel = level - 1u;
-  ivec3 finerCells = finerLevel < kFirstLocalGridLevel ? volumeLayout.dimensions >> (finerLevel - kFirstGridLevel)
-                                                       : localGridDimensions(finerLevel, volumeLayout.dimensions);
+  ivec3 finerCells = gridLevelCells(finerLevel, volumeLayout.dimensions);
   uint cellCount = uint(cells.x * cells.y * cells.z);
   uint word = gl_GlobalInvocationID.x;
   if (word * 32u >= cellCount) return;
@@ -40,7 +39,7 @@ void main() {
     if (occupied) occupiedBits |= 1u << bit;
     if (observed) observedBits |= 1u << bit;
   }
-  uint offset = level == kFirstLocalGridLevel ? volume.localGridWordOffsets.x : volume.localGridWordOffsets.y;
+  uint offset = localGridWordOffset(level, volumeLayout.localGridWordOffsets);
   occupancyGrid[offset + word] = occupiedBits;
   observedSpace[offset + word] = observedBits;
 }

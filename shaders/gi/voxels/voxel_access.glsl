@@ -11,7 +11,7 @@
 #else
 #define SSVGI_VOXEL_ACCESS readonly
 #endif
-// A shader that writes only the occupancy grid (BuildOctree) defines SSVGI_OCCUPANCY_GRID_WRITABLE instead.
+// A shader that writes the occupancy grid but not the voxels (BuildOctree) defines SSVGI_OCCUPANCY_GRID_WRITABLE instead.
 #if defined(SSVGI_VOXELS_WRITABLE) || defined(SSVGI_OCCUPANCY_GRID_WRITABLE)
 #define SSVGI_OCCUPANCY_GRID_ACCESS
 #else
@@ -23,8 +23,8 @@ layout(binding = kBindBrickLookup) SSVGI_VOXEL_ACCESS buffer BrickLookup { uint 
 layout(binding = kBindBricks) SSVGI_VOXEL_ACCESS buffer Bricks { Brick bricks[]; };
 layout(binding = kBindVoxels) SSVGI_VOXEL_ACCESS buffer Voxels { Voxel voxels[]; };
 layout(binding = kBindOccupancyGrid) SSVGI_OCCUPANCY_GRID_ACCESS buffer OccupancyGrid { uint occupancyGrid[]; };
-// Observed space (voxel_interface.h): written by ObservedSpace and VolumeScroll, which define
-// SSVGI_OBSERVED_SPACE_WRITABLE (with the atomics' results read coherently).
+// Observed space (voxel_interface.h): written by ObservedSpace, VolumeScroll and BuildOctree's local levels, which
+// define SSVGI_OBSERVED_SPACE_WRITABLE (with the atomics' results read coherently).
 #ifdef SSVGI_OBSERVED_SPACE_WRITABLE
 layout(binding = kBindObservedSpace) coherent buffer ObservedSpace { uint observedSpace[]; };
 #else
@@ -98,14 +98,14 @@ bool voxelOccupied(uint brick, uvec3 voxelInBrick) {
   return (word & (1u << (bit & 31u))) != 0u;
 }
 
-// Where the bit of a toroidal grid level (2 = brick, 3 = 2×2×2 bricks, 4 = 4×4×4 bricks) for the cell of that level
-// with toroidal index `cellIndex` lies: x, the word in occupancyGrid; y, the bit's mask in it.
+// Where the bit of a toroidal grid level (2 = brick, 3 = 2×2×2 bricks, 4 = 4×4×4 bricks; only those) for the cell of
+// that level with toroidal index `cellIndex` lies: x, the word in occupancyGrid; y, the bit's mask in it.
 uvec2 gridBitAddressOfCell(uint level, uint cellIndex, uvec3 gridWordOffsets) {
   uint offset = level == 2u ? gridWordOffsets.x : (level == 3u ? gridWordOffsets.y : gridWordOffsets.z);
   return uvec2(offset + (cellIndex >> 5u), 1u << (cellIndex & 31u));
 }
 
-// The same for a cell of a toroidal level in world units.
+// The same for a cell of a toroidal level (only those) in world units.
 uvec2 gridBitAddress(uint level, ivec3 worldCell) {
   uint shift = level - kFirstGridLevel;
   return gridBitAddressOfCell(level, brickCellIndex(worldCell, volumeDimensions() >> shift), volume.gridWordOffsets);
@@ -129,18 +129,15 @@ VolumeLayout volumeLayout() {
                       volume.gridWordOffsets, volume.localGridWordOffsets);
 }
 
-// The cells of a local grid level (kFirstLocalGridLevel and up) on each axis: the volume's bricks over the cell's,
-// rounded up.
-ivec3 localGridDimensions(uint level, ivec3 dimensionsBricks) {
-  uint shift = level - kFirstGridLevel;
-  return (dimensionsBricks + ((1 << shift) - 1)) >> shift;
+// The first word of a local grid level (kFirstLocalGridLevel and up) in its buffer.
+uint localGridWordOffset(uint level, uvec2 localGridWordOffsets) {
+  return level == kFirstLocalGridLevel ? localGridWordOffsets.x : localGridWordOffsets.y;
 }
 
 // Where the bit of the cell of a local grid level at `localCell` (counted from the volume's minimum corner) lies.
 uvec2 localGridBitAddress(uint level, ivec3 localCell, ivec3 dimensionsBricks, uvec2 localGridWordOffsets) {
-  uint cellIndex = linearCellIndex(localCell, localGridDimensions(level, dimensionsBricks));
-  uint offset = level == kFirstLocalGridLevel ? localGridWordOffsets.x : localGridWordOffsets.y;
-  return uvec2(offset + (cellIndex >> 5u), 1u << (cellIndex & 31u));
+  uint cellIndex = linearCellIndex(localCell, gridLevelCells(level, dimensionsBricks));
+  return uvec2(localGridWordOffset(level, localGridWordOffsets) + (cellIndex >> 5u), 1u << (cellIndex & 31u));
 }
 
 // The toroidal index of the cell of grid level kFirstGridLevel + `shift` at `localCell`, counted from the volume's

@@ -216,7 +216,7 @@ CachedGridWords noCachedGridWords() { return CachedGridWords(uvec4(0xffffffffu),
 // Where the bit of the level-`level` cell holding the walk's voxel lies: in the occupancy grid, and at the same place
 // in the observed space's bit volumes (the same layout), so that a step that asks both works it out once.
 struct GridBit {
-  uvec2 address;  // gridBitAddressOfCell
+  uvec2 address;  // gridBitAddressOfLocalCell
   int slot;       // the level's place in CachedGridWords
 };
 

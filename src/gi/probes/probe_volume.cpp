@@ -81,7 +81,7 @@ OfferedProbeBlocks ProbeVolume::prepare(uint32_t frameIndex, glm::vec3 cameraPos
   const glm::ivec3 dimensions(gridOf(settings_));
   const glm::ivec3 origin = levelOrigin(level, cameraPosition);
   // Rays go as far as the voxel volume reaches (its diagonal; the trace stops at its boundary anyway): a far wall
-  // still hides the sky, and empty space costs one read per 4 m cell.
+  // still hides the sky, and empty space costs a read per cell of up to 16 m.
   const float maxTraceDistance = glm::length(glm::vec3(voxels.dimensionsBricks) * voxels.brickSize);
   // The search level of ProbePlacement: the coarsest occupancy grid level whose cells are no wider than the spacing.
   const int searchLevel =

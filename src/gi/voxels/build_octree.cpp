@@ -13,7 +13,7 @@ void BuildOctree::record(gpu::CommandList& commands, const VoxelScene& scene) {
   for (uint32_t level = shader::kFirstGridLevel; level < shader::kFirstLocalGridLevel; ++level)
     commands.dispatchIndirect(pipeline_, bindings, scene.changedCells(), 0, &level, sizeof(level));
   for (uint32_t level = shader::kFirstLocalGridLevel; level < shader::kOccupancyLevels; ++level)
-    commands.dispatch(localLevels_, bindings, {scene.localGridWords(level), 1, 1}, &level, sizeof(level));
+    commands.dispatch(localLevels_, bindings, {scene.gridLevelWords(level), 1, 1}, &level, sizeof(level));
 }
 
 }  // namespace ssvgi::gi

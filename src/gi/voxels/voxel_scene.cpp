@@ -28,12 +28,11 @@ struct GridLayout {
 GridLayout gridLayout(glm::uvec3 volumeBricks) {
   GridLayout layout;
   for (uint32_t level = shader::kFirstGridLevel; level < shader::kOccupancyLevels; ++level) {
-    const uint32_t shift = level - shader::kFirstGridLevel;
-    const glm::uvec3 cells =
-        level < shader::kFirstLocalGridLevel ? volumeBricks >> shift : (volumeBricks + ((1u << shift) - 1u)) >> shift;
-    layout.firstWord[shift] = layout.totalWords;
-    layout.words[shift] = (cells.x * cells.y * cells.z + 31u) / 32u;
-    layout.totalWords += layout.words[shift];
+    const uint32_t slot = level - shader::kFirstGridLevel;
+    const glm::uvec3 cells(shader::gridLevelCells(level, glm::ivec3(volumeBricks)));
+    layout.firstWord[slot] = layout.totalWords;
+    layout.words[slot] = (cells.x * cells.y * cells.z + 31u) / 32u;
+    layout.totalWords += layout.words[slot];
   }
   return layout;
 }
@@ -108,7 +107,7 @@ gpu::Bindings VoxelScene::bindings() const {
       .accumulator(shader::kBindWorkCounters, workCounters_);
 }
 
-uint32_t VoxelScene::localGridWords(uint32_t level) const {
+uint32_t VoxelScene::gridLevelWords(uint32_t level) const {
   return gridLayout(volumeBricksOf(settings_)).words[level - shader::kFirstGridLevel];
 }
 

@@ -35,8 +35,8 @@ class VoxelScene {
   // the frame clears and copies it with barriers of its own.
   const gpu::Buffer& workCounters() const { return workCounters_; }
   uint32_t cellCount() const;
-  // The words of the bit volume of a local grid level (kFirstLocalGridLevel and up; voxel_interface.h).
-  uint32_t localGridWords(uint32_t level) const;
+  // The words of a grid level's bit volume (levels kFirstGridLevel and up; voxel_interface.h).
+  uint32_t gridLevelWords(uint32_t level) const;
   // The scene's shared binding slots (voxel_access.glsl, brick_pool.glsl, work_counting.glsl) for a pass's Bindings.
   gpu::Bindings bindings() const;
   const Settings& settings() const { return settings_; }
