@@ -204,6 +204,9 @@ Settings probeTestSettings() {
   settings.skyOnlyThroughObservedSpace = false;
   // The relight tests look at the voxels after one frame: the whole pool relit every frame.
   settings.voxelRelightPeriod = 1;
+  // The tests count a probe's updates: each update of its level traces it, also once it is settled (the settled
+  // probes' turns have a test of their own).
+  settings.settledProbeInterval = 1;
   return settings;
 }
 
@@ -763,6 +766,40 @@ TEST_F(ProbeChangeDetection, aProbeWhoseSurroundingsBrightenFollowsWithinAnUpdat
     const float expected = detection ? kAfter : kBefore + (kAfter - kBefore) * (1.0f - std::pow(32.0f / 33.0f, 4.0f));
     EXPECT_NEAR(sphereMean(radianceSh(probe).r), expected, 2e-3f * kAfter);
   }
+}
+
+// The ray budget goes to the probes that change (SPEC §6.2, Settings::settledProbeInterval): settled at its cap in a
+// still box, the probe is traced on every other update of its level; once its walls brighten it is traced on its
+// next turn, takes the new light at once (change detection) and is traced on every update from then on, until its
+// history is at the cap again. Its traces are counted by its direction counter, which moves on 32 a trace.
+TEST_F(ProbeChangeDetection, aSettledProbeIsTracedEveryOtherUpdateAndEveryUpdateOnceItFollowsAChange) {
+  constexpr float kBefore = 0.25f, kAfter = 1.0f;
+  Settings settings = probeTestSettings();
+  settings.settledProbeInterval = 2;
+  create(settings);
+  writeScene(closedBox(glm::vec3(kBefore)));
+  runUpdates(40);
+  const auto probe = [&] { return probeAt(readProbes(), 0, glm::vec3(kProbe)); };
+  const auto direction = [&] { return shader::probeNextDirection(probe().state); };
+  const auto tracesSince = [&](uint32_t before) {
+    return (direction() + shader::kProbeRayDirectionCount - before) % shader::kProbeRayDirectionCount /
+           settings.raysPerProbe;
+  };
+  ASSERT_EQ(historyCount(probe()), settings.probeHistoryCap);
+  uint32_t before = direction();
+  runUpdates(8);
+  EXPECT_EQ(tracesSince(before), 4u) << "settled: every other update";
+  EXPECT_NEAR(sphereMean(radianceSh(probe()).r), kBefore, 2e-3f * kBefore);
+
+  writeScene(closedBox(glm::vec3(kAfter)));
+  before = direction();
+  runUpdates(2);  // its turn comes in one of these two
+  EXPECT_EQ(tracesSince(before), 1u);
+  EXPECT_NEAR(sphereMean(radianceSh(probe()).r), kAfter, 2e-3f * kAfter) << "followed at once";
+  before = direction();
+  runUpdates(8);
+  EXPECT_EQ(tracesSince(before), 8u) << "following a change: every update";
+  EXPECT_LT(historyCount(probe()), settings.probeHistoryCap);
 }
 
 // Light that grows over many updates, as the bounces after a light switched on come in round the voxel → probe loop:

@@ -86,7 +86,7 @@ struct ProbeUpdate {
   float changeThreshold;         // Settings::probeChangeThreshold (0: off)
   uint startsSharedRecovery;     // 1: every probe with a history starts a recovery (ProbeChangeTally)
   uint hasSkyMap;                // 1: rays that leave the voxel volume see FrameDesc::skyRadianceMap, not skyRadiance
-  uint padding;
+  uint settledProbeInterval;     // Settings::settledProbeInterval (ProbePlacement)
   Sh2Rgb skyRadiance;            // the host's sky (FrameDesc::skyRadianceSh): what a ray that leaves the voxel volume
                                  // sees without the map
 };

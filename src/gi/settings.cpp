@@ -65,6 +65,7 @@ std::span<const SettingInfo> settingInfos() {
       {"probeSampleClamp", &Settings::probeSampleClamp, 1.0, kUnlimited, false, 1, false, true},
       {"probeChangeThreshold", &Settings::probeChangeThreshold},
       {"probeSharedChangeShare", &Settings::probeSharedChangeShare, 0.0, 1.0},
+      {"settledProbeInterval", &Settings::settledProbeInterval, 1.0, 8.0},
       {"skyOnlyThroughObservedSpace", &Settings::skyOnlyThroughObservedSpace},
       {"voxelRelightPeriod", &Settings::voxelRelightPeriod, 1.0, 64.0},
   };

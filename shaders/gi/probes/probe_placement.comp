@@ -22,6 +22,8 @@ layout(binding = kBindProbeList) buffer ProbeList {
   IndirectList list;
   uint listedProbes[];
 };
+layout(binding = kBindProbes) readonly buffer Probes { Probe probes[]; };
+layout(binding = kBindProbeChanges) readonly buffer Changes { uint changes[]; };
 
 // Whether any voxel lies in [lo, hi): the cells of the search level that cover it, each inside the voxel volume
 // (a cell of a toroidal grid level — the search level is one — is wholly inside or outside it; outside, its toroidal
@@ -47,6 +49,22 @@ bool voxelsWithin(vec3 lo, vec3 hi, inout uint reads) {
   return false;
 }
 
+// Whether a probe sits this update out (Settings::settledProbeInterval; SPEC §6.2, "spend more of the ray budget on
+// probes that changed"): its history has reached the cap and it follows no change, and this update of its level is not
+// its turn, which its world coordinate sets so that neighbours take turns. A frame that starts a shared recovery
+// traces every probe: it is how a change many probes see reaches those that have not seen it yet.
+bool sitsOut(ivec3 probe, uint index) {
+  int interval = int(update.settledProbeInterval);
+  if (interval <= 1 || update.startsSharedRecovery != 0u) return false;
+  Probe stored = probes[index];
+  bool settled = probeHoldsCoordinate(stored, probe) && probePlacement(stored.state) != kProbeStateNeverTraced &&
+                 probeHistoryCount(stored.state) >= update.historyCap &&
+                 unpackProbeChange(changes[index]).recoveryUpdates == 0u;
+  int turnCount = probe.x + probe.y + probe.z + int(update.frameIndex / kProbeLevels);
+  int turn = turnCount - interval * int(floor(float(turnCount) / float(interval)));  // ≥ 0 for negative coordinates
+  return settled && turn != 0;
+}
+
 layout(push_constant) uniform Push { ProbePlacementPush push; };
 
 void main() {
@@ -66,6 +84,9 @@ void main() {
     atomicAdd(work.placementReads, reads);
   }
   if (!holdsVoxels) return;
+  uint level = uint(update.level);
+  uint index = level * uint(update.probesPerLevel) + probeSlotIndex(probe, update.probesPerAxis);
+  if (sitsOut(probe, index)) return;
 
   uint slot = atomicAdd(list.count, 1u);
   if (slot >= update.probeBudget) {  // over budget: undo, so that count ends as the number listed
@@ -73,6 +94,5 @@ void main() {
     return;
   }
   atomicAdd(list.groupCountX, 1u);
-  uint level = uint(update.level);
-  listedProbes[slot] = level * uint(update.probesPerLevel) + probeSlotIndex(probe, update.probesPerAxis);
+  listedProbes[slot] = index;
 }

@@ -13,6 +13,8 @@ void ProbePlacement::record(gpu::CommandList& commands, const VoxelScene& scene,
                                      .buffer(shader::kBindGiFrame, frame)
                                      .buffer(shader::kBindProbeUpdate, probes.update())
                                      .buffer(shader::kBindProbeBlocks, probes.offeredBlocks())
+                                     .buffer(shader::kBindProbes, probes.probes())
+                                     .buffer(shader::kBindProbeChanges, probes.changes())
                                      .buffer(shader::kBindProbeList, probes.list());
   const uint32_t probesPerBlock = shader::kProbeBlockSize * shader::kProbeBlockSize * shader::kProbeBlockSize;
   // The blocks in view first, so that theirs are listed first and keep the budget; those beyond the view take what is

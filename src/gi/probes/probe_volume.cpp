@@ -105,6 +105,7 @@ OfferedProbeBlocks ProbeVolume::prepare(uint32_t frameIndex, glm::vec3 cameraPos
   current_.frameIndex = frameIndex;
   current_.sampleClamp = settings_.probeSampleClamp;
   current_.changeThreshold = settings_.probeChangeThreshold;
+  current_.settledProbeInterval = settings_.settledProbeInterval;
   currentFrame_ = frameIndex % updates_.size();
   std::memcpy(&lastTally_, tallyReadbacks_[currentFrame_].mapped(), sizeof(lastTally_));
   const float sharedShare = settings_.probeSharedChangeShare;
