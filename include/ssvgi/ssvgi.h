@@ -102,8 +102,10 @@ struct Settings {
   // about one probe in a hundred. 0: off (each probe on its own). Needs probeChangeThreshold.
   float probeSharedChangeShare = 0.125f;
   // The ray budget goes to the probes that change (SPEC §6.2): a probe whose history has reached probeHistoryCap and
-  // that follows no change (no recovery under way) is traced on one in this many updates of its level, its turn set by
-  // its place in the world; every probe is traced on the frames that start a shared recovery. 1: every update.
+  // that follows no change (no recovery under way, no drift in its last updates) is traced on one in this many updates
+  // of its level, its turn set by its place in the world; every probe is traced on the frames that start a shared
+  // recovery. 1: every update. In a still view, once settled, about a third fewer probes are traced a frame
+  // (docs/PERFORMANCE.md, "Settled probes sit out").
   uint32_t settledProbeInterval = 2;
   // Unknown is not sky (SPEC §6.4): ssvgi keeps which brick cells of its volume the camera and the extra views have
   // seen through or into. A probe ray that meets no voxel after crossing one no view has observed has found neither
