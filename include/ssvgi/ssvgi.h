@@ -104,7 +104,7 @@ struct Settings {
   // The ray budget goes to the probes that change (SPEC §6.2): a probe whose history has reached probeHistoryCap and
   // that follows no change (no recovery under way, no drift in its last updates) is traced on one in this many updates
   // of its level, its turn set by its place in the world; every probe is traced on the frames that start a shared
-  // recovery. 1: every update. In a still view, once settled, about a third fewer probes are traced a frame
+  // recovery. 1: every update. In a still view, once settled, a fifth to a third fewer probes are traced a frame
   // (docs/PERFORMANCE.md, "Settled probes sit out").
   uint32_t settledProbeInterval = 2;
   // Unknown is not sky (SPEC §6.4): ssvgi keeps which brick cells of its volume the camera and the extra views have
