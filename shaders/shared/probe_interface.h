@@ -152,6 +152,12 @@ SSVGI_INLINE ivec3 probeWorldCoordinate(uint slotIndex, ivec3 origin, ivec3 dime
   return origin + wrapCoordinate(slot - origin, dimensions);
 }
 
+// Whether a slot holds this world probe, traced at least once: its history, offset and placement are this probe's (a
+// slot that scrolled to another probe is stale).
+SSVGI_INLINE bool probeSlotHolds(Probe probe, ivec3 worldProbe) {
+  return probePlacement(probe.state) != kProbeStateNeverTraced && probeHoldsCoordinate(probe, worldProbe);
+}
+
 // Whether a probe's radiance may be read — by a gather, by a finer level starting a new probe, by ProbeDilate: the
 // slot holds this world probe (its tag), the probe is active (not inside geometry) and it has been traced since it
 // last started afresh (m > 0; a probe just moved by its virtual offset still holds what it saw from inside).

@@ -63,7 +63,7 @@ void main() {
     if (any(lessThan(cell, first)) || any(greaterThanEqual(cell, first + dimensions))) break;
     Probe probe = probes[probeSlotIndex(cell, dimensions)];  // level 0 comes first in the buffer
     uint state = probe.state;
-    if (probeHoldsCoordinate(probe, cell) && probePlacement(state) != kProbeStateNeverTraced) {
+    if (probeSlotHolds(probe, cell)) {
       vec3 centre = probeWorldPosition(cell, spacing, state);
       float t = intersectSphere(origin, direction, centre, kSphereRadiusSpacings * spacing);
       if (t > 0.0 && t < nearest) {

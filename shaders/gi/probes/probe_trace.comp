@@ -305,8 +305,7 @@ ListedProbe readProbe(uint probeIndex) {
       probeWorldCoordinate(probeIndex % uint(update.probesPerLevel), update.originProbe, update.probesPerAxis);
   probe.stored = probes[probeIndex];
   uint state = probe.stored.state;
-  bool ownsSlot =
-      probePlacement(state) != kProbeStateNeverTraced && probeHoldsCoordinate(probe.stored, probe.coordinate);
+  bool ownsSlot = probeSlotHolds(probe.stored, probe.coordinate);
   probe.historyCount = ownsSlot ? probeHistoryCount(state) : 0u;
   probe.history = probe.historyCount > 0u ? probeRadianceSh(probe.stored) : sh2Zero();
   probe.firstDirection = ownsSlot ? probeNextDirection(state) : 0u;
