@@ -12,7 +12,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
-#include <fstream>
 #include <map>
 #include <memory>
 #include <string>
@@ -176,19 +175,8 @@ int runBench(const BenchOptions& options) {
   renderer.render(state);
   report["work"] = workJson(*renderer.giStats(), options.frames, renderer.extraViews().size());
 
-  const std::string json = report.dump(2);
-  if (options.out.empty()) {
-    std::printf("%s\n", json.c_str());
-  } else {
-    std::ofstream file(options.out);
-    if (!(file << json << "\n")) throw std::runtime_error("--out " + options.out + ": cannot write the file");
-    std::printf("wrote %s on %s\n", options.out.c_str(), device.description().c_str());
-  }
-  if (options.scene.validation && device.validationErrorCount() > 0) {
-    std::fprintf(stderr, "ssvgi: %u Vulkan validation errors\n", device.validationErrorCount());
-    return 1;
-  }
-  return 0;
+  writeJsonReport(report, options.out, device);
+  return reportValidationErrors(options.scene, device) ? 1 : 0;
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <fstream>
 #include <stdexcept>
 
 namespace ssvgi::cli {
@@ -58,6 +59,17 @@ nlohmann::json sceneStats(const gpu::OwnedDevice& device, const SceneOptions& op
   }
   stats["memoryBytes"] = {{"resources", memory}, {"total", total}};
   return stats;
+}
+
+void writeJsonReport(const nlohmann::json& report, const std::string& out, const gpu::OwnedDevice& device) {
+  const std::string json = report.dump(2);
+  if (out.empty()) {
+    std::printf("%s\n", json.c_str());
+    return;
+  }
+  std::ofstream file(out);
+  if (!(file << json << "\n")) throw std::runtime_error("--out " + out + ": cannot write the file");
+  std::printf("wrote %s on %s\n", out.c_str(), device.description().c_str());
 }
 
 void drawProgress(const std::string& label, uint32_t done, uint32_t total) {

@@ -47,6 +47,10 @@ inline constexpr const char* kRenderedFileList =
 // The stats every such command reports: device, scene, image size, scene size, memory per named GPU resource.
 nlohmann::json sceneStats(const gpu::OwnedDevice& device, const SceneOptions& options, const ResolvedScene& resolved);
 
+// A JSON report (bench, scenario): printed on stdout where `out` is empty, else written to the file `out` with a line
+// saying so. Throws std::runtime_error naming --out when the file cannot be written.
+void writeJsonReport(const nlohmann::json& report, const std::string& out, const gpu::OwnedDevice& device);
+
 // A progress bar on stderr, redrawn in place; nothing when stderr is not a terminal.
 void drawProgress(const std::string& label, uint32_t done, uint32_t total);
 

@@ -76,10 +76,7 @@ int runReference(const ReferenceOptions& options) {
                                      tracer.albedo(), tracer.normal(), tracer.viewDistance(), tracer.tonemapped()},
                       stats);
 
-  if (options.scene.validation && device.validationErrorCount() > 0) {
-    std::fprintf(stderr, "ssvgi: %u Vulkan validation errors\n", device.validationErrorCount());
-    return 1;
-  }
+  if (reportValidationErrors(options.scene, device)) return 1;
   std::printf("wrote %s (%s): %u samples per pixel in %.1f s (%.3g paths/s) on %s\n", options.out.c_str(),
               kRenderedFileList, tracer.samplesPerPixel(), traceSeconds, paths / traceSeconds,
               device.description().c_str());

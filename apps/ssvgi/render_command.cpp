@@ -97,10 +97,7 @@ int runRender(const RenderOptions& options) {
   }
   writeRenderedImages(options.out, images, stats);
 
-  if (options.scene.validation && device.validationErrorCount() > 0) {
-    std::fprintf(stderr, "ssvgi: %u Vulkan validation errors\n", device.validationErrorCount());
-    return 1;
-  }
+  if (reportValidationErrors(options.scene, device)) return 1;
   std::printf("wrote %s (%s, confidence.exr) on %s\n", options.out.c_str(), kRenderedFileList,
               device.description().c_str());
   return 0;

@@ -1,12 +1,12 @@
 #include "scenario_command.h"
 
+#include "output_files.h"
+
 #include <array>
 #include <chrono>
 #include <cstdio>
-#include <fstream>
 #include <map>
 #include <memory>
-#include <stdexcept>
 
 namespace ssvgi::cli {
 
@@ -57,19 +57,8 @@ int runScenario(const std::string& name, const ScenarioOptions& options, const S
                            {"memoryBudgetBytes", rendering.giMemoryBudgetBytes},
                            {"seconds", seconds.count()}};
   report.update(figures);
-  const std::string json = report.dump(2);
-  if (options.out.empty()) {
-    std::printf("%s\n", json.c_str());
-  } else {
-    std::ofstream file(options.out);
-    if (!(file << json << "\n")) throw std::runtime_error("--out " + options.out + ": cannot write the file");
-    std::printf("wrote %s on %s\n", options.out.c_str(), device.description().c_str());
-  }
-  if (options.scene.validation && device.validationErrorCount() > 0) {
-    std::fprintf(stderr, "ssvgi: %u Vulkan validation errors\n", device.validationErrorCount());
-    return 1;
-  }
-  return 0;
+  writeJsonReport(report, options.out, device);
+  return reportValidationErrors(options.scene, device) ? 1 : 0;
 }
 
 CommandRunner addScenarioCommand(CLI::App& app) {

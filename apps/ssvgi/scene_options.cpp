@@ -91,6 +91,12 @@ gpu::OwnedDevice openDevice(const gpu::DeviceDesc& desc) {
   }
 }
 
+bool reportValidationErrors(const SceneOptions& options, const gpu::OwnedDevice& device) {
+  if (!options.validation || device.validationErrorCount() == 0) return false;
+  std::fprintf(stderr, "ssvgi: %u Vulkan validation errors\n", device.validationErrorCount());
+  return true;
+}
+
 renderer::Camera parseCamera(const std::string& text, const std::string& option, renderer::Camera camera) {
   const auto v = parseNumbers(text, 7, option);
   camera.position = {v[0], v[1], v[2]};

@@ -38,6 +38,10 @@ void addSceneOptions(CLI::App& command, SceneOptions& options);
 // --device's problem.
 gpu::OwnedDevice openDevice(const gpu::DeviceDesc& desc);
 
+// Whether --validation was given and the layers reported errors, saying how many on stderr: the commands then exit
+// with 1 (their outputs are written, for a look at what went wrong).
+bool reportValidationErrors(const SceneOptions& options, const gpu::OwnedDevice& device);
+
 // CLI11 checks for numbers that refuse NaN and infinities (CLI::Range lets NaN through: every comparison with it is
 // false) and say their bound in a few characters (CLI::NonNegativeNumber prints the largest double, 309 digits).
 inline CLI::Validator finiteNumber(double lowest, bool lowestAllowed, const std::string& name) {

@@ -302,10 +302,7 @@ int Viewer::run() {
     if (scripted() && frame_ + 1 == options_.frames && !options_.screenshot.empty()) screenshotRequested_ = true;
     drawFrame(seconds);
   }
-  if (options_.scene.validation && device_.validationErrorCount() > 0) {
-    std::fprintf(stderr, "ssvgi: %u Vulkan validation errors\n", device_.validationErrorCount());
-    return 1;
-  }
+  if (reportValidationErrors(options_.scene, device_)) return 1;
   if (scripted()) {
     const PanelRect panel = viewerPanelRect(size());
     std::printf("rendered %u frames of %s at %ux%u on %s", frame_, resolved_.scene.name.c_str(), resolved_.width,
