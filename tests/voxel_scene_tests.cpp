@@ -1318,6 +1318,76 @@ TEST_F(VoxelScene, theHighTierVoxelSceneFitsTheMemoryBudget) {
   EXPECT_EQ(stats.brickPoolCapacity, 11776u);
 }
 
+// The volume is flat; from high above, looking down, a volume centred on the camera would hold none of what it sees.
+TEST_F(VoxelScene, aCameraHighAboveTheFloorItLooksDownAtHasTheVolumeStandLowEnoughToHoldTheFloor) {
+  Settings settings = smallSettings();
+  settings.volumeBricks = {16, 24, 16};  // 6 steps of 4 m
+  create(settings);
+  // The camera's step is y ∈ [16, 20) m: centred, the volume spans y ∈ [4, 28) m, 4 m above the floor (y = 0.1 m).
+  const HostFrame high(device(), lookingDown({0.5f, 18.1f, 0.5f}), {kFloor});
+  dispatch(high, &high);
+  const gi::VoxelScene& scene = gi::voxelSceneOf(*context_);
+  EXPECT_EQ(scene.current().originBrick.y, 4) << "the first frame, nothing measured yet: centred";
+  run(high, 4);  // the heights the first frames measured are read back two frames later (framesInFlight)
+  EXPECT_EQ(scene.current().originBrick.y, 0) << "the placement nearest to centred that holds the floor";
+  EXPECT_EQ(scene.current().verticalShiftBricks, -4);
+  const std::map<testing::VoxelCoordinate, shader::Voxel> occupied = occupiedVoxels(readState());
+  ASSERT_FALSE(occupied.empty()) << "the floor has voxels";
+  for (const auto& [coordinate, voxel] : occupied) EXPECT_EQ(std::get<1>(coordinate), 0);
+
+  // Down at 2.1 m the volume still holds all the camera sees, and stays; seen from a camera 38 m up, which no volume
+  // 24 m tall both holds and sees the floor from, it holds the floor.
+  run(HostFrame(device(), lookingDown({0.5f, 2.1f, 0.5f}), {kFloor}), 4);
+  EXPECT_EQ(scene.current().originBrick.y, 0);
+  EXPECT_EQ(scene.current().verticalShiftBricks, 12);
+  run(HostFrame(device(), lookingDown({0.5f, 38.1f, 0.5f}), {kFloor}), 4);
+  EXPECT_EQ(scene.current().originBrick.y, 0);
+}
+
+TEST(VolumeBottomStep, holdsTheMostPixelsNearestToCentredAndStaysWhileItHoldsNearlyAsMany) {
+  // Twelve steps (high tier), the camera's step 7; bands counted around step 7 (band 32).
+  std::array<uint32_t, shader::kSurfaceHeightBands> bands{};
+  constexpr int kCamera = 7, kSteps = 12;
+  constexpr int kCentred = kCamera - kSteps / 2;
+  const auto bandOf = [](int step) { return size_t(step - kCamera + int(shader::kSurfaceHeightBands / 2)); };
+  // Nothing seen: where it stands.
+  EXPECT_EQ(gi::volumeBottomStep(bands, kCamera, kCamera, kSteps, kCentred + 2), kCentred + 2);
+  EXPECT_EQ(gi::volumeBottomStep(bands, kCamera, kCamera, kSteps, kCamera + 20), kCamera + 20);
+  // Everything seen within the centred volume: it stays centred.
+  bands[bandOf(2)] = 1000;
+  bands[bandOf(8)] = 200;
+  EXPECT_EQ(gi::volumeBottomStep(bands, kCamera, kCamera, kSteps, kCentred), kCentred);
+  // The ground (held a hair below y = 0: step -1) and roofs at step 3, 8 and 4 steps below the camera: the bottom
+  // nearest to centred among those that hold both.
+  bands = {};
+  bands[bandOf(-1)] = 900;
+  bands[bandOf(3)] = 100;
+  EXPECT_EQ(gi::volumeBottomStep(bands, kCamera, kCamera, kSteps, kCentred), -1);
+  // A camera further above the ground than the volume is tall: the volume holds the ground, not the camera.
+  bands = {};
+  bands[bandOf(-6)] = 900;
+  EXPECT_EQ(gi::volumeBottomStep(bands, kCamera, kCamera, kSteps, kCentred), -6);
+  // The end bands, everything beyond, are held by none.
+  bands = {};
+  bands[0] = 1000;
+  bands[bands.size() - 1] = 1000;
+  bands[bandOf(2)] = 10;
+  EXPECT_EQ(gi::volumeBottomStep(bands, kCamera, kCamera, kSteps, kCentred), kCentred);
+  // A placement that holds all but 1 % of what the best holds stays; one that holds 5 % less moves.
+  bands = {};
+  bands[bandOf(-1)] = 50;
+  bands[bandOf(0)] = 4950;
+  EXPECT_EQ(gi::volumeBottomStep(bands, kCamera, kCamera, kSteps, 0), 0);
+  bands[bandOf(-1)] = 250;
+  bands[bandOf(0)] = 4750;
+  EXPECT_EQ(gi::volumeBottomStep(bands, kCamera, kCamera, kSteps, 0), -1);
+  // The bands measured when the camera stood elsewhere are read at their own steps: measured around step 9, the
+  // ground's band there is 10 below the middle.
+  bands = {};
+  bands[size_t(-1 - 9 + int(shader::kSurfaceHeightBands / 2))] = 900;
+  EXPECT_EQ(gi::volumeBottomStep(bands, 9, kCamera, kSteps, kCentred), -1);
+}
+
 // A description of the shared test device with default settings.
 ContextDesc testDeviceDesc() {
   gpu::OwnedDevice& device = testing::gpuTestDevice();

@@ -470,7 +470,7 @@ class VoxelSceneTest : public testing::GpuTest {
     GpuTest::SetUp();
     scene_ = std::make_unique<gi::VoxelScene>(device(), volumeSettings(), 1);
     bool scrolled = false;
-    cpu_ = std::make_unique<CpuVoxelScene>(scene_->place(kCameraPosition, 0, false, scrolled));
+    cpu_ = std::make_unique<CpuVoxelScene>(scene_->place(kCameraPosition, nullptr, 0, false, scrolled));
   }
 
   // Writes the CPU scene into the VoxelScene's buffers, with every grid word set to `gridFill`.

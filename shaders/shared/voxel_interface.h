@@ -69,7 +69,10 @@ struct VoxelVolume {
   ivec3 previousOriginBrick;    // originBrick of the last frame (VolumeScroll forgets what scrolled in)
   uint skyOnlyThroughObservedSpace;  // 1: probe rays see the sky only through observed space (Settings::…)
   uint countsWork;              // 1: the passes count their work this frame (WorkCounters)
-  uint padding;                 // puts the uvec2 below on its 8-byte boundary
+  // Bricks the volume stands above (negative: below) the placement centred on the camera's step, moved toward the
+  // surfaces the camera sees (VoxelScene::place); volumeViewpoint() takes it off again. Puts the uvec2 below on its
+  // 8-byte boundary.
+  int verticalShiftBricks;
   uvec2 localGridWordOffsets;   // the first uint of occupancy levels 5, 6 (cells counted from the volume's corner)
 };
 SSVGI_CHECK_SIZE(VoxelVolume, 96);
@@ -95,6 +98,12 @@ struct Brick {
 };
 SSVGI_CHECK_SIZE(Brick, 48);
 
+// BrickAllocate counts the surface pixels of the camera by their height, in bands one scroll step (kScrollStepBricks
+// bricks) tall, the camera's step in the middle band (kSurfaceHeightBands / 2) and those further away in the end
+// bands: where the volume's few steps of height (12 at high tier, against 32 across) are best spent
+// (VoxelScene::place). 64 bands cover every placement of a volume up to 32 steps tall that holds the camera.
+SSVGI_CONSTANT(uint, kSurfaceHeightBands, 64u);
+
 // Allocation state of the pool, plus this frame's counters (reset at the start of every frame). Followed in its
 // buffer by the free list: brickPoolCapacity pool indices, the first freeCount of them free.
 struct BrickPoolState {
@@ -107,8 +116,9 @@ struct BrickPoolState {
   uint visibleThisFrame;    // bricks listed by BrickCulling for injection, summed over the views
   uint voxelsValid;         // occupied voxels of all live bricks, counted by the camera's BrickCulling (after the
                             // extra views' injection, before the lit frame's)
+  uint surfacePixelsByHeight[kSurfaceHeightBands];  // the camera's pixels BrickAllocate read, by height band
 };
-SSVGI_CHECK_SIZE(BrickPoolState, 32);
+SSVGI_CHECK_SIZE(BrickPoolState, 32 + 4 * 64);
 
 // A list built by atomic appends that a later pass consumes with vkCmdDispatchIndirect: the first appender of every
 // `groupSize` entries adds a workgroup, so the dispatch arguments are always ceil(count / groupSize) without a pass

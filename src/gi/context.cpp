@@ -18,6 +18,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <optional>
@@ -304,6 +305,7 @@ class ContextImplementation final : public Context {
     bool countsWork = false;
     uint32_t hizTexels = 0;
     uint32_t halfResolutionPixels = 0;
+    bool recorded = false;  // a frame has used the slot: statsReadback holds its pool state
   };
 
   // Stats::work of a frame: where it counted its work, the GPU's counters and the figures of the dispatch sizes.
@@ -451,8 +453,11 @@ class ContextImplementation final : public Context {
                                                 desc.frameIndex, cameraViewKind(desc), hizLevels);
     std::memcpy(slot.frameConstants.mapped(), &frame, sizeof(frame));
     bool scrolled = false;
-    const shader::VoxelVolume volume =
-        scene_.place(glm::vec3(frame.cameraPosition), desc.frameIndex, desc.countWork, scrolled);
+    // The slot's readback holds the pool state its last frame left, done by now (the host's frames in flight).
+    shader::BrickPoolState seen{};
+    if (slot.recorded) std::memcpy(&seen, slot.statsReadback.mapped(), sizeof(seen));
+    const shader::VoxelVolume volume = scene_.place(glm::vec3(frame.cameraPosition), slot.recorded ? &seen : nullptr,
+                                                    desc.frameIndex, desc.countWork, scrolled);
     const gi::OfferedProbeBlocks probeBlocks = probes_.prepare(desc.frameIndex, glm::vec3(frame.cameraPosition),
                                                        frame.frustumPlanes, desc.skyRadianceSh,
                                                        desc.skyRadianceMap.view != VK_NULL_HANDLE, volume);
@@ -486,10 +491,11 @@ class ContextImplementation final : public Context {
         commands.fillBuffer(probes_.changes(), 0);
         initialised_ = true;
       }
-      // This frame's counters and the two lists start empty (dispatch arguments {0, 1, 1}).
-      const uint32_t zeroCounters[5] = {};
-      commands.updateBuffer(scene_.poolState(), offsetof(shader::BrickPoolState, droppedThisFrame), zeroCounters,
-                            sizeof(zeroCounters));
+      // This frame's counters (the pool state's from droppedThisFrame on) and the two lists start empty (dispatch
+      // arguments {0, 1, 1}).
+      constexpr size_t kFrameCountersOffset = offsetof(shader::BrickPoolState, droppedThisFrame);
+      const std::array<uint32_t, (sizeof(shader::BrickPoolState) - kFrameCountersOffset) / 4> zeroCounters{};
+      commands.updateBuffer(scene_.poolState(), kFrameCountersOffset, zeroCounters.data(), sizeof(zeroCounters));
       if (desc.countWork) {
         // The passes add to the counters untracked (gpu::Bindings::accumulator): all of them after the clear.
         commands.fillBuffer(scene_.workCounters(), 0);
@@ -568,6 +574,7 @@ class ContextImplementation final : public Context {
     }
     commands.flushBarriers();
     lastSlot_ = slotIndex;
+    slot.recorded = true;
     lastCameraPosition_ = glm::vec3(frame.cameraPosition);
     dispatched_ = true;
   }
@@ -600,7 +607,7 @@ class ContextImplementation final : public Context {
   gi::VoxelDebugView voxelDebugView_;
   gi::ProbeDebugView probeDebugView_;
   gi::ConfidenceDebugView confidenceDebugView_;
-  glm::vec3 lastCameraPosition_{0.0f};  // where the last dispatch centred the voxel and probe volumes
+  glm::vec3 lastCameraPosition_{0.0f};  // where the last dispatch centred the probe volume
   uint32_t lastSlot_ = 0;
   bool dispatched_ = false;
   bool initialised_ = false;

@@ -35,7 +35,7 @@ layout(binding = kBindInjectionBricks) readonly buffer VisibleBricks {
 mat4 litViewProjection;
 mat4 litInverseViewProjection;
 float voxelSize;
-vec3 volumeMiddlePoint;
+vec3 viewpoint;
 
 // What a voxel the view writes takes from its pixel: for a view whose colour is all of its light, that light, an extra
 // view's averaged with what the voxel held (kVoxelExtraViewRadianceBlend); for a view lit by direct light only, that
@@ -97,7 +97,7 @@ ViewSample viewSampleAt(ivec2 texel, vec2 litSize) {
   if (seen.depth <= 0.0) return seen;
   seen.surface = reconstructPosition(litInverseViewProjection, vec2(texel), litSize, seen.depth);
   seen.normal = normalize(texelFetch(litNormal, texel, 0).xyz);
-  seen.held = heldSurfacePoint(seen.surface, seen.normal, volumeMiddlePoint, voxelSize);
+  seen.held = heldSurfacePoint(seen.surface, seen.normal, viewpoint, voxelSize);
   return seen;
 }
 
@@ -131,12 +131,12 @@ bool sightCrossesVoxel(ViewSample seen, vec3 voxelMin, vec2 litSize, float margi
 }
 
 // Valid (SPEC §4.3): the surface seen lies inside the voxel. A wall one voxel thick, seen from inside by the camera and
-// from outside by the sun, puts two opposite faces in the same voxels. A voxel holds one: the face towards the middle
-// of the voxel volume, where the camera is — the side its surroundings see — rather than flipping between the two with
+// from outside by the sun, puts two opposite faces in the same voxels. A voxel holds one: the face towards the camera's
+// viewpoint (volumeViewpoint) — the side its surroundings see — rather than flipping between the two with
 // the views (the dark room's walls turned black from inside, and flickered: QUALITY.md, "Views beyond the camera").
 bool holdsSeenSurface(ViewSample seen, vec3 voxelMin, bool occupied, vec3 storedNormal) {
   bool turnsSurfaceAround = occupied && dot(storedNormal, seen.normal) < 0.0 &&
-                            dot(seen.normal, volumeMiddlePoint - (voxelMin + 0.5 * voxelSize)) <= 0.0;
+                            dot(seen.normal, viewpoint - (voxelMin + 0.5 * voxelSize)) <= 0.0;
   return seen.depth > 0.0 && !turnsSurfaceAround && all(greaterThanEqual(seen.held, voxelMin)) &&
          all(lessThan(seen.held, voxelMin + voxelSize));
 }
@@ -277,7 +277,7 @@ void main() {
   litViewProjection = frame.litViewProjection;
   litInverseViewProjection = frame.litInverseViewProjection;
   voxelSize = volume.voxelSize;
-  volumeMiddlePoint = volumeMiddle();
+  viewpoint = volumeViewpoint();
   uint brick = visibleBricks[gl_WorkGroupID.x];
   uint voxelIndex = gl_LocalInvocationID.x;
   uvec3 voxelInBrick = uvec3(voxelIndex & 3u, (voxelIndex >> 2u) & 3u, voxelIndex >> 4u);

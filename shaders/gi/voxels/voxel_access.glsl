@@ -45,26 +45,30 @@ ivec3 worldBrickOfCell(uint cell) {
 // The world brick containing a world position.
 ivec3 worldBrickOf(vec3 position) { return ivec3(floor(position * volume.bricksPerMetre)); }
 
-// The middle of the voxel volume, where the camera is.
-vec3 volumeMiddle() { return (vec3(volume.originBrick) + 0.5 * vec3(volume.dimensionsBricks)) * volume.brickSize; }
+// The corner of the scroll step under the camera, which the volume is placed around: its middle, unless the volume
+// stands higher or lower to hold more of what the camera sees (VoxelVolume::verticalShiftBricks).
+ivec3 volumeViewpointBrick() {
+  return volume.originBrick + volume.dimensionsBricks / 2 - ivec3(0, volume.verticalShiftBricks, 0);
+}
+vec3 volumeViewpoint() { return vec3(volumeViewpointBrick()) * volume.brickSize; }
 
 // The point of the voxel scene that holds a surface point seen at a pixel (BrickAllocate, SceneVoxelization): a hair
-// off the surface along its normal, on the side away from the volume's middle. A surface on a voxel boundary (a wall on
-// the grid) then lands in one voxel rather than in either by rounding. A face towards the middle — what the camera
-// sees — lands on its solid side, behind it, so its voxels do not spread into the free side. A face turned away from
-// the middle (a roof seen by the sun) lands a hair in front of it, on that same side: the two faces of a surface with
-// no thickness on a boundary (a ceiling made of one plane) meet in one voxel, which keeps the face towards the middle
-// (SceneVoxelization), instead of the outer face lying in the voxel in front of the inner one, where the rays from
-// inside met its back and found it black (docs/QUALITY.md, "A plane's two faces"). A surface whose plane passes
-// within half a voxel of the middle counts as facing it: the middle lies on the grid (a ground at y = 0 holds it), and
-// its side must not flip with the depth's rounding from one pixel to the next.
-vec3 heldSurfacePoint(vec3 surface, vec3 normal, vec3 middle, float voxelSize) {
-  float behind = dot(normal, middle - surface) < -0.5 * voxelSize ? -1.0 : 1.0;
+// off the surface along its normal, on the side away from the viewpoint (volumeViewpoint). A surface on a voxel
+// boundary (a wall on the grid) then lands in one voxel rather than in either by rounding. A face towards the
+// viewpoint — what the camera sees — lands on its solid side, behind it, so its voxels do not spread into the free
+// side. A face turned away from it (a roof seen by the sun) lands a hair in front of it, on that same side: the two
+// faces of a surface with no thickness on a boundary (a ceiling made of one plane) meet in one voxel, which keeps the
+// face towards the viewpoint (SceneVoxelization), instead of the outer face lying in the voxel in front of the inner
+// one, where the rays from inside met its back and found it black (docs/QUALITY.md, "A plane's two faces"). A surface
+// whose plane passes within half a voxel of the viewpoint counts as facing it: the viewpoint lies on the grid (a
+// ground at y = 0 holds it), and its side must not flip with the depth's rounding from one pixel to the next.
+vec3 heldSurfacePoint(vec3 surface, vec3 normal, vec3 viewpoint, float voxelSize) {
+  float behind = dot(normal, viewpoint - surface) < -0.5 * voxelSize ? -1.0 : 1.0;
   return surface - normal * (behind * 0.01 * voxelSize);
 }
 
 vec3 heldSurfacePoint(vec3 surface, vec3 normal) {
-  return heldSurfacePoint(surface, normal, volumeMiddle(), volume.voxelSize);
+  return heldSurfacePoint(surface, normal, volumeViewpoint(), volume.voxelSize);
 }
 
 // The bit index of the n-th set bit of a 32-bit word (n < bitCount(word)), by halving: 5 steps.

@@ -4,6 +4,8 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <cstdlib>
 #include <cstring>
 
 namespace ssvgi::gi {
@@ -74,6 +76,7 @@ VoxelScene::VoxelScene(gpu::Device& device, const Settings& settings, uint32_t f
   for (uint32_t i = 0; i < framesInFlight; ++i)
     volumes_.emplace_back(device, "ssvgi voxel volume", bytes.volume, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                           gpu::MemoryUsage::HostUpload);
+  slotViewpointStep_.resize(framesInFlight);
   current_.dimensionsBricks = glm::ivec3(volumeBricksOf(settings));
   current_.brickPoolCapacity = settings.brickPoolCapacity;
   current_.voxelSize = settings.voxelSize;
@@ -115,23 +118,62 @@ uint32_t VoxelScene::cellCount() const {
   return settings_.volumeBricks[0] * settings_.volumeBricks[1] * settings_.volumeBricks[2];
 }
 
-shader::VoxelVolume VoxelScene::place(glm::vec3 cameraPosition, uint32_t frameIndex, bool countsWork,
-                                      bool& scrolled) {
+int volumeBottomStep(std::span<const uint32_t> pixelsByBand, int bandsViewpointStep, int cameraStep, int volumeSteps,
+                     int currentBottomStep) {
+  const int centred = cameraStep - volumeSteps / 2;
+  const int firstBandStep = bandsViewpointStep - int(pixelsByBand.size() / 2);
+  const auto pixelsHeld = [&](int bottomStep) {
+    uint64_t held = 0;
+    for (size_t band = 1; band + 1 < pixelsByBand.size(); ++band) {
+      const int step = firstBandStep + int(band);
+      if (step >= bottomStep && step < bottomStep + volumeSteps) held += pixelsByBand[band];
+    }
+    return held;
+  };
+  uint64_t total = 0;
+  for (const uint32_t pixels : pixelsByBand) total += pixels;
+  int best = centred;
+  uint64_t bestHeld = pixelsHeld(centred);
+  const int lastBandStep = firstBandStep + int(pixelsByBand.size()) - 1;
+  for (int bottom = firstBandStep + 2 - volumeSteps; bottom < lastBandStep; ++bottom) {  // those that hold a band
+    const uint64_t held = pixelsHeld(bottom);
+    if (held > bestHeld || (held == bestHeld && std::abs(bottom - centred) < std::abs(best - centred))) {
+      best = bottom;
+      bestHeld = held;
+    }
+  }
+  if (double(pixelsHeld(currentBottomStep)) >= double(bestHeld) - kVolumePlacementSlack * double(total))
+    return currentBottomStep;
+  return best;
+}
+
+shader::VoxelVolume VoxelScene::place(glm::vec3 cameraPosition, const shader::BrickPoolState* seen,
+                                      uint32_t frameIndex, bool countsWork, bool& scrolled) {
   const glm::ivec3 dimensions = current_.dimensionsBricks;
   const float brickSize = current_.brickSize;
   const int step = shader::kScrollStepBricks;
+  currentVolume_ = frameIndex % volumes_.size();
   // The step-aligned brick under the camera, minus half the volume (itself a multiple of the step: dimensions are
-  // multiples of 2 × step).
-  const glm::ivec3 cameraBrick = glm::ivec3(glm::floor(cameraPosition / (brickSize * float(step)))) * step;
-  const glm::ivec3 origin = cameraBrick - dimensions / 2;
+  // multiples of 2 × step); then as high as the surfaces the camera saw ask for (none seen: where it stood, if that
+  // still fits the camera).
+  const glm::ivec3 cameraStep = glm::ivec3(glm::floor(cameraPosition / (brickSize * float(step))));
+  glm::ivec3 origin = cameraStep * step - dimensions / 2;
+  const std::span<const uint32_t> seenHeights =
+      seen ? std::span<const uint32_t>(seen->surfacePixelsByHeight) : std::span<const uint32_t>();
+  if (placed_)
+    origin.y = step * volumeBottomStep(seenHeights, slotViewpointStep_[currentVolume_], cameraStep.y,
+                                       dimensions.y / step, current_.originBrick.y / step);
+  slotViewpointStep_[currentVolume_] = cameraStep.y;
   scrolled = !placed_ || origin != current_.originBrick;
   current_.previousOriginBrick = placed_ ? current_.originBrick : origin;
   placed_ = true;
   current_.originBrick = origin;
+  current_.verticalShiftBricks = origin.y + dimensions.y / 2 - cameraStep.y * step;
   current_.countsWork = countsWork ? 1u : 0u;
-  currentVolume_ = frameIndex % volumes_.size();
   std::memcpy(volumes_[currentVolume_].mapped(), &current_, sizeof(current_));
   return current_;
 }
+
+
 
 }  // namespace ssvgi::gi

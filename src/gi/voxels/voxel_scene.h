@@ -6,9 +6,21 @@
 
 #include <glm/glm.hpp>
 
+#include <span>
 #include <vector>
 
 namespace ssvgi::gi {
+
+// The lowest scroll step (kScrollStepBricks bricks) of a volume `volumeSteps` steps tall that holds the most of the
+// surface pixels the camera saw — `pixelsByBand`, BrickPoolState::surfacePixelsByHeight, whose middle band is the step
+// `bandsViewpointStep`; the end bands, which hold everything beyond, are held by none. The volume is flat (at high
+// tier 12 steps tall, 32 across): a camera higher above the ground than half of that, looking down, sees the ground
+// outside a volume centred on it. Where `currentBottomStep` holds all but kVolumePlacementSlack of the pixels the best
+// placement holds, it stays, so that the volume does not scroll back and forth with the camera's small moves; among
+// equals, the one nearest to centred on the camera's step `cameraStep`.
+inline constexpr float kVolumePlacementSlack = 0.02f;  // of the pixels counted
+int volumeBottomStep(std::span<const uint32_t> pixelsByBand, int bandsViewpointStep, int cameraStep, int volumeSteps,
+                     int currentBottomStep);
 
 class VoxelScene {
  public:
@@ -16,10 +28,14 @@ class VoxelScene {
   // The bytes the constructor allocates for these arguments, without allocating them (the memory budget's count).
   static VkDeviceSize bytes(const Settings& settings, uint32_t framesInFlight);
 
-  // Where the volume stands this frame: centred on the camera, its origin moving in kScrollStepBricks steps; and
-  // whether the frame's passes count their work (VoxelVolume::countsWork). Returns the volume description to upload;
-  // `scrolled` tells whether the origin moved since the last call.
-  shader::VoxelVolume place(glm::vec3 cameraPosition, uint32_t frameIndex, bool countsWork, bool& scrolled);
+  // Where the volume stands this frame, its origin moving in kScrollStepBricks steps: centred on the camera across,
+  // and as high as holds the most of the surfaces the camera saw (volumeBottomStep) — `seen`, the pool state read back
+  // from the frame that last used this frame's slot (frame index modulo framesInFlight), nullptr where none has;
+  // where it stood until then (centred at first). Also whether the frame's passes count their work
+  // (VoxelVolume::countsWork). Returns the volume description to upload; `scrolled` tells whether the origin moved
+  // since the last call.
+  shader::VoxelVolume place(glm::vec3 cameraPosition, const shader::BrickPoolState* seen, uint32_t frameIndex,
+                            bool countsWork, bool& scrolled);
 
   // This frame's VoxelVolume uniform buffer: one per frame in flight, so the host may write the next frame's while the
   // GPU still reads the last.
@@ -59,6 +75,8 @@ class VoxelScene {
   gpu::Buffer workCounters_;
   shader::VoxelVolume current_{};
   bool placed_ = false;
+  // The camera's scroll step in each volume slot's frame: the middle band of the heights measured in it.
+  std::vector<int> slotViewpointStep_;
 };
 
 }  // namespace ssvgi::gi
