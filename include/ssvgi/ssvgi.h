@@ -182,6 +182,12 @@ struct ContextDesc {
 // A column-major 4×4 matrix (glm's and GLSL's layout).
 using Matrix4 = std::array<float, 16>;
 
+// An axis-aligned box in world space, metres.
+struct WorldBox {
+  std::array<float, 3> min{};
+  std::array<float, 3> max{};
+};
+
 // How a frame was seen: reversed-Z view-projection (SPEC §2) and its size in pixels. dispatch() refuses a matrix that
 // is not finite or not invertible, and a position beyond ±1e6 m.
 struct View {
@@ -398,6 +404,12 @@ class Context {
   //     fraction blended over its updates as its light is, and upsampled with E's weights. It is not temporally
   //     filtered as E is: near a probe level's boundary it flickers a little from frame to frame.
   virtual OutputImage confidence() const = 0;
+
+  // Where the last dispatch() placed the voxel volume (SPEC §4.1), which holds what the GI knows of the scene: centred
+  // on FrameDesc::camera's position across, and as high as holds the most of the surfaces the camera saw (a camera
+  // high above the ground, looking down, has it stand lower); all zero before the first dispatch(). A host whose
+  // extra views are to cover the volume — an orthographic sun's view over it — aims them here.
+  virtual WorldBox voxelVolume() const = 0;
 
   // Records a debug view into `target`, an rgba32f storage image of the view's size that ssvgi leaves in
   // VK_IMAGE_LAYOUT_GENERAL (it must be in GENERAL or UNDEFINED before).
