@@ -145,8 +145,8 @@ uint32_t ExtraViews::maxViewSize() const {
   return size;
 }
 
-void ExtraViews::viewOf(const Source& source, const shader::FrameConstants& frame, glm::vec3 volumeCentre,
-                        glm::mat4& view, glm::mat4& projection) const {
+void ExtraViews::viewOf(const Source& source, const shader::FrameConstants& frame, glm::mat4& view,
+                        glm::mat4& projection) const {
   if (source.kind != Kind::Sun && source.kind != Kind::Overhead) {
     Camera camera;
     if (source.kind == Kind::Light) {
@@ -163,40 +163,40 @@ void ExtraViews::viewOf(const Source& source, const shader::FrameConstants& fram
     projection = reversedZInfiniteProjection(camera.verticalFov, 1.0f, camera.nearPlane);
     return;
   }
-  // Along the sun, over the voxel volume, its texels a voxel wide (or narrower where the volume's footprint is
-  // smaller than the view). Without a sun (none, or below the horizon) the view looks straight down: it still
-  // observes the open space above roofs and yards that the probes' rays cross to the sky (SPEC §6.4), and the
+  // Along the sun, over the voxel volume around the camera, its texels a voxel wide (or narrower where the volume's
+  // footprint is smaller than the view). Without a sun (none, or below the horizon) the view looks straight down: it
+  // still observes the open space above roofs and yards that the probes' rays cross to the sky (SPEC §6.4), and the
   // surfaces under the sky. The overhead view looks straight down over the whole volume, whatever its texels.
+  const glm::vec3 cameraPosition(frame.cameraPosition);
   if (source.kind == Kind::Overhead) {
-    orthographicOverVolume(glm::vec3(0.0f, 1.0f, 0.0f), volumeCentre, settings_.overheadViewSize,
+    orthographicOverVolume(glm::vec3(0.0f, 1.0f, 0.0f), cameraPosition, settings_.overheadViewSize,
                            std::numeric_limits<float>::infinity(), view, projection);
     return;
   }
   const glm::vec3 toSun =
       sunAboveHorizon(frame) ? glm::normalize(glm::vec3(frame.sunDirectionAndEnabled)) : glm::vec3(0.0f, 1.0f, 0.0f);
-  orthographicOverVolume(toSun, volumeCentre, settings_.sunViewSize, voxelSize_, view, projection);
+  orthographicOverVolume(toSun, cameraPosition, settings_.sunViewSize, voxelSize_, view, projection);
 }
 
-void ExtraViews::orthographicOverVolume(glm::vec3 toward, glm::vec3 volumeCentre, uint32_t size, float maxTexel,
+void ExtraViews::orthographicOverVolume(glm::vec3 toward, glm::vec3 cameraPosition, uint32_t size, float maxTexel,
                                         glm::mat4& view, glm::mat4& projection) const {
   // In the view's frame (rotation only) the volume's footprint is its box's extent across the view; the texels depend
   // only on the direction: snapping the view's centre to whole texels keeps the texel grid fixed in the world as the
   // camera moves, so that the view does not shimmer.
   const glm::mat4 rotation = glm::lookAtRH(glm::vec3(0.0f), -toward, upFor(toward));
-  // The volume moves in steps of kScrollStepBricks bricks, and may move one this frame: it may reach that much
-  // further.
+  // The volume re-centres in steps of kScrollStepBricks bricks: it reaches that much further from the camera.
   const glm::vec3 halfExtent =
       volumeHalfExtent_ + float(shader::kScrollStepBricks * shader::kBrickSizeVoxels) * voxelSize_;
   const glm::mat3 rows = glm::transpose(glm::mat3(rotation));  // rows[0], rows[1]: the view frame's x and y axes
   const glm::vec2 footprint(glm::dot(glm::abs(rows[0]), halfExtent), glm::dot(glm::abs(rows[1]), halfExtent));
   const float texel = std::min(maxTexel, 2.0f * std::max(footprint.x, footprint.y) / float(size));
-  const glm::vec3 centreInViewFrame = glm::vec3(rotation * glm::vec4(volumeCentre, 1.0f));
-  const glm::vec2 centre = glm::round(glm::vec2(centreInViewFrame) / texel) * texel;
+  const glm::vec3 cameraInViewFrame = glm::vec3(rotation * glm::vec4(cameraPosition, 1.0f));
+  const glm::vec2 centre = glm::round(glm::vec2(cameraInViewFrame) / texel) * texel;
   // Depth: the whole scene, so that whatever shades a surface from the sun lies inside the view, and — in front of
   // it — the whole voxel volume, so that the view observes all the open space its rays cross there (SPEC §6.4).
   float nearest = 1e30f, farthest = -1e30f;
-  const glm::vec3 volumeMin = volumeCentre - halfExtent;
-  const glm::vec3 volumeMax = volumeCentre + halfExtent;
+  const glm::vec3 volumeMin = cameraPosition - halfExtent;
+  const glm::vec3 volumeMax = cameraPosition + halfExtent;
   for (int corner = 0; corner < 8; ++corner) {
     const glm::vec3 point((corner & 1) ? sceneBounds_.max.x : sceneBounds_.min.x,
                           (corner & 2) ? sceneBounds_.max.y : sceneBounds_.min.y,
@@ -215,9 +215,8 @@ void ExtraViews::orthographicOverVolume(glm::vec3 toward, glm::vec3 volumeCentre
 }
 
 std::vector<ssvgi::ExtraView> ExtraViews::record(gpu::HostCommandList& commands, const shader::FrameConstants& frame,
-                                                 const ssvgi::WorldBox& giVolume, const GpuScene& scene,
-                                                 const gpu::Buffer& lights, const ShadowPass& shadows,
-                                                 VkSampler pointSampler) {
+                                                 const GpuScene& scene, const gpu::Buffer& lights,
+                                                 const ShadowPass& shadows, VkSampler pointSampler) {
   std::vector<ssvgi::ExtraView> views;
   if (sources_.empty()) return views;
   auto scope = commands.scope("renderer: ExtraViews");
@@ -226,12 +225,6 @@ std::vector<ssvgi::ExtraView> ExtraViews::record(gpu::HostCommandList& commands,
     cleared_ = true;
   }
   commands.use(noIndirect_, gpu::Usage::ComputeSampled);
-  // The views over the volume are centred on the camera moved by the whole scroll steps ssvgi's volume stands above
-  // or below it: the volume's middle lies up to a step below the camera where it stands around it.
-  const float step = float(shader::kScrollStepBricks * shader::kBrickSizeVoxels) * voxelSize_;
-  const float middle = 0.5f * (giVolume.min[1] + giVolume.max[1]);
-  glm::vec3 volumeCentre(frame.cameraPosition);
-  if (giVolume.max[1] > giVolume.min[1]) volumeCentre.y += step * std::ceil((middle - volumeCentre.y) / step);
   const auto count = uint32_t(std::min<size_t>(settings_.viewsPerFrame, sources_.size()));
   std::vector<Target*> unused;
   for (Target& target : targets_) unused.push_back(&target);
@@ -243,7 +236,7 @@ std::vector<ssvgi::ExtraView> ExtraViews::record(gpu::HostCommandList& commands,
     unused.erase(slot);
 
     glm::mat4 view, projection;
-    viewOf(source, frame, volumeCentre, view, projection);
+    viewOf(source, frame, view, projection);
     const glm::vec2 jitter = shader::halton23(++source.renders) - glm::vec2(0.5f);
     shader::FrameConstants viewFrame = frame;
     setFrameView(viewFrame, view, jitteredProjection(projection, jitter, target.size, target.size), target.size,

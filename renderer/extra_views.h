@@ -69,12 +69,10 @@ class ExtraViews {
 
   // Renders this frame's views with the frame's lights and shadows (`frame`: the camera's constants, whose view
   // fields each view replaces; its camera position and sun are the ones the views follow) and returns them ready for
-  // ssvgi (their images shader-readable). `giVolume`: where ssvgi's voxel volume stands (ssvgi::Context::
-  // voxelVolume; all zero: around the camera), which the sun's and the overhead view cover. Labelled and timed as one
-  // pass, "renderer: ExtraViews".
+  // ssvgi (their images shader-readable). Labelled and timed as one pass, "renderer: ExtraViews".
   std::vector<ssvgi::ExtraView> record(gpu::HostCommandList& commands, const shader::FrameConstants& frame,
-                                       const ssvgi::WorldBox& giVolume, const GpuScene& scene,
-                                       const gpu::Buffer& lights, const ShadowPass& shadows, VkSampler pointSampler);
+                                       const GpuScene& scene, const gpu::Buffer& lights, const ShadowPass& shadows,
+                                       VkSampler pointSampler);
 
  private:
   enum class Kind { Sun, Overhead, Surround, Light };
@@ -97,13 +95,11 @@ class ExtraViews {
   // Whether a source's view is a reflective shadow map this frame (ssvgi::ExtraView::isReflectiveShadowMap): a
   // light's view where that light alone lights the scene and nothing emits.
   bool isReflectiveShadowMap(const Source& source, const shader::FrameConstants& frame) const;
-  // The view and (unjittered) projection a source is seen through this frame; the views over the voxel volume are
-  // centred on `volumeCentre`.
-  void viewOf(const Source& source, const shader::FrameConstants& frame, glm::vec3 volumeCentre, glm::mat4& view,
-              glm::mat4& projection) const;
-  // An orthographic view of `size` pixels looking along −toward over the voxel volume around `volumeCentre`, its
+  // The view and (unjittered) projection a source is seen through this frame.
+  void viewOf(const Source& source, const shader::FrameConstants& frame, glm::mat4& view, glm::mat4& projection) const;
+  // An orthographic view of `size` pixels looking along −toward over the voxel volume around `cameraPosition`, its
   // texels at most `maxTexel` wide, centred on whole texels, and holding the whole scene and volume in depth.
-  void orthographicOverVolume(glm::vec3 toward, glm::vec3 volumeCentre, uint32_t size, float maxTexel,
+  void orthographicOverVolume(glm::vec3 toward, glm::vec3 cameraPosition, uint32_t size, float maxTexel,
                               glm::mat4& view, glm::mat4& projection) const;
 
   ExtraViewSettings settings_;

@@ -188,8 +188,7 @@ void Renderer::render(const AnimatedState& state) {
     directLighting_.record(commands, frameConstants_, lights_, shadows_, gbuffer, pointSampler_.handle(),
                            directIrradiance_, viewDistance_);
     if (gi_) {
-      lastExtraViews_ = extraViews_->record(commands, frame, gi_->voxelVolume(), gpuScene_, lights_, shadows_,
-                                            pointSampler_.handle());
+      lastExtraViews_ = extraViews_->record(commands, frame, gpuScene_, lights_, shadows_, pointSampler_.handle());
       if (skyMap_) skyMap_->record(commands, frameConstants_);
       recordGi(commands, frame);
     }

@@ -405,10 +405,11 @@ class Context {
   //     filtered as E is: near a probe level's boundary it flickers a little from frame to frame.
   virtual OutputImage confidence() const = 0;
 
-  // Where the last dispatch() placed the voxel volume (SPEC §4.1), which holds what the GI knows of the scene: centred
-  // on FrameDesc::camera's position across, and as high as holds the most of the surfaces the camera saw (a camera
-  // high above the ground, looking down, has it stand lower); all zero before the first dispatch(). A host whose
-  // extra views are to cover the volume — an orthographic sun's view over it — aims them here.
+  // Where the last dispatch() placed the voxel volume (SPEC §4.1), the space the GI knows of: centred on
+  // FrameDesc::camera's position across, and as high as holds the most of the surfaces the camera saw (a camera high
+  // above the ground, looking down, has it stand lower, or leaves it below); all zero before the first dispatch().
+  // Surfaces outside it get no voxels, nor probes that stand among them; confidence() tells a host where that leaves
+  // the GI knowing little.
   virtual WorldBox voxelVolume() const = 0;
 
   // Records a debug view into `target`, an rgba32f storage image of the view's size that ssvgi leaves in

@@ -154,8 +154,7 @@ shader::VoxelVolume VoxelScene::place(glm::vec3 cameraPosition, const shader::Br
   const int step = shader::kScrollStepBricks;
   currentVolume_ = frameIndex % volumes_.size();
   // The step-aligned brick under the camera, minus half the volume (itself a multiple of the step: dimensions are
-  // multiples of 2 × step); then as high as the surfaces the camera saw ask for (none seen: where it stood, if that
-  // still fits the camera).
+  // multiples of 2 × step); then as high as the surfaces the camera saw ask for (none seen: where it stood).
   const glm::ivec3 cameraStep = glm::ivec3(glm::floor(cameraPosition / (brickSize * float(step))));
   glm::ivec3 origin = cameraStep * step - dimensions / 2;
   const std::span<const uint32_t> seenHeights =
@@ -173,7 +172,5 @@ shader::VoxelVolume VoxelScene::place(glm::vec3 cameraPosition, const shader::Br
   std::memcpy(volumes_[currentVolume_].mapped(), &current_, sizeof(current_));
   return current_;
 }
-
-
 
 }  // namespace ssvgi::gi
