@@ -429,6 +429,7 @@ class ContextImplementation final : public Context {
     VkImageView depth;
     VkImageView normal;
     std::optional<gi::LitFrameImages> injected;
+    bool countsHeights = false;  // BrickAllocate counts its surface pixels by height (the camera's, some frames)
   };
 
   // Steps 1 and 3–5 of SPEC §4 for one view: HiZBuild, BrickAllocate, BrickCulling, SceneVoxelization.
@@ -436,7 +437,8 @@ class ContextImplementation final : public Context {
     const gi::VoxelFrameInputs inputs{view.constants, pointSampler_.handle(), view.depth, view.normal,
                                       hiz_, visibleBricks_};
     hizBuild_.record(commands, inputs, view.frame, view.hizLevels);
-    brickAllocate_.record(commands, scene_, inputs, view.frame.size, desc_.settings.allocationPixelStride);
+    brickAllocate_.record(commands, scene_, inputs, view.frame.size, desc_.settings.allocationPixelStride,
+                          view.countsHeights);
     if (desc_.settings.skyOnlyThroughObservedSpace)  // nothing else reads it
       observedSpace_.record(commands, scene_, inputs, view.frame);
     const shader::IndirectList empty{0, 1, 1, 0};
@@ -552,7 +554,8 @@ class ContextImplementation final : public Context {
       litFrame = gi::LitFrameImages{desc.litColor.view, desc.litDepth.view, desc.litNormal.view,
                                     desc.litAlbedo.view ? desc.litAlbedo.view : desc.litColor.view,
                                     &gather_.history()};
-    buildVoxelsFrom(commands, {slot.frameConstants, frame, hizLevels, desc.depth.view, desc.normal.view, litFrame});
+    buildVoxelsFrom(commands, {slot.frameConstants, frame, hizLevels, desc.depth.view, desc.normal.view, litFrame,
+                               desc.frameIndex % gi::kSurfaceHeightFramePeriod == 0});
     buildOctree_.record(commands, scene_);                                              // 6. BuildOctree
     voxelRelight_.record(commands, scene_, {gather_.constants(), probes_.probes()},      //    VoxelRelight
                          desc.frameIndex, desc_.settings.voxelRelightPeriod);

@@ -2,13 +2,15 @@
 // BrickAllocate: every brick that holds on-screen surface gets a pool slot (SPEC §4.2). Surface points come from the
 // current depth at one pixel in stride × stride (the offset inside the block moves every frame, so over stride² frames
 // every pixel is visited); the first thread to claim an empty cell allocates it, with a compare-exchange.
-// For the camera it also counts the surface pixels it read within the volume across by height band
+// On some of the camera's frames it also counts the surface pixels it read within the volume across by height band
 // (BrickPoolState::surfacePixelsByHeight), above or below it as well as inside: how high VoxelScene::place stands the
 // volume next.
 #include "gi/gi_frame.glsl"
 #include "gi/voxels/brick_pool.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(constant_id = 0) const bool kCountsHeights = false;
 
 layout(binding = kBindAllocationDepth) uniform sampler2D depthBuffer;
 layout(binding = kBindAllocationNormal) uniform sampler2D normalBuffer;
@@ -50,11 +52,12 @@ void allocate(ivec3 worldBrick) {
 }
 
 void main() {
-  bool countsHeights = (frame.viewKind & kViewIsExtra) == 0u;
   uint thread = gl_LocalInvocationIndex;
-  for (uint band = thread; band < kSurfaceHeightBands; band += gl_WorkGroupSize.x * gl_WorkGroupSize.y)
-    bandPixels[band] = 0u;
-  barrier();
+  if (kCountsHeights) {
+    for (uint band = thread; band < kSurfaceHeightBands; band += gl_WorkGroupSize.x * gl_WorkGroupSize.y)
+      bandPixels[band] = 0u;
+    barrier();
+  }
 
   uint stride = frame.allocationPixelStride;
   uint offset = frame.frameIndex % (stride * stride);
@@ -70,11 +73,11 @@ void main() {
       worldBrick = worldBrickOf(heldSurfacePoint(position, normal));
     }
   }
-  if (surface && countsHeights && withinVolumeAcross(worldBrick)) atomicAdd(bandPixels[heightBand(worldBrick)], 1u);
-  barrier();
-
-  if (countsHeights)
+  if (kCountsHeights) {
+    if (surface && withinVolumeAcross(worldBrick)) atomicAdd(bandPixels[heightBand(worldBrick)], 1u);
+    barrier();
     for (uint band = thread; band < kSurfaceHeightBands; band += gl_WorkGroupSize.x * gl_WorkGroupSize.y)
       if (bandPixels[band] > 0u) atomicAdd(pool.surfacePixelsByHeight[band], bandPixels[band]);
+  }
   if (surface) allocate(worldBrick);
 }

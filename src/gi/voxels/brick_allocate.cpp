@@ -3,13 +3,15 @@
 
 namespace ssvgi::gi {
 
-BrickAllocate::BrickAllocate(gpu::Device& device) : pipeline_(device, shaders::brick_allocate_comp) {}
+BrickAllocate::BrickAllocate(gpu::Device& device)
+    : allocating_(device, shaders::brick_allocate_comp, {VK_FALSE}),
+      allocatingAndCountingHeights_(device, shaders::brick_allocate_comp, {VK_TRUE}) {}
 
 void BrickAllocate::record(gpu::CommandList& commands, const VoxelScene& scene, const VoxelFrameInputs& inputs,
-                           glm::uvec2 depthSize, uint32_t pixelStride) {
+                           glm::uvec2 depthSize, uint32_t pixelStride, bool countsHeights) {
   auto scope = commands.scope("ssvgi: BrickAllocate");
   const glm::uvec2 threads = (depthSize + pixelStride - 1u) / pixelStride;
-  commands.dispatch(pipeline_,
+  commands.dispatch(countsHeights ? allocatingAndCountingHeights_ : allocating_,
                     scene.bindings()
                         .buffer(shader::kBindGiFrame, inputs.frame)
                         .externalSampled(shader::kBindAllocationDepth, inputs.depth, inputs.pointSampler)

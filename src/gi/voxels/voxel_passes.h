@@ -42,11 +42,13 @@ class VolumeScroll {
 class BrickAllocate {
  public:
   explicit BrickAllocate(gpu::Device& device);
+  // `countsHeights`: the camera's surface pixels are counted by height band too (kSurfaceHeightFramePeriod).
   void record(gpu::CommandList& commands, const VoxelScene& scene, const VoxelFrameInputs& inputs,
-              glm::uvec2 depthSize, uint32_t pixelStride);
+              glm::uvec2 depthSize, uint32_t pixelStride, bool countsHeights);
 
  private:
-  gpu::ComputePipeline pipeline_;
+  gpu::ComputePipeline allocating_;
+  gpu::ComputePipeline allocatingAndCountingHeights_;  // a pipeline apart, so the other frames skip its barriers
 };
 
 // ObservedSpace: the brick cells the view saw through or into (SPEC §6.4).

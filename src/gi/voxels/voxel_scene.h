@@ -19,6 +19,9 @@ namespace ssvgi::gi {
 // placement holds, it stays, so that the volume does not scroll back and forth with the camera's small moves; among
 // equals, the one nearest to centred on the camera's step `cameraStep`.
 inline constexpr float kVolumePlacementSlack = 0.02f;  // of the pixels counted
+// The camera's frames whose index is a multiple of this count the heights; place() keeps the volume where it stands
+// on the others (their counts are zero): the count's barriers make BrickAllocate dearer (PERFORMANCE.md).
+inline constexpr uint32_t kSurfaceHeightFramePeriod = 4;
 int volumeBottomStep(std::span<const uint32_t> pixelsByBand, int bandsViewpointStep, int cameraStep, int volumeSteps,
                      int currentBottomStep);
 
