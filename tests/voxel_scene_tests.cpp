@@ -1323,7 +1323,7 @@ TEST_F(VoxelScene, aCameraHighAboveTheFloorItLooksDownAtHasTheVolumeStandLowEnou
   Settings settings = smallSettings();
   settings.volumeBricks = {16, 24, 16};  // 6 steps of 4 m
   create(settings);
-  EXPECT_EQ(context_->voxelVolume().max, (std::array<float, 3>{})) << "no volume before the first dispatch";
+  EXPECT_EQ(context_->stats().voxelVolume.max, (std::array<float, 3>{})) << "no volume before the first dispatch";
   // The camera's step is y ∈ [16, 20) m: centred, the volume spans y ∈ [4, 28) m, 4 m above the floor (y = 0.1 m).
   const HostFrame high(device(), lookingDown({0.5f, 18.1f, 0.5f}), {kFloor});
   dispatch(high, &high);
@@ -1332,7 +1332,7 @@ TEST_F(VoxelScene, aCameraHighAboveTheFloorItLooksDownAtHasTheVolumeStandLowEnou
   run(high, 4);  // the heights the first frame counted are read back two frames later (framesInFlight)
   EXPECT_EQ(scene.current().originBrick.y, 0) << "the placement nearest to centred that holds the floor";
   EXPECT_EQ(scene.current().verticalShiftBricks, -4);
-  const WorldBox box = context_->voxelVolume();  // the host's view of it
+  const WorldBox box = context_->stats().voxelVolume;  // the host's view of it
   EXPECT_EQ(box.min, (std::array<float, 3>{-8.0f, 0.0f, -8.0f}));
   EXPECT_EQ(box.max, (std::array<float, 3>{8.0f, 24.0f, 8.0f}));
   const std::map<testing::VoxelCoordinate, shader::Voxel> occupied = occupiedVoxels(readState());

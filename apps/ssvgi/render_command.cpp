@@ -46,7 +46,8 @@ nlohmann::json giStatsJson(const ssvgi::Stats& gi) {
           {"probesUpdatedLastFrame", gi.probesUpdatedLastFrame},
           {"probesWatchedForChange", gi.probesWatchedForChange},
           {"probesCutByChange", gi.probesCutByChange},
-          {"sharedChangeRecovery", gi.sharedChangeRecovery}};
+          {"sharedChangeRecovery", gi.sharedChangeRecovery},
+          {"voxelVolume", {{"min", gi.voxelVolume.min}, {"max", gi.voxelVolume.max}}}};
 }
 
 nlohmann::json statsJson(const gpu::OwnedDevice& device, const RenderOptions& options, const ResolvedScene& resolved,

@@ -343,6 +343,13 @@ struct Stats {
   uint32_t probesWatchedForChange = 0;
   uint32_t probesCutByChange = 0;
   bool sharedChangeRecovery = false;
+  // Where the last dispatch() placed the voxel volume (SPEC §4.1), the space the GI knows of: centred on
+  // FrameDesc::camera's position across, and as high as holds the most of the surfaces the camera saw (a camera high
+  // above the ground, looking down, has it stand lower, even wholly below the camera); all zero before the first
+  // dispatch().
+  // Surfaces outside it get no voxels, nor probes that stand among them; Context::confidence() tells a host where
+  // that leaves the GI knowing little.
+  WorldBox voxelVolume;
   std::vector<PassTime> passes;        // the last completed frame's GPU times
   WorkCounts work;                     // what its passes did, where it counted (FrameDesc::countWork)
 };
@@ -404,13 +411,6 @@ class Context {
   //     fraction blended over its updates as its light is, and upsampled with E's weights. It is not temporally
   //     filtered as E is: near a probe level's boundary it flickers a little from frame to frame.
   virtual OutputImage confidence() const = 0;
-
-  // Where the last dispatch() placed the voxel volume (SPEC §4.1), the space the GI knows of: centred on
-  // FrameDesc::camera's position across, and as high as holds the most of the surfaces the camera saw (a camera high
-  // above the ground, looking down, has it stand lower, or leaves it below); all zero before the first dispatch().
-  // Surfaces outside it get no voxels, nor probes that stand among them; confidence() tells a host where that leaves
-  // the GI knowing little.
-  virtual WorldBox voxelVolume() const = 0;
 
   // Records a debug view into `target`, an rgba32f storage image of the view's size that ssvgi leaves in
   // VK_IMAGE_LAYOUT_GENERAL (it must be in GENERAL or UNDEFINED before).
