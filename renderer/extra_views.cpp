@@ -184,7 +184,9 @@ void ExtraViews::orthographicOverVolume(glm::vec3 toward, glm::vec3 cameraPositi
   // only on the direction: snapping the view's centre to whole texels keeps the texel grid fixed in the world as the
   // camera moves, so that the view does not shimmer.
   const glm::mat4 rotation = glm::lookAtRH(glm::vec3(0.0f), -toward, upFor(toward));
-  // The volume re-centres in steps of kScrollStepBricks bricks: it reaches that much further from the camera.
+  // The volume re-centres in steps of kScrollStepBricks bricks: across, it reaches that much further from the camera
+  // (up and down it may stand further off, where it holds what the camera sees: ssvgi::Stats::voxelVolume; these views
+  // stay on the camera, QUALITY.md "The volume stands where the camera looks").
   const glm::vec3 halfExtent =
       volumeHalfExtent_ + float(shader::kScrollStepBricks * shader::kBrickSizeVoxels) * voxelSize_;
   const glm::mat3 rows = glm::transpose(glm::mat3(rotation));  // rows[0], rows[1]: the view frame's x and y axes

@@ -475,14 +475,14 @@ TEST_F(VoxelScene, anExtraViewLitByDirectLightOnlyTakesTheProbesLightReflectedBy
 // the GPU may decide otherwise.
 class InjectionOracle {
  public:
-  // `volumeCentre`: the middle of the voxel volume, metres. Injecting extra views only, as here, every occupied voxel
+  // `viewpoint`: the corner of the scroll step under the camera, metres (volumeViewpoint). Injecting extra views only, as here, every occupied voxel
   // has been written by one, so each visit writes (kVoxelExtraViewsBeforeWrite does not hold any back).
   // `secondLook`: whether an empty voxel looks again at a random texel of its footprint (SceneVoxelization does; off,
   // the oracle tells what the point's own pixel alone would fill).
-  InjectionOracle(float voxelSize, uint32_t invalidFramesToClear, glm::vec3 volumeCentre, bool secondLook = true)
+  InjectionOracle(float voxelSize, uint32_t invalidFramesToClear, glm::vec3 viewpoint, bool secondLook = true)
       : voxelSize_(voxelSize),
         invalidFramesToClear_(invalidFramesToClear),
-        volumeCentre_(volumeCentre),
+        viewpoint_(viewpoint),
         secondLook_(secondLook) {}
 
   // Every voxel a pixel of `frame` shows a surface in can become occupied; one that holds no seen point never is.
@@ -598,7 +598,7 @@ class InjectionOracle {
   bool holdsSurface(Voxel& voxel, glm::vec3 voxelMin, const PixelSurface& surface) const {
     const glm::vec3 fromMin = held(surface) - voxelMin;
     const bool turnsAround = voxel.occupied && glm::dot(voxel.normal, surface.normal) < 0.0f &&
-                             glm::dot(surface.normal, volumeCentre_ - (voxelMin + 0.5f * voxelSize_)) <= 0.0f;
+                             glm::dot(surface.normal, viewpoint_ - (voxelMin + 0.5f * voxelSize_)) <= 0.0f;
     if (surface.hit) voxel.ambiguous |= nearAnyOf(fromMin, 0.0f) || nearAnyOf(fromMin, voxelSize_);
     return surface.hit && !turnsAround && glm::all(glm::greaterThanEqual(fromMin, glm::vec3(0.0f))) &&
            glm::all(glm::lessThan(fromMin, glm::vec3(voxelSize_)));
@@ -665,7 +665,7 @@ class InjectionOracle {
 
   float voxelSize_;
   uint32_t invalidFramesToClear_;
-  glm::vec3 volumeCentre_;
+  glm::vec3 viewpoint_;
   bool secondLook_;
   std::map<std::tuple<int, int, int>, Voxel> voxels_;
 };
@@ -692,10 +692,13 @@ uint32_t expectAsTheOracle(const std::map<testing::VoxelCoordinate, shader::Voxe
   return compared;
 }
 
-// The middle of the context's voxel volume, metres (where the face a voxel keeps of two opposite ones looks).
-glm::vec3 volumeCentre(const Context& context) {
+// The corner of the scroll step under the camera, metres (volumeViewpoint: where the face a voxel keeps of two
+// opposite ones looks).
+glm::vec3 volumeViewpoint(const Context& context) {
   const shader::VoxelVolume& volume = gi::voxelSceneOf(context).current();
-  return (glm::vec3(volume.originBrick) + 0.5f * glm::vec3(volume.dimensionsBricks)) * volume.brickSize;
+  const glm::ivec3 brick =
+      volume.originBrick + volume.dimensionsBricks / 2 - glm::ivec3(0, volume.verticalShiftBricks, 0);
+  return glm::vec3(brick) * volume.brickSize;
 }
 
 // A camera at `position` looking straight up into an empty sky: it places the volume and allocates nothing, so that
@@ -729,7 +732,7 @@ TEST_F(VoxelScene, anOrthographicViewInjectsExactlyTheVoxelsItsRulesGive) {
   const HostFrame sky(device(), lookingUp({0.5f, 1.0f, 0.5f}), {});
 
   dispatch(sky, nullptr);  // places the volume around the camera
-  InjectionOracle oracle(kVoxel, settings.invalidFramesToClear, volumeCentre(*context_));
+  InjectionOracle oracle(kVoxel, settings.invalidFramesToClear, volumeViewpoint(*context_));
   oracle.addCandidates(withBox);
   oracle.addCandidates(floorOnly);
   oracle.addCandidates(nearPlaneInTheBox);
@@ -871,8 +874,8 @@ TEST_F(VoxelScene, anEmptyVoxelOfAFloorSeenAtAGrazingAngleIsFilledByALookAtItsFo
   create(settings);
   const GrazedFloor view(device());
   dispatch(view.sky, nullptr);  // places the volume around the camera
-  InjectionOracle oracle(kVoxel, settings.invalidFramesToClear, volumeCentre(*context_));
-  InjectionOracle pointOnly(kVoxel, settings.invalidFramesToClear, volumeCentre(*context_), false);
+  InjectionOracle oracle(kVoxel, settings.invalidFramesToClear, volumeViewpoint(*context_));
+  InjectionOracle pointOnly(kVoxel, settings.invalidFramesToClear, volumeViewpoint(*context_), false);
   oracle.addCandidates(view.floor);
   pointOnly.addCandidates(view.floor);
   for (uint32_t injection = 0; injection < 4; ++injection) {
@@ -928,7 +931,7 @@ TEST_F(VoxelScene, aViewObservesTheVoxelsItSeesThroughOrFilledButNotTheHolesOfAF
   create(settings);
   const GrazedFloor view(device());
   dispatch(view.sky, nullptr);  // places the volume around the camera
-  InjectionOracle oracle(kVoxel, settings.invalidFramesToClear, volumeCentre(*context_));
+  InjectionOracle oracle(kVoxel, settings.invalidFramesToClear, volumeViewpoint(*context_));
   for (int x = -8; x <= 8; ++x)
     for (int y = 0; y < int(shader::kBrickSizeVoxels); ++y)
       for (int z = -40; z <= 4; ++z) oracle.addVoxel({x, y, z});
@@ -977,7 +980,7 @@ TEST_F(VoxelScene, aViewFromAboveDoesNotObserveAWallHiddenUnderARoofsRimThatItsT
       {kFloor, wall, roof});
   const HostFrame sky(device(), lookingUp({0.5f, 1.0f, 0.5f}), {});
   dispatch(sky, nullptr);  // places the volume around the camera
-  InjectionOracle oracle(kVoxel, settings.invalidFramesToClear, volumeCentre(*context_));
+  InjectionOracle oracle(kVoxel, settings.invalidFramesToClear, volumeViewpoint(*context_));
   for (int x = 4; x <= 9; ++x)
     for (int y = 0; y < int(shader::kBrickSizeVoxels); ++y)
       for (int z = -8; z <= 7; ++z) oracle.addVoxel({x, y, z});
@@ -1070,7 +1073,7 @@ TEST_F(VoxelScene, aWallOneVoxelThickTurnedRoundByAViewFromInsideTakesThatViewsL
   create(smallSettings());
   const HostFrame sky(device(), lookingUp({0.5f, 1.0f, 0.5f}), {});
   dispatch(sky, nullptr);  // places the volume around the camera
-  ASSERT_LT(volumeCentre(*context_).x, 1.0f) << "the inner face must look towards the volume's middle";
+  ASSERT_LT(volumeViewpoint(*context_).x, 1.0f) << "the inner face must look towards the volume's middle";
   const glm::vec3 wallMin(1.0f, 0.0f, -1.0f), wallMax(1.25f, 2.0f, 2.0f);
   const glm::vec3 outerLight(2.0f), innerLight(0.125f);
   renderer::Camera outside;
@@ -1351,9 +1354,9 @@ TEST(VolumeBottomStep, holdsTheMostPixelsNearestToCentredAndStaysWhileItHoldsNea
   constexpr int kCamera = 7, kSteps = 12;
   constexpr int kCentred = kCamera - kSteps / 2;
   const auto bandOf = [](int step) { return size_t(step - kCamera + int(shader::kSurfaceHeightBands / 2)); };
-  // Nothing seen: where it stands.
+  // Nothing seen (only sky): where it stands while that holds the camera's step, else centred.
   EXPECT_EQ(gi::volumeBottomStep(bands, kCamera, kCamera, kSteps, kCentred + 2), kCentred + 2);
-  EXPECT_EQ(gi::volumeBottomStep(bands, kCamera, kCamera, kSteps, kCamera + 20), kCamera + 20);
+  EXPECT_EQ(gi::volumeBottomStep(bands, kCamera, kCamera, kSteps, kCamera + 1), kCentred);
   // Everything seen within the centred volume: it stays centred.
   bands[bandOf(2)] = 1000;
   bands[bandOf(8)] = 200;

@@ -56,7 +56,7 @@ enum class QualityTier { Low, Medium, High };
 struct Settings {
   float voxelSize = 0.25f;                            // metres; a brick is 4×4×4 voxels
   std::array<uint32_t, 3> volumeBricks{128, 48, 128};  // the voxel volume around the camera in bricks (X, Y, Z);
-                                                      // each a multiple of 8
+                                                      // each a multiple of 8 (where it stands: Stats::voxelVolume)
   uint32_t brickPoolCapacity = 11776;                 // bricks that can hold voxels at once
   uint32_t invalidFramesToClear = 8;                  // frames a voxel may be seen through before it is cleared, ≤ 63
   uint32_t emptyFramesToRelease = 8;                  // frames a brick may stay empty before it returns to the pool
@@ -343,12 +343,11 @@ struct Stats {
   uint32_t probesWatchedForChange = 0;
   uint32_t probesCutByChange = 0;
   bool sharedChangeRecovery = false;
-  // Where the last dispatch() placed the voxel volume (SPEC §4.1), the space the GI knows of: centred on
-  // FrameDesc::camera's position across, and as high as holds the most of the surfaces the camera saw (a camera high
-  // above the ground, looking down, has it stand lower, even wholly below the camera); all zero before the first
-  // dispatch().
-  // Surfaces outside it get no voxels, nor probes that stand among them; Context::confidence() tells a host where
-  // that leaves the GI knowing little.
+  // Where the last dispatch() placed the voxel volume (SPEC §4.1), the space the GI knows of: centred across on the
+  // 4-brick step under FrameDesc::camera's position, and as high as holds the most of the surfaces the camera saw (a
+  // camera high above the ground, looking down, has it stand lower, even wholly below the camera); all zero before
+  // the first dispatch(). Surfaces outside it get no voxels, nor probes that stand among them; Context::confidence()
+  // tells a host where that leaves the GI knowing little.
   WorldBox voxelVolume;
   std::vector<PassTime> passes;        // the last completed frame's GPU times
   WorkCounts work;                     // what its passes did, where it counted (FrameDesc::countWork)

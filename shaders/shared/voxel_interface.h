@@ -1,5 +1,6 @@
 // The voxel scene of SPEC §4.1–4.4 ("GI scene", the talk's Part 1): layouts, binding slots and addressing shared by the
-// GI shaders and the host. A camera-centred box of bricks (4×4×4 voxels) addressed toroidally; a pool of bricks with
+// GI shaders and the host. A box of bricks (4×4×4 voxels) around the camera — centred across, standing up or down where
+// it holds what the camera sees — addressed toroidally; a pool of bricks with
 // a bump allocator and a free list; a 64-bit occupancy mask per brick and bit volumes over the brick grid for the
 // coarser levels of the occupancy hierarchy.
 #ifndef SSVGI_SHARED_VOXEL_INTERFACE_H
@@ -101,7 +102,8 @@ SSVGI_CHECK_SIZE(Brick, 48);
 // BrickAllocate counts the surface pixels of the camera by their height, in bands one scroll step (kScrollStepBricks
 // bricks) tall, the camera's step in the middle band (kSurfaceHeightBands / 2) and those further away in the end
 // bands: where the volume's few steps of height (12 at high tier, against 32 across) are best spent
-// (VoxelScene::place). 64 bands cover every placement of a volume up to 32 steps tall that holds the camera.
+// (VoxelScene::place). The 62 bands between the end bands cover every placement that holds the camera's step of a
+// volume up to 31 steps tall.
 SSVGI_CONSTANT(uint, kSurfaceHeightBands, 64u);
 
 // Allocation state of the pool, plus this frame's counters (reset at the start of every frame). Followed in its

@@ -309,7 +309,7 @@ class ContextImplementation final : public Context {
     bool countsWork = false;
     uint32_t hizTexels = 0;
     uint32_t halfResolutionPixels = 0;
-    bool recorded = false;  // a frame has used the slot: statsReadback holds its pool state
+    bool countedHeights = false;  // the slot's last frame counted heights: statsReadback holds them
   };
 
   // Stats::work of a frame: where it counted its work, the GPU's counters and the figures of the dispatch sizes.
@@ -461,9 +461,11 @@ class ContextImplementation final : public Context {
     bool scrolled = false;
     // The slot's readback holds the pool state its last frame left, done by now (the host's frames in flight).
     shader::BrickPoolState seen{};
-    if (slot.recorded) std::memcpy(&seen, slot.statsReadback.mapped(), sizeof(seen));
-    const shader::VoxelVolume volume = scene_.place(glm::vec3(frame.cameraPosition), slot.recorded ? &seen : nullptr,
-                                                    desc.frameIndex, desc.countWork, scrolled);
+    if (slot.countedHeights) std::memcpy(&seen, slot.statsReadback.mapped(), sizeof(seen));
+    const shader::VoxelVolume volume = scene_.place(
+        glm::vec3(frame.cameraPosition), slot.countedHeights ? &seen : nullptr, desc.frameIndex, desc.countWork,
+        scrolled);
+    const bool countsHeights = dispatchCount_ % gi::kSurfaceHeightFramePeriod == 0;
     const gi::OfferedProbeBlocks probeBlocks = probes_.prepare(desc.frameIndex, glm::vec3(frame.cameraPosition),
                                                        frame.frustumPlanes, desc.skyRadianceSh,
                                                        desc.skyRadianceMap.view != VK_NULL_HANDLE, volume);
@@ -551,7 +553,7 @@ class ContextImplementation final : public Context {
                                     desc.litAlbedo.view ? desc.litAlbedo.view : desc.litColor.view,
                                     &gather_.history()};
     buildVoxelsFrom(commands, {slot.frameConstants, frame, hizLevels, desc.depth.view, desc.normal.view, litFrame,
-                               desc.frameIndex % gi::kSurfaceHeightFramePeriod == 0});
+                               countsHeights});
     buildOctree_.record(commands, scene_);                                              // 6. BuildOctree
     voxelRelight_.record(commands, scene_, {gather_.constants(), probes_.probes()},      //    VoxelRelight
                          desc.frameIndex, desc_.settings.voxelRelightPeriod);
@@ -581,7 +583,8 @@ class ContextImplementation final : public Context {
     }
     commands.flushBarriers();
     lastSlot_ = slotIndex;
-    slot.recorded = true;
+    slot.countedHeights = countsHeights;
+    ++dispatchCount_;
     lastCameraPosition_ = glm::vec3(frame.cameraPosition);
     dispatched_ = true;
   }
@@ -616,6 +619,7 @@ class ContextImplementation final : public Context {
   gi::ConfidenceDebugView confidenceDebugView_;
   glm::vec3 lastCameraPosition_{0.0f};  // where the last dispatch centred the probe volume
   uint32_t lastSlot_ = 0;
+  uint64_t dispatchCount_ = 0;
   bool dispatched_ = false;
   bool initialised_ = false;
 };

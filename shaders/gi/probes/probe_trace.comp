@@ -397,8 +397,9 @@ VoxelHit traceRay(ListedProbe probe, ProbeRay chosen, uint ray) {
 // Unknown is not sky (SPEC §6.4): the estimate is formed over the rays that found something known. A ray into space no
 // view has observed stands for the mean of this update's known rays: the surfaces' mean less their direct part, and the
 // sky as often as the known rays of its own half of the sphere, above or below the horizon, found it. Less the direct
-// part: the sun's view covers the volume and the local lights' views their reach, so a surface no view has seen is one
-// no light's view saw lit (counting the sunlit walls in gave the courtyard's probes sunlight behind its buildings:
+// part: the sun's view covers the camera's surroundings and the local lights' views their reach, so a surface no view
+// has seen is one no light's view saw lit (counting the sunlit walls in gave the courtyard's probes sunlight behind its
+// buildings:
 // docs/QUALITY.md). The sky by halves: it lies above the horizon, and over the whole sphere the sky openings show above
 // lit the unknown space at floor level too; the surfaces over the whole sphere, whose mean is steadier than a half's
 // (by halves, more light came through a wall's junctions in `two-rooms`: docs/QUALITY.md, "Unknown rays take the known

@@ -132,6 +132,10 @@ int volumeBottomStep(std::span<const uint32_t> pixelsByBand, int bandsViewpointS
   };
   uint64_t total = 0;
   for (const uint32_t pixels : pixelsByBand) total += pixels;
+  if (total == 0) {  // nothing seen: where it stands, while that holds the camera
+    const bool holdsCamera = cameraStep >= currentBottomStep && cameraStep < currentBottomStep + volumeSteps;
+    return holdsCamera ? currentBottomStep : centred;
+  }
   int best = centred;
   uint64_t bestHeld = pixelsHeld(centred);
   const int lastBandStep = firstBandStep + int(pixelsByBand.size()) - 1;
@@ -154,14 +158,13 @@ shader::VoxelVolume VoxelScene::place(glm::vec3 cameraPosition, const shader::Br
   const int step = shader::kScrollStepBricks;
   currentVolume_ = frameIndex % volumes_.size();
   // The step-aligned brick under the camera, minus half the volume (itself a multiple of the step: dimensions are
-  // multiples of 2 × step); then as high as the surfaces the camera saw ask for (none seen: where it stood).
+  // multiples of 2 × step); then as high as the surfaces the camera saw ask for (nothing counted: where it stood).
   const glm::ivec3 cameraStep = glm::ivec3(glm::floor(cameraPosition / (brickSize * float(step))));
   glm::ivec3 origin = cameraStep * step - dimensions / 2;
-  const std::span<const uint32_t> seenHeights =
-      seen ? std::span<const uint32_t>(seen->surfacePixelsByHeight) : std::span<const uint32_t>();
   if (placed_)
-    origin.y = step * volumeBottomStep(seenHeights, slotViewpointStep_[currentVolume_], cameraStep.y,
-                                       dimensions.y / step, current_.originBrick.y / step);
+    origin.y = seen ? step * volumeBottomStep(seen->surfacePixelsByHeight, slotViewpointStep_[currentVolume_],
+                                              cameraStep.y, dimensions.y / step, current_.originBrick.y / step)
+                    : current_.originBrick.y;
   slotViewpointStep_[currentVolume_] = cameraStep.y;
   scrolled = !placed_ || origin != current_.originBrick;
   current_.previousOriginBrick = placed_ ? current_.originBrick : origin;

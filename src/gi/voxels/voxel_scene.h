@@ -15,12 +15,14 @@ namespace ssvgi::gi {
 // surface pixels the camera saw — `pixelsByBand`, BrickPoolState::surfacePixelsByHeight, whose middle band is the step
 // `bandsViewpointStep`; the end bands, which hold everything beyond, are held by none. The volume is flat (at high
 // tier 12 steps tall, 32 across): a camera higher above the ground than half of that, looking down, sees the ground
-// outside a volume centred on it. Where `currentBottomStep` holds all but kVolumePlacementSlack of the pixels the best
-// placement holds, it stays, so that the volume does not scroll back and forth with the camera's small moves; among
-// equals, the one nearest to centred on the camera's step `cameraStep`.
+// outside a volume centred on it. Where `currentBottomStep` holds no fewer than the best placement less
+// kVolumePlacementSlack of all the pixels counted, it stays, so that the volume does not scroll back and forth with
+// the camera's small moves; among equals, the one nearest to centred on the camera's step `cameraStep`. With no pixel
+// counted (the camera saw only sky), it stays while it holds the camera's step, and is centred on it once it does not.
 inline constexpr float kVolumePlacementSlack = 0.02f;  // of the pixels counted
-// The camera's frames whose index is a multiple of this count the heights; place() keeps the volume where it stands
-// on the others (their counts are zero): the count's barriers make BrickAllocate dearer (PERFORMANCE.md).
+// One camera frame in this many counts the heights (the context's own count of dispatches, whatever the host's frame
+// indices); place() is given the counts of those frames only: the count's barriers make BrickAllocate dearer
+// (PERFORMANCE.md).
 inline constexpr uint32_t kSurfaceHeightFramePeriod = 4;
 int volumeBottomStep(std::span<const uint32_t> pixelsByBand, int bandsViewpointStep, int cameraStep, int volumeSteps,
                      int currentBottomStep);
@@ -33,8 +35,8 @@ class VoxelScene {
 
   // Where the volume stands this frame, its origin moving in kScrollStepBricks steps: centred on the camera across,
   // and as high as holds the most of the surfaces the camera saw (volumeBottomStep) — `seen`, the pool state read back
-  // from the frame that last used this frame's slot (frame index modulo framesInFlight), nullptr where none has;
-  // where it stood until then (centred at first). Also whether the frame's passes count their work
+  // from the frame that last used this frame's slot (frame index modulo framesInFlight) where that frame counted the
+  // heights, else nullptr: where it stood (centred at first). Also whether the frame's passes count their work
   // (VoxelVolume::countsWork). Returns the volume description to upload; `scrolled` tells whether the origin moved
   // since the last call.
   shader::VoxelVolume place(glm::vec3 cameraPosition, const shader::BrickPoolState* seen, uint32_t frameIndex,
