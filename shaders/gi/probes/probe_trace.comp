@@ -399,19 +399,18 @@ VoxelHit traceRay(ListedProbe probe, ProbeRay chosen, uint ray) {
 // sky as often as the known rays of its own half of the sphere, above or below the horizon, found it. Less the direct
 // part: the sun's view covers the camera's surroundings and the local lights' views their reach, so a surface no view
 // has seen is one no light's view saw lit (counting the sunlit walls in gave the courtyard's probes sunlight behind its
-// buildings:
-// docs/QUALITY.md). The sky by halves: it lies above the horizon, and over the whole sphere the sky openings show above
-// lit the unknown space at floor level too; the surfaces over the whole sphere, whose mean is steadier than a half's
-// (by halves, more light came through a wall's junctions in `two-rooms`: docs/QUALITY.md, "Unknown rays take the known
-// sky's share"). A ray that ended beside seen surfaces stands for the surfaces' mean, whole: what it would have met is
-// most likely beside them, sunlit or not (the sunlit wall past a pillar's edge in the gallery). Each alike for every
-// direction of its half, so that what the probe learns does not depend on what it held before, which would keep a
-// camera cut's old light in it for good. (Unknown rays once stood for the surfaces' mean alone, never the sky: it kept
-// the hall without the capture around the camera from taking the sky through its roof's openings to the whole unknown
-// sphere, when views observed the space beside walls they grazed; with today's stricter observed space that rule left
-// the hall's probes that see the nearer opening only through air no view observed too dark.) A half no known ray lies
-// in takes the whole sphere's share of sky; a probe none of whose rays found anything known keeps what it holds. One
-// thread.
+// buildings: docs/QUALITY.md). The sky by halves: it lies above the horizon, and over the whole sphere the sky openings
+// show above lit the unknown space at floor level too; the surfaces over the whole sphere, whose mean is steadier than
+// a half's (by halves, more light came through a wall's junctions in `two-rooms`: docs/QUALITY.md, "Unknown rays take
+// the known sky's share"). A ray that ended beside seen surfaces stands for the surfaces' mean, whole: what it would
+// have met is most likely beside them, sunlit or not (the sunlit wall past a pillar's edge in the gallery). Each alike
+// for every direction of its half, so that what the probe learns does not depend on what it held before, which would
+// keep a camera cut's old light in it for good. (Unknown rays once stood for the surfaces' mean alone, never the sky:
+// it kept the hall without the capture around the camera from taking the sky through its roof's openings to the whole
+// unknown sphere, when views observed the space beside walls they grazed; with today's stricter observed space that
+// rule left the hall's probes that see the nearer opening only through air no view observed too dark.) A half no known
+// ray lies in takes the whole sphere's share of sky; a probe none of whose rays found anything known keeps what it
+// holds. One thread.
 void averageKnownRays() {
   vec3 surfaceSum = vec3(0.0), surfaceIndirectSum = vec3(0.0), skySum[3];
   uint surfaces = 0u, count[3], skyRays[3];
