@@ -104,8 +104,8 @@ struct Settings {
   // The ray budget goes to the probes that change (SPEC §6.2): a probe whose history has reached probeHistoryCap and
   // that follows no change (no recovery under way, no drift in its last updates) is traced on one in this many updates
   // of its level, its turn set by its place in the world; every probe is traced on the frames that start a shared
-  // recovery. 1: every update. In a still view, once settled, a fifth to a third fewer probes are traced a frame
-  // (docs/PERFORMANCE.md, "Settled probes sit out").
+  // recovery. 1: every update. It lightens the frames of a still view once its probes have settled (what it saves:
+  // docs/PERFORMANCE.md, "Settled probes sit out").
   uint32_t settledProbeInterval = 2;
   // Unknown is not sky (SPEC §6.4): ssvgi keeps which brick cells of its volume the camera and the extra views have
   // seen through or into. A probe ray that meets no voxel after crossing one no view has observed has found neither

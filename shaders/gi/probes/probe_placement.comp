@@ -52,9 +52,10 @@ bool voxelsWithin(vec3 lo, vec3 hi, inout uint reads) {
 // Whether a probe sits this update out (Settings::settledProbeInterval; SPEC §6.2, "spend more of the ray budget on
 // probes that changed"): its history has reached the cap, it follows no change — no recovery under way, and no drift
 // summed from its last updates (light still coming round the loop, as in a hall lit through a roof its views have not
-// all seen, whose light takes hundreds of frames to settle: QUALITY.md, "Settled probes sit out every other update")
-// — and this update of its level is not its turn, which its world coordinate sets so that neighbours take turns. A frame that starts a shared recovery traces every probe: it is how a change many probes see
-// reaches those that have not seen it yet.
+// all seen, whose light takes hundreds of frames to settle: QUALITY.md, "Settled probes sit out every other update") —
+// and this update of its level is not its turn, which its world coordinate sets so that neighbours take turns. A frame
+// that starts a shared recovery traces every probe: it is how a change many probes see reaches those that have not seen
+// it yet.
 bool sitsOut(ivec3 probe, uint index) {
   int interval = int(update.settledProbeInterval);
   if (interval <= 1 || update.startsSharedRecovery != 0u) return false;
