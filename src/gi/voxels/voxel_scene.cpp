@@ -2,11 +2,13 @@
 
 #include "shared/work_counters.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <vector>
 
 namespace ssvgi::gi {
 
@@ -121,25 +123,23 @@ uint32_t VoxelScene::cellCount() const {
 int volumeBottomStep(std::span<const uint32_t> pixelsByBand, int bandsViewpointStep, int cameraStep, int volumeSteps,
                      int currentBottomStep) {
   const int centred = cameraStep - volumeSteps / 2;
-  const int firstBandStep = bandsViewpointStep - int(pixelsByBand.size() / 2);
-  const auto pixelsHeld = [&](int bottomStep) {
-    uint64_t held = 0;
-    for (size_t band = 1; band + 1 < pixelsByBand.size(); ++band) {
-      const int step = firstBandStep + int(band);
-      if (step >= bottomStep && step < bottomStep + volumeSteps) held += pixelsByBand[band];
-    }
-    return held;
-  };
-  uint64_t total = 0;
-  for (const uint32_t pixels : pixelsByBand) total += pixels;
+  // Steps from firstStep up, with the pixels of steps below each (the end bands counted in the total alone).
+  const int bands = int(pixelsByBand.size());
+  const int firstStep = bandsViewpointStep - bands / 2 + 1;
+  std::vector<uint64_t> below(size_t(bands - 1), 0);
+  for (int band = 1; band + 1 < bands; ++band) below[size_t(band)] = below[size_t(band - 1)] + pixelsByBand[band];
+  const uint64_t total = below.back() + pixelsByBand.front() + pixelsByBand.back();
   if (total == 0) {  // nothing seen: where it stands, while that holds the camera
     const bool holdsCamera = cameraStep >= currentBottomStep && cameraStep < currentBottomStep + volumeSteps;
     return holdsCamera ? currentBottomStep : centred;
   }
+  const auto pixelsHeld = [&](int bottomStep) {  // of the steps [bottomStep, bottomStep + volumeSteps)
+    const auto belowStep = [&](int step) { return below[size_t(std::clamp(step - firstStep, 0, bands - 2))]; };
+    return belowStep(bottomStep + volumeSteps) - belowStep(bottomStep);
+  };
   int best = centred;
   uint64_t bestHeld = pixelsHeld(centred);
-  const int lastBandStep = firstBandStep + int(pixelsByBand.size()) - 1;
-  for (int bottom = firstBandStep + 2 - volumeSteps; bottom < lastBandStep; ++bottom) {  // those that hold a band
+  for (int bottom = firstStep + 1 - volumeSteps; bottom < firstStep + bands - 2; ++bottom) {  // those that hold a band
     const uint64_t held = pixelsHeld(bottom);
     if (held > bestHeld || (held == bestHeld && std::abs(bottom - centred) < std::abs(best - centred))) {
       best = bottom;
