@@ -183,6 +183,59 @@ TEST(ProbeDirections, theDriftSumClimbsWithUpdatesThatKeepStrayingOneWayAndNotWi
   EXPECT_FLOAT_EQ(shader::accumulateProbeDrift(-0.5f, -1.5f), -0.5f - 1.5f + shader::kProbeDriftAllowance);
 }
 
+// A drift many probes share (shared/probe_interface.h): a frame's tally as ProbeTrace sums it, from each watched
+// probe's update T = H·(1 + ε).
+shader::ProbeChangeTally leaningTally(const std::vector<float>& strays) {
+  shader::ProbeChangeTally tally{};
+  for (const float stray : strays) {
+    const float d = stray / (2.0f + stray);
+    ++tally.watchedProbes;
+    tally.leaningSum += int32_t(std::round(d * shader::kProbeLeaningScale));
+    tally.leaningSquares += uint32_t(std::round(d * d * shader::kProbeLeaningScale));
+  }
+  return tally;
+}
+
+// Noise alone: half the probes' updates 40 % above their history, half 40 % below. d leans them toward less light
+// (−0.042), d + d² does not (within the fourth-order term, 0.0035, well under the floor).
+TEST(ProbeSharedDrift, symmetricNoiseDoesNotLeanTheProbesEitherWay) {
+  std::vector<float> strays;
+  for (int probe = 0; probe < 400; ++probe) strays.push_back(probe % 2 ? 0.4f : -0.4f);
+  const shader::ProbeChangeTally tally = leaningTally(strays);
+  EXPECT_LT(double(tally.leaningSum) / shader::kProbeLeaningScale / tally.watchedProbes, -0.04);
+  const gi::ProbeLeaning leaning = gi::probeLeaning(tally);
+  EXPECT_NEAR(leaning.mean, 0.0, 0.005);
+  EXPECT_NEAR(leaning.standardError, 0.21 / std::sqrt(400.0), 0.001);  // d's spread: 0.167 and −0.25 about −0.042
+  EXPECT_FALSE(gi::showsSharedDrift(leaning));
+}
+
+// Light coming round the loop: every probe's update 10 % above its history, give or take 20 %. Shared by 400 probes
+// the lean (about 0.05) is many standard errors; by 31 it is not counted at all, and by 32 with a spread twice the
+// mean it is within four standard errors.
+TEST(ProbeSharedDrift, manyProbesLeaningTowardMoreLightShowADriftAndFewOrScatteredOnesDoNot) {
+  std::vector<float> strays;
+  for (int probe = 0; probe < 400; ++probe) strays.push_back(0.1f + (probe % 2 ? 0.2f : -0.2f));
+  const gi::ProbeLeaning leaning = gi::probeLeaning(leaningTally(strays));
+  EXPECT_NEAR(leaning.mean, 0.05, 0.005);
+  EXPECT_TRUE(gi::showsSharedDrift(leaning));
+
+  strays.resize(shader::kProbeSharedChangeMinimumProbes - 1);
+  EXPECT_EQ(gi::probeLeaning(leaningTally(strays)).mean, 0.0);
+  EXPECT_FALSE(gi::showsSharedDrift(gi::probeLeaning(leaningTally(strays))));
+
+  std::vector<float> scattered;
+  for (uint32_t probe = 0; probe < shader::kProbeSharedChangeMinimumProbes; ++probe)
+    scattered.push_back(0.1f + (probe % 2 ? 0.8f : -0.6f));
+  const gi::ProbeLeaning scatteredLeaning = gi::probeLeaning(leaningTally(scattered));
+  EXPECT_GT(scatteredLeaning.mean, shader::kProbeSharedDriftFloor);
+  EXPECT_FALSE(gi::showsSharedDrift(scatteredLeaning));
+
+  // Light that fades leans them the other way: no drift toward more light.
+  for (float& stray : strays) stray = -0.1f;
+  strays.resize(400, -0.1f);
+  EXPECT_FALSE(gi::showsSharedDrift(gi::probeLeaning(leaningTally(strays))));
+}
+
 // ---------------------------------------------------------------------------------------------------------------------
 // GPU: scenes of bricks under the probes.
 

@@ -47,6 +47,9 @@ nlohmann::json giStatsJson(const ssvgi::Stats& gi) {
           {"probesWatchedForChange", gi.probesWatchedForChange},
           {"probesCutByChange", gi.probesCutByChange},
           {"sharedChangeRecovery", gi.sharedChangeRecovery},
+          {"probesLeaning", gi.probesLeaning},
+          {"probesLeaningError", gi.probesLeaningError},
+          {"sharedDrift", gi.sharedDrift},
           {"voxelVolume", {{"min", gi.voxelVolume.min}, {"max", gi.voxelVolume.max}}}};
 }
 

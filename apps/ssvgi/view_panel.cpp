@@ -172,6 +172,7 @@ void countersSection(const ssvgi::Stats& stats) {
       {"probes watched for change", stats.probesWatchedForChange},
       {"probes cut by a change", stats.probesCutByChange},
       {"shared change recovery", uint32_t(stats.sharedChangeRecovery)},
+      {"shared drift", uint32_t(stats.sharedDrift)},
   };
   for (const auto& [name, value] : counters) ImGui::Text("%-28s %" PRIu32, name, value);
 }

@@ -99,7 +99,10 @@ struct Settings {
   // this share of the probes a frame traces with some history had it cut by a change (a light switched on or off),
   // every probe updated in the next three frames starts a recovery, so that the bounces after the first, whose steps
   // no single probe can tell from its noise, come round the loop quickly too. By chance a still scene's cuts reach
-  // about one probe in a hundred. 0: off (each probe on its own). Needs probeChangeThreshold.
+  // about one probe in a hundred. A drift they share alike: where the probes' updates lean toward more light by many
+  // standard errors of their mean — light still coming round the loop, bounce after bounce, as in a hall lit through
+  // its roof — the next three frames blend with a history cap of at most 16. 0: off (each probe on its own). Needs
+  // probeChangeThreshold.
   float probeSharedChangeShare = 0.125f;
   // The ray budget goes to the probes that change (SPEC §6.2): a probe whose history has reached probeHistoryCap and
   // that follows no change (no recovery under way, no drift in its last updates) is traced on one in this many updates
@@ -343,6 +346,12 @@ struct Stats {
   uint32_t probesWatchedForChange = 0;
   uint32_t probesCutByChange = 0;
   bool sharedChangeRecovery = false;
+  // A drift many probes share (Settings::probeSharedChangeShare): the mean of how far those watched probes' updates
+  // strayed from their histories, d = (T − H) / (T + H), its standard error, and whether the last frame's update held
+  // the probes' history short because light kept coming round the loop.
+  float probesLeaning = 0.0f;
+  float probesLeaningError = 0.0f;
+  bool sharedDrift = false;
   // Where the last dispatch() placed the voxel volume (SPEC §4.1), the space the GI knows of: centred across on the
   // 4-brick step under FrameDesc::camera's position, and as high as holds the most of the surfaces the camera saw (a
   // camera high above the ground, looking down, has it stand lower, even wholly below the camera); all zero before

@@ -507,12 +507,32 @@ SSVGI_CONSTANT(float, kProbeDriftStep, kProbeDriftLimit / 7.0f);
 // Settings::probeSharedChangeShare of at least kProbeSharedChangeMinimumProbes were cut, ProbeVolume has every probe
 // updated in the next kProbeLevels frames (an update of each level) start a recovery, as a drift does
 // (startsSharedRecovery): the whole loop then follows the light at α = 1 for kProbeChangeRecoveryUpdates updates.
+//
+// A drift many probes share is not their noise either. Where light comes round the loop bounce after bounce — the
+// first frames of a view, a hall lit through openings in its roof whose later bounces are most of its light — every
+// probe's history trails light that keeps growing by a step too small for its own drift sum to tell, and a window
+// of about the history cap (32 updates, 96 frames) makes each bounce take that long again. So ProbeTrace also sums
+// the watched probes' d and d² (their leaning, in steps of 1/kProbeLeaningScale): still light gives them a mean
+// within its standard error of zero, light coming round the loop a mean that many probes share. Where the mean leans
+// toward more light by more than kProbeSharedDriftErrors standard errors and more than kProbeSharedDriftFloor,
+// ProbeVolume holds the history cap of the updates in the next kProbeLevels frames at kProbeSharedDriftHistoryCap
+// and lets no probe sit out: the loop goes round at the pace of that shorter window until the probes' mean no longer
+// leans, and the full window then averages their noise away again. Half the default cap, not less: the probes of one
+// level trace the same 32 directions in an update, so their noise is partly shared and the mean leans now and then
+// in a still scene too, and a window of 4 or 8 updates left sunlit scenes blotchy (docs/QUALITY.md, "A drift many
+// probes share").
 struct ProbeChangeTally {
-  uint watchedProbes;  // traced with a history of at least kProbeChangeMinimumHistory, change detection on
-  uint cutProbes;      // of those, whose history a large change cut
+  uint watchedProbes;   // traced with a history of at least kProbeChangeMinimumHistory, change detection on
+  uint cutProbes;       // of those, whose history a large change cut
+  int leaningSum;       // Σ d · kProbeLeaningScale over the watched probes, each rounded to the nearest step
+  uint leaningSquares;  // Σ d² · kProbeLeaningScale alike
 };
-SSVGI_CHECK_SIZE(ProbeChangeTally, 8);
+SSVGI_CHECK_SIZE(ProbeChangeTally, 16);
 SSVGI_CONSTANT(uint, kProbeSharedChangeMinimumProbes, 32u);
+SSVGI_CONSTANT(float, kProbeLeaningScale, 4096.0f);  // |d| ≤ 1: 4096 probes sum to at most 2^24
+SSVGI_CONSTANT(float, kProbeSharedDriftErrors, 4.0f);
+SSVGI_CONSTANT(float, kProbeSharedDriftFloor, 0.02f);  // updates about 4 % above their history
+SSVGI_CONSTANT(uint, kProbeSharedDriftHistoryCap, 16u);
 
 // A probe's word of the change buffer: bits 0–15 the trimmed mean H (half float); bits 16–23 the rms of d, √(mean
 // d²), in 8-bit fixed point over [0, 1] (|d| ≤ 1), rounded with `dither` as packProbeUnitSh rounds (the variance

@@ -253,6 +253,8 @@ uint followChange(uint probeIndex, uint storedCount, float trimmedMean) {
   float drift = 0.0;
   if (threshold > 0.0 && storedCount >= kProbeChangeMinimumHistory) {
     atomicAdd(tally.watchedProbes, 1u);
+    atomicAdd(tally.leaningSum, int(round(deviation * kProbeLeaningScale)));
+    atomicAdd(tally.leaningSquares, uint(round(squaredDeviation * kProbeLeaningScale)));
     float noise = max(change.variance, kProbeChangeVarianceFloor);
     float expected = threshold * threshold * noise;
     drift = accumulateProbeDrift(change.drift, deviation / sqrt(noise));

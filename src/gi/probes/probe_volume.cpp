@@ -16,6 +16,21 @@ glm::uvec3 gridOf(const Settings& settings) {
 
 }  // namespace
 
+ProbeLeaning probeLeaning(const shader::ProbeChangeTally& tally) {
+  if (tally.watchedProbes < shader::kProbeSharedChangeMinimumProbes) return {};
+  const double probes = double(tally.watchedProbes);
+  const double mean = double(tally.leaningSum) / shader::kProbeLeaningScale / probes;
+  const double meanSquare = double(tally.leaningSquares) / shader::kProbeLeaningScale / probes;
+  // For an update T = H·(1 + ε), d = ε/(2 + ε) = ε/2 − ε²/4 + O(ε³) and d² = ε²/4 + O(ε³): d + d² is ε/2 to the
+  // second order, so a probe's noise (ε of zero mean) does not lean it toward less light as d alone does.
+  return {mean + meanSquare, std::sqrt(std::max(meanSquare - mean * mean, 0.0) / probes)};
+}
+
+bool showsSharedDrift(const ProbeLeaning& leaning) {
+  return leaning.mean > shader::kProbeSharedDriftFloor &&
+         leaning.mean > shader::kProbeSharedDriftErrors * leaning.standardError;
+}
+
 // The bytes of each buffer of a volume of `settings`: what the constructor allocates and bytes() counts.
 struct ProbeVolume::BufferBytes {
   VkDeviceSize probes, list, reservoirs, changes, update, offeredBlocks, changeTally;
@@ -97,7 +112,6 @@ OfferedProbeBlocks ProbeVolume::prepare(uint32_t frameIndex, glm::vec3 cameraPos
   current_.distanceRange = shader::kProbeDistanceRangeSpacings * spacing;
   current_.projectionWeight = 4.0f * shader::kPi / float(settings_.raysPerProbe);
   current_.raysPerProbe = settings_.raysPerProbe;
-  current_.historyCap = settings_.probeHistoryCap;
   current_.probeBudget = settings_.probeBudget;
   current_.placementSearchLevel = uint32_t(searchLevel);
   current_.keepsReservoirs = settings_.probeReservoirs && level == 0 ? 1u : 0u;
@@ -105,7 +119,6 @@ OfferedProbeBlocks ProbeVolume::prepare(uint32_t frameIndex, glm::vec3 cameraPos
   current_.frameIndex = frameIndex;
   current_.sampleClamp = settings_.probeSampleClamp;
   current_.changeThreshold = settings_.probeChangeThreshold;
-  current_.settledProbeInterval = settings_.settledProbeInterval;
   currentFrame_ = frameIndex % updates_.size();
   std::memcpy(&lastTally_, tallyReadbacks_[currentFrame_].mapped(), sizeof(lastTally_));
   const float sharedShare = settings_.probeSharedChangeShare;
@@ -114,6 +127,12 @@ OfferedProbeBlocks ProbeVolume::prepare(uint32_t frameIndex, glm::vec3 cameraPos
     sharedRecoveryFramesLeft_ = shader::kProbeLevels;
   current_.startsSharedRecovery = sharedRecoveryFramesLeft_ > 0 ? 1u : 0u;
   if (sharedRecoveryFramesLeft_ > 0) --sharedRecoveryFramesLeft_;
+  if (sharedShare > 0.0f && showsSharedDrift(probeLeaning(lastTally_))) sharedDriftFramesLeft_ = shader::kProbeLevels;
+  followsSharedDrift_ = sharedDriftFramesLeft_ > 0;
+  if (followsSharedDrift_) --sharedDriftFramesLeft_;
+  current_.historyCap = followsSharedDrift_ ? std::min(settings_.probeHistoryCap, shader::kProbeSharedDriftHistoryCap)
+                                            : settings_.probeHistoryCap;
+  current_.settledProbeInterval = followsSharedDrift_ ? 1u : settings_.settledProbeInterval;
   std::memcpy(&current_.skyRadiance, skyRadianceSh.data(), sizeof(current_.skyRadiance));
   current_.hasSkyMap = hasSkyMap ? 1u : 0u;
 

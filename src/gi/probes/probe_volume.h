@@ -19,6 +19,17 @@ struct OfferedProbeBlocks {
   uint32_t beyondView = 0;
 };
 
+// The watched probes' mean leaning d in a frame's tally and its standard error (shared/probe_interface.h, "A drift
+// many probes share"); both 0 where fewer than kProbeSharedChangeMinimumProbes were watched.
+struct ProbeLeaning {
+  double mean = 0.0;
+  double standardError = 0.0;
+};
+ProbeLeaning probeLeaning(const shader::ProbeChangeTally& tally);
+// Whether a tally's leaning shows light coming round the loop: toward more light by more than
+// kProbeSharedDriftErrors standard errors and kProbeSharedDriftFloor.
+bool showsSharedDrift(const ProbeLeaning& leaning);
+
 class ProbeVolume {
  public:
   ProbeVolume(gpu::Device& device, const Settings& settings, uint32_t framesInFlight);
@@ -30,7 +41,7 @@ class ProbeVolume {
   // as GiFrame's), then the next Settings::probeBlocksBeyondView of the others in turn, the sky, and rays traced as far
   // as the voxel volume reaches (`hasSkyMap`: rays that leave it see the host's sky map). Reads back the change tally
   // of the frame that last used this frame's slot (the host has waited for it) and starts a recovery in every probe
-  // where many probes saw a change at once.
+  // where many probes saw a change at once, or holds the history short where many lean toward more light.
   OfferedProbeBlocks prepare(uint32_t frameIndex, glm::vec3 cameraPosition, const glm::vec4 frustumPlanes[6],
                    const std::array<float, 12>& skyRadianceSh, bool hasSkyMap, const shader::VoxelVolume& voxels);
 
@@ -46,6 +57,8 @@ class ProbeVolume {
   const gpu::Buffer& changeTallyReadback() const { return tallyReadbacks_[currentFrame_]; }
   // The tally prepare() last read back (of the frame framesInFlight before its own): for Stats.
   const shader::ProbeChangeTally& lastTally() const { return lastTally_; }
+  // Whether this frame's update holds the history short for a drift many probes share.
+  bool followsSharedDrift() const { return followsSharedDrift_; }
   const gpu::Buffer& update() const { return updates_[currentFrame_]; }  // this frame's ProbeUpdate
   // `bindings` plus what a pass over the listed probes binds: this frame's update, the probes, the list.
   gpu::Bindings listedProbeBindings(gpu::Bindings bindings) const {
@@ -75,6 +88,8 @@ class ProbeVolume {
   std::vector<gpu::Buffer> tallyReadbacks_;
   shader::ProbeChangeTally lastTally_{};
   uint32_t sharedRecoveryFramesLeft_ = 0;  // frames to come that start a recovery in every probe they update
+  uint32_t sharedDriftFramesLeft_ = 0;     // frames to come whose update holds the history short (a shared drift)
+  bool followsSharedDrift_ = false;
   size_t currentFrame_ = 0;
   // Per level, where the turn of the blocks beyond the view stands (an index into those beyond it, in grid order).
   std::array<uint32_t, shader::kProbeLevels> beyondViewTurn_{};
