@@ -514,13 +514,13 @@ SSVGI_CONSTANT(float, kProbeDriftStep, kProbeDriftLimit / 7.0f);
 // of about the history cap (32 updates, 96 frames) makes each bounce take that long again. So ProbeTrace also sums
 // the watched probes' d and d² (their leaning, in steps of 1/kProbeLeaningScale): still light gives them a mean
 // within its standard error of zero, light coming round the loop a mean that many probes share. Where the mean leans
-// toward more light by more than kProbeSharedDriftErrors standard errors and more than kProbeSharedDriftFloor,
-// ProbeVolume holds the history cap of the updates in the next kProbeLevels frames at kProbeSharedDriftHistoryCap
+// toward more light by more than kProbeSharedDriftErrors standard errors and more than kProbeSharedDriftFloor in
+// kProbeSharedDriftTallies frames in a row, ProbeVolume holds the history cap of the updates in the next kProbeLevels frames at kProbeSharedDriftHistoryCap
 // and lets no probe sit out: the loop goes round at the pace of that shorter window until the probes' mean no longer
-// leans, and the full window then averages their noise away again. Half the default cap, not less: the probes of one
-// level trace the same 32 directions in an update, so their noise is partly shared and the mean leans now and then
-// in a still scene too, and a window of 4 or 8 updates left sunlit scenes blotchy (docs/QUALITY.md, "A drift many
-// probes share").
+// leans, and the full window then averages their noise away again. The probes of one level trace the same 32
+// directions in an update, so their noise is partly shared and one frame's mean leans now and then in a still scene
+// too: two frames in a row — two levels, two direction subsets — and half the default cap, not less (a window of 4
+// or 8 updates left sunlit scenes blotchy; docs/QUALITY.md, "A drift many probes share").
 struct ProbeChangeTally {
   uint watchedProbes;   // traced with a history of at least kProbeChangeMinimumHistory, change detection on
   uint cutProbes;       // of those, whose history a large change cut
@@ -533,6 +533,7 @@ SSVGI_CONSTANT(float, kProbeLeaningScale, 4096.0f);  // |d| ≤ 1: 4096 probes s
 SSVGI_CONSTANT(float, kProbeSharedDriftErrors, 4.0f);
 SSVGI_CONSTANT(float, kProbeSharedDriftFloor, 0.02f);  // updates about 4 % above their history
 SSVGI_CONSTANT(uint, kProbeSharedDriftHistoryCap, 16u);
+SSVGI_CONSTANT(uint, kProbeSharedDriftTallies, 2u);
 
 // A probe's word of the change buffer: bits 0–15 the trimmed mean H (half float); bits 16–23 the rms of d, √(mean
 // d²), in 8-bit fixed point over [0, 1] (|d| ≤ 1), rounded with `dither` as packProbeUnitSh rounds (the variance

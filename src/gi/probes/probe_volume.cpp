@@ -127,7 +127,9 @@ OfferedProbeBlocks ProbeVolume::prepare(uint32_t frameIndex, glm::vec3 cameraPos
     sharedRecoveryFramesLeft_ = shader::kProbeLevels;
   current_.startsSharedRecovery = sharedRecoveryFramesLeft_ > 0 ? 1u : 0u;
   if (sharedRecoveryFramesLeft_ > 0) --sharedRecoveryFramesLeft_;
-  if (sharedShare > 0.0f && showsSharedDrift(probeLeaning(lastTally_))) sharedDriftFramesLeft_ = shader::kProbeLevels;
+  const bool tallyShowsDrift = sharedShare > 0.0f && showsSharedDrift(probeLeaning(lastTally_));
+  talliesShowingDrift_ = tallyShowsDrift ? talliesShowingDrift_ + 1 : 0;
+  if (talliesShowingDrift_ >= shader::kProbeSharedDriftTallies) sharedDriftFramesLeft_ = shader::kProbeLevels;
   followsSharedDrift_ = sharedDriftFramesLeft_ > 0;
   if (followsSharedDrift_) --sharedDriftFramesLeft_;
   current_.historyCap = followsSharedDrift_ ? std::min(settings_.probeHistoryCap, shader::kProbeSharedDriftHistoryCap)

@@ -88,6 +88,7 @@ class ProbeVolume {
   std::vector<gpu::Buffer> tallyReadbacks_;
   shader::ProbeChangeTally lastTally_{};
   uint32_t sharedRecoveryFramesLeft_ = 0;  // frames to come that start a recovery in every probe they update
+  uint32_t talliesShowingDrift_ = 0;       // the tallies read back in a row that showed a shared drift
   uint32_t sharedDriftFramesLeft_ = 0;     // frames to come whose update holds the history short (a shared drift)
   bool followsSharedDrift_ = false;
   size_t currentFrame_ = 0;
