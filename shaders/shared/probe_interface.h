@@ -508,19 +508,20 @@ SSVGI_CONSTANT(float, kProbeDriftStep, kProbeDriftLimit / 7.0f);
 // updated in the next kProbeLevels frames (an update of each level) start a recovery, as a drift does
 // (startsSharedRecovery): the whole loop then follows the light at α = 1 for kProbeChangeRecoveryUpdates updates.
 //
-// A drift many probes share is not their noise either. Where light comes round the loop bounce after bounce — the
-// first frames of a view, a hall lit through openings in its roof whose later bounces are most of its light — every
-// probe's history trails light that keeps growing by a step too small for its own drift sum to tell, and a window
-// of about the history cap (32 updates, 96 frames) makes each bounce take that long again. So ProbeTrace also sums
-// the watched probes' d and d² (their leaning, in steps of 1/kProbeLeaningScale): still light gives them a mean
-// within its standard error of zero, light coming round the loop a mean that many probes share. Where the mean leans
-// toward more light by more than kProbeSharedDriftErrors standard errors and more than kProbeSharedDriftFloor in
-// kProbeSharedDriftTallies frames in a row, ProbeVolume holds the history cap of the updates in the next kProbeLevels frames at kProbeSharedDriftHistoryCap
+// A drift many probes share is not their noise either. Where light comes round the loop bounce after bounce — the first
+// frames of a view, a hall lit through openings in its roof whose later bounces are most of its light — every probe's
+// history trails light that keeps growing by a step too small for its own drift sum to tell, and a window of about the
+// history cap (32 updates, 96 frames) makes each bounce take that long again. So ProbeTrace also sums the watched
+// probes' d and d² (their leaning, in steps of 1/kProbeLeaningScale): still light gives d + d² (d leans toward less
+// light under noise, by about a quarter of its variance, which d² takes back) a mean within its standard error of zero,
+// light coming round the loop a mean that many probes share. Where that mean leans toward more light by more than
+// kProbeSharedDriftErrors standard errors and more than kProbeSharedDriftFloor in kProbeSharedDriftTallies frames in a
+// row, ProbeVolume holds the history cap of the updates in the next kProbeLevels frames at kProbeSharedDriftHistoryCap
 // and lets no probe sit out: the loop goes round at the pace of that shorter window until the probes' mean no longer
-// leans, and the full window then averages their noise away again. The probes of one level trace the same 32
-// directions in an update, so their noise is partly shared and one frame's mean leans now and then in a still scene
-// too: two frames in a row — two levels, two direction subsets — and half the default cap, not less (a window of 4
-// or 8 updates left sunlit scenes blotchy; docs/QUALITY.md, "A drift many probes share").
+// leans, and the full window then averages their noise away again. The probes of one level trace the same 32 directions
+// in an update, so their noise is partly shared and one frame's mean leans now and then in a still scene too: two
+// frames in a row — two levels, two direction subsets — and half the default cap, not less (a window of 4 or 8 updates
+// left sunlit scenes blotchy; docs/QUALITY.md, "A drift many probes share").
 struct ProbeChangeTally {
   uint watchedProbes;   // traced with a history of at least kProbeChangeMinimumHistory, change detection on
   uint cutProbes;       // of those, whose history a large change cut

@@ -19,8 +19,8 @@ struct OfferedProbeBlocks {
   uint32_t beyondView = 0;
 };
 
-// The watched probes' mean leaning d in a frame's tally and its standard error (shared/probe_interface.h, "A drift
-// many probes share"); both 0 where fewer than kProbeSharedChangeMinimumProbes were watched.
+// The watched probes' mean leaning in a frame's tally, d + d² (shared/probe_interface.h, "A drift many probes
+// share"), and its standard error; both 0 where fewer than kProbeSharedChangeMinimumProbes were watched.
 struct ProbeLeaning {
   double mean = 0.0;
   double standardError = 0.0;
