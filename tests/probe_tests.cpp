@@ -190,6 +190,7 @@ shader::ProbeChangeTally leaningTally(const std::vector<float>& strays) {
   for (const float stray : strays) {
     const float d = stray / (2.0f + stray);
     ++tally.watchedProbes;
+    ++tally.leaningProbes;
     tally.leaningSum += int32_t(std::round(d * shader::kProbeLeaningScale));
     tally.leaningSquares += uint32_t(std::round(d * d * shader::kProbeLeaningScale));
   }
@@ -202,7 +203,7 @@ TEST(ProbeSharedDrift, symmetricNoiseDoesNotLeanTheProbesEitherWay) {
   std::vector<float> strays;
   for (int probe = 0; probe < 400; ++probe) strays.push_back(probe % 2 ? 0.4f : -0.4f);
   const shader::ProbeChangeTally tally = leaningTally(strays);
-  EXPECT_LT(double(tally.leaningSum) / shader::kProbeLeaningScale / tally.watchedProbes, -0.04);
+  EXPECT_LT(double(tally.leaningSum) / shader::kProbeLeaningScale / tally.leaningProbes, -0.04);
   const gi::ProbeLeaning leaning = gi::probeLeaning(tally);
   EXPECT_NEAR(leaning.mean, 0.0, 0.005);
   EXPECT_NEAR(leaning.standardError, 0.21 / std::sqrt(400.0), 0.001);  // d's spread: 0.167 and −0.25 about −0.042

@@ -525,10 +525,11 @@ SSVGI_CONSTANT(float, kProbeDriftStep, kProbeDriftLimit / 7.0f);
 struct ProbeChangeTally {
   uint watchedProbes;   // traced with a history of at least kProbeChangeMinimumHistory, change detection on
   uint cutProbes;       // of those, whose history a large change cut
-  int leaningSum;       // Σ d · kProbeLeaningScale over the watched probes, each rounded to the nearest step
+  uint leaningProbes;   // of those, the probes whose leaning is summed: all but those with reservoirs
+  int leaningSum;       // Σ d · kProbeLeaningScale over them, each rounded to the nearest step
   uint leaningSquares;  // Σ d² · kProbeLeaningScale alike
 };
-SSVGI_CHECK_SIZE(ProbeChangeTally, 16);
+SSVGI_CHECK_SIZE(ProbeChangeTally, 20);
 SSVGI_CONSTANT(uint, kProbeSharedChangeMinimumProbes, 32u);
 SSVGI_CONSTANT(float, kProbeLeaningScale, 4096.0f);  // |d| ≤ 1: 4096 probes sum to at most 2^24
 SSVGI_CONSTANT(float, kProbeSharedDriftErrors, 4.0f);

@@ -253,8 +253,14 @@ uint followChange(uint probeIndex, uint storedCount, float trimmedMean) {
   float drift = 0.0;
   if (threshold > 0.0 && storedCount >= kProbeChangeMinimumHistory) {
     atomicAdd(tally.watchedProbes, 1u);
-    atomicAdd(tally.leaningSum, int(round(deviation * kProbeLeaningScale)));
-    atomicAdd(tally.leaningSquares, uint(round(squaredDeviation * kProbeLeaningScale)));
+    // A probe with reservoirs draws its rays toward its bright directions, so the trimmed mean of their light leans
+    // from its history by itself (in the dark room by enough to start a shared drift that doubled its noise): it
+    // tells no shared drift.
+    if (!kKeepsReservoirs) {
+      atomicAdd(tally.leaningProbes, 1u);
+      atomicAdd(tally.leaningSum, int(round(deviation * kProbeLeaningScale)));
+      atomicAdd(tally.leaningSquares, uint(round(squaredDeviation * kProbeLeaningScale)));
+    }
     float noise = max(change.variance, kProbeChangeVarianceFloor);
     float expected = threshold * threshold * noise;
     drift = accumulateProbeDrift(change.drift, deviation / sqrt(noise));

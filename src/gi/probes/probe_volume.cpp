@@ -17,8 +17,8 @@ glm::uvec3 gridOf(const Settings& settings) {
 }  // namespace
 
 ProbeLeaning probeLeaning(const shader::ProbeChangeTally& tally) {
-  if (tally.watchedProbes < shader::kProbeSharedChangeMinimumProbes) return {};
-  const double probes = double(tally.watchedProbes);
+  if (tally.leaningProbes < shader::kProbeSharedChangeMinimumProbes) return {};
+  const double probes = double(tally.leaningProbes);
   const double mean = double(tally.leaningSum) / shader::kProbeLeaningScale / probes;
   const double meanSquare = double(tally.leaningSquares) / shader::kProbeLeaningScale / probes;
   // For an update T = H·(1 + ε), d = ε/(2 + ε) = ε/2 − ε²/4 + O(ε³) and d² = ε²/4 + O(ε³): d + d² is ε/2 to the

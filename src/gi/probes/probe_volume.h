@@ -20,7 +20,7 @@ struct OfferedProbeBlocks {
 };
 
 // The watched probes' mean leaning in a frame's tally, d + d² (shared/probe_interface.h, "A drift many probes
-// share"), and its standard error; both 0 where fewer than kProbeSharedChangeMinimumProbes were watched.
+// share"), and its standard error; both 0 where fewer than kProbeSharedChangeMinimumProbes leaned.
 struct ProbeLeaning {
   double mean = 0.0;
   double standardError = 0.0;
