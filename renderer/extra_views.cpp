@@ -93,10 +93,14 @@ ExtraViews::ExtraViews(gpu::Device& device, const Scene& scene, const ExtraViewS
       directIrradiance_(storageImage(device, "extra view direct irradiance", VK_FORMAT_R32G32B32A32_SFLOAT, 1)),
       viewDistance_(storageImage(device, "extra view distance", VK_FORMAT_R32_SFLOAT, 1)),
       noIndirect_(storageImage(device, "extra view no indirect", VK_FORMAT_R16G16B16A16_SFLOAT, 1)),
+      noFallback_(device, "extra view no fallback", sizeof(shader::CompositeFallback),
+                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::HostUpload),
       indirectUsed_(storageImage(device, "extra view indirect used", VK_FORMAT_R32G32B32A32_SFLOAT, 1)),
       finalRadiance_(storageImage(device, "extra view final radiance", VK_FORMAT_R32G32B32A32_SFLOAT, 1)) {
   if (settings.viewsPerFrame == 0 || settings.viewsPerFrame > ssvgi::kMaxExtraViews)
     throw gpu::GpuError("extra views: viewsPerFrame must be in 1.." + std::to_string(ssvgi::kMaxExtraViews));
+  const shader::CompositeFallback noFallback{};
+  std::memcpy(noFallback_.mapped(), &noFallback, sizeof(noFallback));
   if (settings.sunViewSize > 0) sources_.push_back({Kind::Sun, 0});
   if (settings.overheadViewSize > 0) sources_.push_back({Kind::Overhead, 0});
   if (settings.surroundViewSize > 0)
@@ -256,7 +260,7 @@ std::vector<ssvgi::ExtraView> ExtraViews::record(gpu::HostCommandList& commands,
     }
     directLighting_.record(commands, target.frameConstants, lights, shadows, target.gbuffer, pointSampler,
                            directIrradiance_, viewDistance_);
-    composite_.record(commands, target.frameConstants, target.gbuffer, pointSampler, directIrradiance_,
+    composite_.record(commands, target.frameConstants, noFallback_, target.gbuffer, pointSampler, directIrradiance_,
                       noIndirect_.view(), noIndirect_.view(), finalRadiance_, indirectUsed_, target.radiance);
     for (const gpu::Image* image :
          {&target.radiance, &target.gbuffer.depth, &target.gbuffer.normal, &target.gbuffer.albedo})

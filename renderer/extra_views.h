@@ -117,6 +117,7 @@ class ExtraViews {
   gpu::Image directIrradiance_;  // scratch, shared by the views (the largest view's size)
   gpu::Image viewDistance_;
   gpu::Image noIndirect_;        // black: the composite adds no indirect light
+  gpu::Buffer noFallback_;       // zero: the composite blends to no fallback (shader::CompositeFallback)
   gpu::Image indirectUsed_;
   gpu::Image finalRadiance_;     // with no indirect light, the direct radiance again: the views give that (radiance)
   bool cleared_ = false;

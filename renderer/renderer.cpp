@@ -67,6 +67,8 @@ Renderer::Renderer(gpu::OwnedDevice& device, const Scene& scene, const RendererS
       gbuffers_{GBuffer(device, settings.width, settings.height), GBuffer(device, settings.width, settings.height)},
       frameConstants_(device, "frame constants", sizeof(shader::FrameConstants), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                       gpu::MemoryUsage::HostUpload),
+      compositeFallback_(device, "composite fallback", sizeof(shader::CompositeFallback),
+                         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::HostUpload),
       lights_(device, "local lights", std::max<size_t>(1, scene.lights.size()) * sizeof(shader::GpuLight),
               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::HostUpload),
       directIrradiance_(storageImage(device, "direct irradiance", VK_FORMAT_R32G32B32A32_SFLOAT, settings.width, settings.height)),
@@ -122,7 +124,8 @@ ssvgi::View toView(const glm::mat4& viewProjection, glm::vec3 position, uint32_t
 }
 }  // namespace
 
-void Renderer::recordGi(gpu::CommandList& commands, const shader::FrameConstants& frame) {
+void Renderer::recordGi(gpu::CommandList& commands, const shader::FrameConstants& frame,
+                        const shader::Sh2Rgb& skyRadiance) {
   // ssvgi samples the host's images: they must be shader-readable, their writes visible, before it records.
   const GBuffer& gbuffer = currentGBuffer();
   const uint32_t litSet = (frameIndex_ + 1) & 1u;
@@ -151,13 +154,23 @@ void Renderer::recordGi(gpu::CommandList& commands, const shader::FrameConstants
   desc.litNormal.view = litGBuffer.normal.view();
   if (settings_.litFrameDirectOnly) desc.litAlbedo.view = litGBuffer.albedo.view();
   // What probe rays that leave the voxel volume see (the map), and the sky the gather reads their openings with.
-  const shader::Sh2Rgb sky = projectSkyToSh2(frame.sky);
-  std::memcpy(desc.skyRadianceSh.data(), &sky, sizeof(sky));
+  std::memcpy(desc.skyRadianceSh.data(), &skyRadiance, sizeof(skyRadiance));
   if (skyMap_) desc.skyRadianceMap.view = skyMap_->image().view();
   desc.extraViews = lastExtraViews_;
   desc.countWork = settings_.countGiWork;
   if (const ssvgi::Error error = gi_->dispatch(desc, commands.handle())) throw gpu::GpuError("ssvgi: " + error.message);
   giView_ = desc.camera;
+}
+
+void Renderer::writeCompositeFallback(const std::optional<ssvgi::WorldBox>& voxelVolume,
+                                      const shader::Sh2Rgb& skyRadiance) {
+  shader::CompositeFallback fallback{};
+  if (voxelVolume) {
+    fallback.knownVolumeMinimum = glm::vec4(voxelVolume->min[0], voxelVolume->min[1], voxelVolume->min[2], 1.0f);
+    fallback.knownVolumeMaximum = glm::vec4(voxelVolume->max[0], voxelVolume->max[1], voxelVolume->max[2], 0.0f);
+    fallback.skyRadiance = skyRadiance;
+  }
+  std::memcpy(compositeFallback_.mapped(), &fallback, sizeof(fallback));
 }
 
 void Renderer::render(const AnimatedState& state) {
@@ -190,8 +203,11 @@ void Renderer::render(const AnimatedState& state) {
     if (gi_) {
       lastExtraViews_ = extraViews_->record(commands, frame, gpuScene_, lights_, shadows_, pointSampler_.handle());
       if (skyMap_) skyMap_->record(commands, frameConstants_);
-      recordGi(commands, frame);
+      const shader::Sh2Rgb skyRadiance = projectSkyToSh2(frame.sky);
+      recordGi(commands, frame, skyRadiance);
+      if (giLighting) writeCompositeFallback(gi_->voxelVolume(), skyRadiance);
     }
+    if (!giLighting) writeCompositeFallback(std::nullopt, shader::Sh2Rgb{});
     // Without the GI's light the composite binds the black image for both, and reads neither.
     VkImageView indirect = indirectIrradiance_.view(), confidence = indirectIrradiance_.view();
     if (giLighting) {
@@ -200,8 +216,9 @@ void Renderer::render(const AnimatedState& state) {
     } else {
       commands.use(indirectIrradiance_, gpu::Usage::ComputeSampled);
     }
-    composite_.record(commands, frameConstants_, gbuffer, pointSampler_.handle(), directIrradiance_, indirect,
-                      confidence, finalRadiance, indirectUsed_, directRadiance_[frameIndex_ & 1u]);
+    composite_.record(commands, frameConstants_, compositeFallback_, gbuffer, pointSampler_.handle(),
+                      directIrradiance_, indirect, confidence, finalRadiance, indirectUsed_,
+                      directRadiance_[frameIndex_ & 1u]);
     tonemap_.record(commands, frameConstants_, finalRadiance, tonemapped_);
   });
   timings_ = profiler_.resolve();

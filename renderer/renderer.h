@@ -118,7 +118,9 @@ class Renderer {
 
  private:
   const GBuffer& currentGBuffer() const { return gbuffers_[frameIndex_ & 1u]; }
-  void recordGi(gpu::CommandList& commands, const shader::FrameConstants& frame);
+  void recordGi(gpu::CommandList& commands, const shader::FrameConstants& frame, const shader::Sh2Rgb& skyRadiance);
+  // The composite's fallback beyond ssvgi's voxel volume (shader::CompositeFallback); none without a volume.
+  void writeCompositeFallback(const std::optional<ssvgi::WorldBox>& voxelVolume, const shader::Sh2Rgb& skyRadiance);
 
   gpu::OwnedDevice& device_;
   const Scene& scene_;
@@ -136,6 +138,7 @@ class Renderer {
   std::optional<SkyMap> skyMap_;  // with GI and ExtraViewSettings::skyMap
   std::array<GBuffer, 2> gbuffers_;
   gpu::Buffer frameConstants_;
+  gpu::Buffer compositeFallback_;  // shader::CompositeFallback, written once ssvgi has placed its volume
   gpu::Buffer lights_;
   gpu::Image directIrradiance_;
   gpu::Image viewDistance_;

@@ -30,14 +30,16 @@ void DirectLighting::record(gpu::CommandList& commands, const gpu::Buffer& frame
 
 Composite::Composite(gpu::Device& device) : pipeline_(device, shaders::composite_comp) {}
 
-void Composite::record(gpu::CommandList& commands, const gpu::Buffer& frameConstants, const GBuffer& gbuffer,
-                       VkSampler pointSampler, const gpu::Image& directIrradiance, VkImageView indirectIrradiance,
-                       VkImageView indirectConfidence, const gpu::Image& finalRadiance,
-                       const gpu::Image& indirectUsed, const gpu::Image& directRadiance) {
+void Composite::record(gpu::CommandList& commands, const gpu::Buffer& frameConstants, const gpu::Buffer& fallback,
+                       const GBuffer& gbuffer, VkSampler pointSampler, const gpu::Image& directIrradiance,
+                       VkImageView indirectIrradiance, VkImageView indirectConfidence,
+                       const gpu::Image& finalRadiance, const gpu::Image& indirectUsed,
+                       const gpu::Image& directRadiance) {
   auto scope = commands.scope("renderer: Composite");
   commands.dispatch(pipeline_,
                     gpu::Bindings()
                         .buffer(shader::kBindCompositeFrame, frameConstants)
+                        .buffer(shader::kBindCompositeFallback, fallback)
                         .sampled(shader::kBindCompositeDepth, gbuffer.depth, pointSampler)
                         .sampled(shader::kBindCompositeAlbedo, gbuffer.albedo, pointSampler)
                         .sampled(shader::kBindCompositeEmission, gbuffer.emission, pointSampler)

@@ -25,10 +25,10 @@ class DirectLighting {
 class Composite {
  public:
   explicit Composite(gpu::Device& device);
-  void record(gpu::CommandList& commands, const gpu::Buffer& frameConstants, const GBuffer& gbuffer,
-              VkSampler pointSampler, const gpu::Image& directIrradiance, VkImageView indirectIrradiance,
-              VkImageView indirectConfidence, const gpu::Image& finalRadiance, const gpu::Image& indirectUsed,
-              const gpu::Image& directRadiance);
+  void record(gpu::CommandList& commands, const gpu::Buffer& frameConstants, const gpu::Buffer& fallback,
+              const GBuffer& gbuffer, VkSampler pointSampler, const gpu::Image& directIrradiance,
+              VkImageView indirectIrradiance, VkImageView indirectConfidence, const gpu::Image& finalRadiance,
+              const gpu::Image& indirectUsed, const gpu::Image& directRadiance);
 
  private:
   gpu::ComputePipeline pipeline_;

@@ -1327,6 +1327,7 @@ TEST_F(VoxelScene, aCameraHighAboveTheFloorItLooksDownAtHasTheVolumeStandLowEnou
   settings.volumeBricks = {16, 24, 16};  // 6 steps of 4 m
   create(settings);
   EXPECT_EQ(context_->stats().voxelVolume.max, (std::array<float, 3>{})) << "no volume before the first dispatch";
+  EXPECT_EQ(context_->voxelVolume().max, (std::array<float, 3>{}));
   // The camera's step is y ∈ [16, 20) m: centred, the volume spans y ∈ [4, 28) m, 4 m above the floor (y = 0.1 m).
   const HostFrame high(device(), lookingDown({0.5f, 18.1f, 0.5f}), {kFloor});
   dispatch(high, &high);
@@ -1338,6 +1339,8 @@ TEST_F(VoxelScene, aCameraHighAboveTheFloorItLooksDownAtHasTheVolumeStandLowEnou
   const WorldBox box = context_->stats().voxelVolume;  // the host's view of it
   EXPECT_EQ(box.min, (std::array<float, 3>{-8.0f, 0.0f, -8.0f}));
   EXPECT_EQ(box.max, (std::array<float, 3>{8.0f, 24.0f, 8.0f}));
+  EXPECT_EQ(context_->voxelVolume().min, box.min) << "the same box, known as soon as dispatch() returns";
+  EXPECT_EQ(context_->voxelVolume().max, box.max);
   const std::map<testing::VoxelCoordinate, shader::Voxel> occupied = occupiedVoxels(readState());
   ASSERT_FALSE(occupied.empty()) << "the floor has voxels";
   for (const auto& [coordinate, voxel] : occupied) EXPECT_EQ(std::get<1>(coordinate), 0);

@@ -410,8 +410,10 @@ class Context {
   virtual OutputImage output() const = 0;
 
   // How much ssvgi knows where it lit each texel of output() (SPEC §6.4), for a host that blends to a fallback —
-  // baked or ambient light — where ssvgi knows little: e.g. E_used = mix(E_fallback, E, confidence). R8_UNORM, the
-  // same size, texels and contract as output() (see OutputImage); nothing before the first dispatch().
+  // baked or ambient light — where ssvgi knows little: e.g. E_used = mix(E_fallback, E, confidence) beyond
+  // voxelVolume(), where ssvgi has nothing. Inside the volume a low confidence means space no view has observed,
+  // which ssvgi does not take for sky: a sky fallback there lights a roof no view has seen (docs/INTEGRATION.md).
+  // R8_UNORM, the same size, texels and contract as output() (see OutputImage); nothing before the first dispatch().
   //   - 1: every ray of the probes that lit the texel met a surface or the sky through space some view has observed
   //     (the camera's frames, FrameDesc::extraViews); 0: the probes know nothing of their surroundings — their rays
   //     met only space no view has observed, where unknown is not sky — or no probe lit the texel. Where nothing was
@@ -420,6 +422,11 @@ class Context {
   //     fraction blended over its updates as its light is, and upsampled with E's weights. It is not temporally
   //     filtered as E is: near a probe level's boundary it flickers a little from frame to frame.
   virtual OutputImage confidence() const = 0;
+
+  // Where the last dispatch() placed the voxel volume, as Stats::voxelVolume, known as soon as dispatch() returns: a
+  // host that blends to a fallback beyond ssvgi's reach can tell, while it records the frame, which surfaces lie
+  // outside it (ssvgi has no voxels and no probes there). All zero before the first dispatch().
+  virtual WorldBox voxelVolume() const = 0;
 
   // Records a debug view into `target`, an rgba32f storage image of the view's size that ssvgi leaves in
   // VK_IMAGE_LAYOUT_GENERAL (it must be in GENERAL or UNDEFINED before).

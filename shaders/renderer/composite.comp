@@ -3,8 +3,9 @@
 // E_indirect is black: there is no ambient term at all. With GI on it is ssvgi's half-resolution output, whose texel h
 // holds full-resolution pixel 2h; each pixel resolves it with the library's edge-aware sampling (ssvgi/resolve.glsl,
 // SPEC §4.6 "Shading", §8), so light does not bleed across silhouettes. ssvgi's confidence (SPEC §6.4) is resolved
-// with the same weights and kept beside the E_indirect used, for the
-// renderer's confidence.exr; the composite does not blend to a fallback (it has none: GI off means no ambient at all).
+// with the same weights and kept beside the E_indirect used, for the renderer's confidence.exr. Beyond ssvgi's voxel
+// volume, where ssvgi has no probes, the composite blends to the sky's light by that confidence (CompositeFallback);
+// inside it never does, and with GI off there is no ambient term at all.
 // It also writes the light without the GI's, emission + albedo/π · E_direct: ssvgi's lit frame, with the albedo, from
 // which the voxels keep their direct light and are relit by the probes (ssvgi::FrameDesc::litAlbedo). The final
 // radiance may show one part of the light alone on surfaces (the viewer's direct only / indirect only, kShow*).
@@ -24,6 +25,15 @@ layout(binding = kBindCompositeConfidence) uniform sampler2D indirectConfidence;
 layout(binding = kBindCompositeFinal, rgba32f) writeonly uniform image2D finalRadiance;
 layout(binding = kBindCompositeIndirectUsed, rgba32f) writeonly uniform image2D indirectUsed;
 layout(binding = kBindCompositeDirectRadiance, rgba16f) writeonly uniform image2D directRadiance;
+layout(binding = kBindCompositeFallback, std140) readonly buffer Fallback { CompositeFallback fallback; };
+
+// E_indirect with the fallback blended in where the surface lies beyond ssvgi's voxel volume.
+vec3 withFallback(vec4 indirect, vec3 position, vec3 normal) {
+  bool beyondVolume = any(lessThan(position, fallback.knownVolumeMinimum.xyz)) ||
+                      any(greaterThan(position, fallback.knownVolumeMaximum.xyz));
+  if (fallback.knownVolumeMinimum.w == 0.0 || !beyondVolume) return indirect.rgb;
+  return mix(sh2IrradianceWithoutRinging(fallback.skyRadiance, normal), indirect.rgb, indirect.a);
+}
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -45,6 +55,8 @@ void main() {
       SsvgiResolved resolved =
           ssvgiResolve(indirectIrradiance, indirectConfidence, depthBuffer, normalBuffer, view, pixel);
       indirect = vec4(resolved.irradiance, resolved.confidence);
+      vec3 position = ssvgiPixelPosition(view, pixel, depth);
+      indirect.rgb = withFallback(indirect, position, normalize(texelFetch(normalBuffer, pixel, 0).xyz));
     }
     vec3 direct = imageLoad(directIrradiance, pixel).rgb;
     vec3 emission = texelFetch(emissionBuffer, pixel, 0).rgb;

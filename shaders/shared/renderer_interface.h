@@ -4,6 +4,7 @@
 
 #include "shared/glsl_cpp.h"
 #include "ssvgi/pixel_coordinates.h"
+#include "shared/sh.h"
 #include "shared/sky.h"
 
 SSVGI_SHARED_BEGIN
@@ -35,6 +36,20 @@ struct FrameConstants {
   SkyParameters sky;
 };
 SSVGI_CHECK_SIZE(FrameConstants, 4 * 64 + 6 * 16 + 32);
+
+// The light the composite gives surfaces beyond ssvgi's reach (SPEC §6.4: a host blends to a fallback where ssvgi knows
+// little). Outside ssvgi's voxel volume there are no voxels and no probes stand among them: the gather finds none for
+// a surface there and gives it no light at all, and ssvgi's confidence there says so. There the composite blends to
+// the sky's irradiance, E = mix(E_sky(n), E_ssvgi, confidence): the light of distant ground under open sky, which
+// sees the sky alone. Inside the volume it does not: there a low confidence means space no view has observed, where
+// unknown is not sky (a roof the camera never saw).
+struct CompositeFallback {
+  vec4 knownVolumeMinimum;  // xyz: the corner of ssvgi's voxel volume (ssvgi::Stats::voxelVolume); w: 1 when the
+                            // composite blends to the fallback (GI on), 0 when not
+  vec4 knownVolumeMaximum;  // xyz: its opposite corner
+  Sh2Rgb skyRadiance;       // the host's sky as SH2, as ssvgi is given it (ssvgi::FrameDesc::skyRadianceSh)
+};
+SSVGI_CHECK_SIZE(CompositeFallback, 2 * 16 + 48);
 
 // What the composite's final radiance holds on surfaces (the sky stays): all the light, direct and emitted light only,
 // or only the GI's light, albedo/π · E_indirect.
@@ -115,6 +130,7 @@ SSVGI_CONSTANT(uint, kBindCompositeNormal, 8u);       // G-buffer world normal (
 SSVGI_CONSTANT(uint, kBindCompositeConfidence, 9u);   // the GI's confidence of E_indirect (ssvgi::Context::confidence)
 SSVGI_CONSTANT(uint, kBindCompositeDirectRadiance, 10u); // out: emission + albedo/π · E_direct, rgba16f: the light
                                                           // without the GI's, ssvgi's lit frame (FrameDesc::litAlbedo)
+SSVGI_CONSTANT(uint, kBindCompositeFallback, 11u);    // CompositeFallback
 // Tonemap (tonemap.comp):
 SSVGI_CONSTANT(uint, kBindTonemapFrame, 0u);
 SSVGI_CONSTANT(uint, kBindTonemapInput, 1u);

@@ -236,6 +236,14 @@ class ContextImplementation final : public Context {
   OutputImage output() const override { return outputImage(gather_.output()); }
   OutputImage confidence() const override { return outputImage(gather_.confidence()); }
 
+  WorldBox voxelVolume() const override {
+    if (!dispatched_) return {};
+    const shader::VoxelVolume& volume = scene_.current();
+    const glm::vec3 lowest = glm::vec3(volume.originBrick) * volume.brickSize;
+    const glm::vec3 highest = glm::vec3(volume.originBrick + volume.dimensionsBricks) * volume.brickSize;
+    return {{lowest.x, lowest.y, lowest.z}, {highest.x, highest.y, highest.z}};
+  }
+
   const gi::VoxelScene& voxelScene() const { return scene_; }
   const gi::ProbeVolume& probeVolume() const { return probes_; }
   const gi::GatherTargets& gatherTargets() const { return gather_; }
@@ -262,10 +270,7 @@ class ContextImplementation final : public Context {
     stats.bricksReleasedLastFrame = pool.releasedThisFrame;
     stats.bricksVisibleLastFrame = pool.visibleThisFrame;
     stats.voxelsValid = pool.voxelsValid;
-    const shader::VoxelVolume& volume = scene_.current();
-    const glm::vec3 lowest = glm::vec3(volume.originBrick) * volume.brickSize;
-    const glm::vec3 highest = glm::vec3(volume.originBrick + volume.dimensionsBricks) * volume.brickSize;
-    stats.voxelVolume = {{lowest.x, lowest.y, lowest.z}, {highest.x, highest.y, highest.z}};
+    stats.voxelVolume = voxelVolume();
     shader::IndirectList probeList{};
     std::memcpy(&probeList, slot.probeListReadback.mapped(), sizeof(probeList));
     stats.probeLevelUpdatedLastFrame = slot.probeLevel;
