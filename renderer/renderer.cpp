@@ -166,8 +166,9 @@ void Renderer::writeCompositeFallback(const std::optional<ssvgi::WorldBox>& voxe
                                       const shader::Sh2Rgb& skyRadiance) {
   shader::CompositeFallback fallback{};
   if (voxelVolume) {
-    fallback.knownVolumeMinimum = glm::vec4(voxelVolume->min[0], voxelVolume->min[1], voxelVolume->min[2], 1.0f);
-    fallback.knownVolumeMaximum = glm::vec4(voxelVolume->max[0], voxelVolume->max[1], voxelVolume->max[2], 0.0f);
+    fallback.knownVolumeMinimum = glm::vec3(voxelVolume->min[0], voxelVolume->min[1], voxelVolume->min[2]);
+    fallback.knownVolumeMaximum = glm::vec3(voxelVolume->max[0], voxelVolume->max[1], voxelVolume->max[2]);
+    fallback.blendsToFallback = 1u;
     fallback.skyRadiance = skyRadiance;
   }
   std::memcpy(compositeFallback_.mapped(), &fallback, sizeof(fallback));

@@ -29,9 +29,9 @@ layout(binding = kBindCompositeFallback, std140) readonly buffer Fallback { Comp
 
 // E_indirect with the fallback blended in where the surface lies beyond ssvgi's voxel volume.
 vec3 withFallback(vec4 indirect, vec3 position, vec3 normal) {
-  bool beyondVolume = any(lessThan(position, fallback.knownVolumeMinimum.xyz)) ||
-                      any(greaterThan(position, fallback.knownVolumeMaximum.xyz));
-  if (fallback.knownVolumeMinimum.w == 0.0 || !beyondVolume) return indirect.rgb;
+  bool beyondVolume = any(lessThan(position, fallback.knownVolumeMinimum)) ||
+                      any(greaterThan(position, fallback.knownVolumeMaximum));
+  if (fallback.blendsToFallback == 0u || !beyondVolume) return indirect.rgb;
   return mix(sh2IrradianceWithoutRinging(fallback.skyRadiance, normal), indirect.rgb, indirect.a);
 }
 

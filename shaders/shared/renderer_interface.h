@@ -44,9 +44,10 @@ SSVGI_CHECK_SIZE(FrameConstants, 4 * 64 + 6 * 16 + 32);
 // sees the sky alone. Inside the volume it does not: there a low confidence means space no view has observed, where
 // unknown is not sky (a roof the camera never saw).
 struct CompositeFallback {
-  vec4 knownVolumeMinimum;  // xyz: the corner of ssvgi's voxel volume (ssvgi::Stats::voxelVolume); w: 1 when the
-                            // composite blends to the fallback (GI on), 0 when not
-  vec4 knownVolumeMaximum;  // xyz: its opposite corner
+  vec3 knownVolumeMinimum;  // the corner of ssvgi's voxel volume (ssvgi::Context::voxelVolume())
+  uint blendsToFallback;    // 1 when the composite blends to the fallback (GI on), 0 when not
+  vec3 knownVolumeMaximum;  // its opposite corner
+  uint unused;
   Sh2Rgb skyRadiance;       // the host's sky as SH2, as ssvgi is given it (ssvgi::FrameDesc::skyRadianceSh)
 };
 SSVGI_CHECK_SIZE(CompositeFallback, 2 * 16 + 48);
