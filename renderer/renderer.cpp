@@ -201,14 +201,16 @@ void Renderer::render(const AnimatedState& state) {
     gbufferPass_.record(commands, gpuScene_, frameConstants_, gbuffer);
     directLighting_.record(commands, frameConstants_, lights_, shadows_, gbuffer, pointSampler_.handle(),
                            directIrradiance_, viewDistance_);
+    std::optional<ssvgi::WorldBox> voxelVolume;  // none without the GI's light: no fallback either
+    shader::Sh2Rgb skyRadiance{};
     if (gi_) {
       lastExtraViews_ = extraViews_->record(commands, frame, gpuScene_, lights_, shadows_, pointSampler_.handle());
       if (skyMap_) skyMap_->record(commands, frameConstants_);
-      const shader::Sh2Rgb skyRadiance = projectSkyToSh2(frame.sky);
+      skyRadiance = projectSkyToSh2(frame.sky);
       recordGi(commands, frame, skyRadiance);
-      if (giLighting) writeCompositeFallback(gi_->voxelVolume(), skyRadiance);
+      if (giLighting) voxelVolume = gi_->voxelVolume();
     }
-    if (!giLighting) writeCompositeFallback(std::nullopt, shader::Sh2Rgb{});
+    writeCompositeFallback(voxelVolume, skyRadiance);
     // Without the GI's light the composite binds the black image for both, and reads neither.
     VkImageView indirect = indirectIrradiance_.view(), confidence = indirectIrradiance_.view();
     if (giLighting) {

@@ -27,11 +27,12 @@ layout(binding = kBindCompositeIndirectUsed, rgba32f) writeonly uniform image2D 
 layout(binding = kBindCompositeDirectRadiance, rgba16f) writeonly uniform image2D directRadiance;
 layout(binding = kBindCompositeFallback, std140) readonly buffer Fallback { CompositeFallback fallback; };
 
-// E_indirect with the fallback blended in where the surface lies beyond ssvgi's voxel volume.
-vec3 withFallback(vec4 indirect, vec3 position, vec3 normal) {
+// E_indirect with the fallback blended in where the surface at `pixel` lies beyond ssvgi's voxel volume.
+vec3 withFallback(vec4 indirect, vec3 position, ivec2 pixel) {
   bool beyondVolume = any(lessThan(position, fallback.knownVolumeMinimum)) ||
                       any(greaterThan(position, fallback.knownVolumeMaximum));
   if (fallback.blendsToFallback == 0u || !beyondVolume) return indirect.rgb;
+  vec3 normal = normalize(texelFetch(normalBuffer, pixel, 0).xyz);
   return mix(sh2IrradianceWithoutRinging(fallback.skyRadiance, normal), indirect.rgb, indirect.a);
 }
 
@@ -55,8 +56,7 @@ void main() {
       SsvgiResolved resolved =
           ssvgiResolve(indirectIrradiance, indirectConfidence, depthBuffer, normalBuffer, view, pixel);
       indirect = vec4(resolved.irradiance, resolved.confidence);
-      vec3 position = ssvgiPixelPosition(view, pixel, depth);
-      indirect.rgb = withFallback(indirect, position, normalize(texelFetch(normalBuffer, pixel, 0).xyz));
+      indirect.rgb = withFallback(indirect, ssvgiPixelPosition(view, pixel, depth), pixel);
     }
     vec3 direct = imageLoad(directIrradiance, pixel).rgb;
     vec3 emission = texelFetch(emissionBuffer, pixel, 0).rgb;
