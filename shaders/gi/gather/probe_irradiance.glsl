@@ -98,14 +98,19 @@ float cornerWeight(CornerProbe probe, float spacing, vec3 position, vec3 normal,
 // Beyond the talk's weights, which it says only ease leaks: a probe with a voxel between it and the point does not light
 // it. The SH2 distance is far too coarse to see a wall a probe stands a few centimetres behind (the virtual offset may
 // put it on either side), and through a closed door the lit room's probes would light the dark one (`ssvgi scenario
-// leak`). A voxel within `ownSurface` (half a voxel) of the biased point is the point's own surface.
-bool probeSeesPoint(vec3 probePosition, vec3 biased, float ownSurface) {
+// leak`). A voxel within `ownSurface` (half a voxel) of the biased point is the point's own surface. Where the probes'
+// rays watch observed space (`watchesObservedSpace`, SPEC §6.4), so does this test: space between them that no view
+// has observed stops it too, and a hole in a wall's voxels that no view has seen through stops it as the wall would
+// (voxel_trace.glsl). Unknown is not open air either: the walls of a sealed room have holes at first, and a probe
+// outside it, lit by the sky, lit them through the holes (docs/QUALITY.md, "A sealed room").
+bool probeSeesPoint(vec3 probePosition, vec3 biased, float ownSurface, bool watchesObservedSpace) {
   vec3 fromProbe = biased - probePosition;
   float pointDistance = length(fromProbe);
   if (pointDistance <= 1e-4) return true;
   VoxelHit blocker =
-      traceVoxelsNearSurfaces(probePosition, fromProbe / pointDistance, pointDistance, kIgnoreObservedSpace);
-  return !blocker.hit || blocker.distance >= pointDistance - ownSurface;
+      traceVoxelsNearSurfaces(probePosition, fromProbe / pointDistance, pointDistance, watchesObservedSpace);
+  float reached = blocker.unobserved ? min(blocker.unobservedDistance, blocker.distance) : blocker.distance;
+  return !(blocker.hit || blocker.unobserved) || reached >= pointDistance - ownSurface;
 }
 
 // Irradiance at a surface point from the 8 probes of a level around it, and their confidence, leaving out a probe with
@@ -173,10 +178,11 @@ GatheredLight gatherLevel(uint levelIndex, vec3 position, vec3 normal) {
     uint toTrace = agree ? heaviestBit : kept;
     visible = 0u;
     float ownSurface = 0.5 * volume.voxelSize;
+    bool watchesObservedSpace = volume.skyOnlyThroughObservedSpace != 0u;
     while (toTrace != 0u) {
       int corner = findLSB(toTrace);
       toTrace &= toTrace - 1u;
-      if (probeSeesPoint(positions[corner], biased, ownSurface)) visible |= 1u << uint(corner);
+      if (probeSeesPoint(positions[corner], biased, ownSurface, watchesObservedSpace)) visible |= 1u << uint(corner);
       if (toTrace == 0u && agree) {  // the heaviest traced: all seen, or none yet and the rest to trace
         agree = false;
         if (visible != 0u)

@@ -1,10 +1,12 @@
 #version 450
 // ObservedSpace: marks the brick cells a view has observed (SPEC §6.4, "unknown is not sky"; voxel_interface.h). One
 // thread per pixel in stride × stride (the offset inside the block moves every frame, so over stride² frames every
-// pixel is visited) walks the brick cells along the pixel's ray from the near plane to the surface it shows, that
-// surface's cell included, or — where nothing was drawn — out of the volume: the view saw through them. A view that
-// only observes (kViewObservesOnly) writes no voxels: the cell of the surface it shows is left as it was, so that a
-// probe ray crossing it without meeting a voxel is unknown, not sky.
+// pixel is visited) walks the brick cells along the pixel's ray from the near plane to the surface it shows, or —
+// where nothing was drawn — out of the volume: the view saw through them. The cell of the surface it shows is left as
+// it was, whether or not the view writes voxels: a surface on a cell's face may be held by the voxels of the cell on
+// its other side (heldSurfacePoint), and a thick wall's inner face seen on a cell boundary would mark the wall's own
+// cell, which no view sees into, as known empty — a probe ray crossing it before any voxel is there would find the
+// sky beyond the wall. Where the surface's voxels are, the trace reads them at the voxel's scale (Brick::observed).
 #define SSVGI_OBSERVED_SPACE_WRITABLE
 #include "gi/gi_frame.glsl"
 #include "gi/voxels/voxel_access.glsl"
@@ -48,7 +50,10 @@ struct CellFootprint {
   vec2 low;
   vec2 high;
   float farthestDepth;
-  bool texelsWiderThanVoxel;  // the view's texels, in metres along its rows or columns
+  // Which texels around it seesThroughCell looks at: those whose centres lie within `margin` texels of it (a
+  // hundredth more for rounding), every `stride`-th along each axis.
+  vec2 margin;
+  ivec2 stride;
   // What seesThroughCell reads of the frame, read once rather than on every step of the walk (voxel_access.glsl's
   // VolumeLayout says why).
   mat4 viewProjection;
@@ -59,7 +64,7 @@ CellFootprint orthographicCellFootprint(vec2 size) {
   vec4 origin = frame.viewProjection * vec4(0.0, 0.0, 0.0, 1.0);
   vec2 originPixel = ssvgiNdcToPixel(origin.xy, size);
   CellFootprint footprint =
-      CellFootprint(vec2(1e30), vec2(-1e30), 1e30, false, frame.viewProjection, volume.brickSize);
+      CellFootprint(vec2(1e30), vec2(-1e30), 1e30, vec2(0.0), ivec2(1), frame.viewProjection, volume.brickSize);
   for (int corner = 0; corner < 8; ++corner) {
     vec3 point = vec3(corner & 1, (corner >> 1) & 1, corner >> 2) * volume.brickSize;
     vec4 clip = frame.viewProjection * vec4(point, 1.0);
@@ -68,34 +73,39 @@ CellFootprint orthographicCellFootprint(vec2 size) {
     footprint.high = max(footprint.high, pixel);
     footprint.farthestDepth = min(footprint.farthestDepth, clip.z - origin.z);
   }
-  // A texel's width in metres: 2 / (NDC per metre × pixels).
+  // A texel's width in metres along the view's rows and columns: 2 / (NDC per metre × pixels).
   mat4 projection = frame.viewProjection;
   vec2 ndcPerMetre = vec2(length(vec3(projection[0][0], projection[1][0], projection[2][0])),
                           length(vec3(projection[0][1], projection[1][1], projection[2][1])));
   vec2 texelMetres = 2.0 / (ndcPerMetre * size);
-  footprint.texelsWiderThanVoxel = max(texelMetres.x, texelMetres.y) > 1.01 * volume.voxelSize;
+  float voxelSize = volume.voxelSize;
+  footprint.margin = max(texelMetres - voxelSize, 0.0) / texelMetres + 0.01;
+  footprint.stride = max(ivec2(voxelSize / texelMetres), ivec2(1));
   return footprint;
 }
 
-// Whether an orthographic view sees through a whole brick cell: the texels over the cell's footprint (a 4×4 lattice
-// of them where there are more) all show a surface beyond the cell's farthest point. Such a view (the sun's, the
-// overhead view) looks down past roofs' rims from afar: a ray that crosses a cell in part, beside the wall under a
-// rim, observes only that part, and the rest may hide the wall. Texels no wider than a voxel count where their centres
-// lie in the footprint: one that straddles its edge shows what lies beyond as often as what lies within, and counting
-// it would leave the cells beside every wall unobserved. A wider texel counts wherever the footprint touches it: its
-// centre may lie beyond a rim while it covers the wall under it.
+// Whether an orthographic view sees through a whole brick cell: every texel around the cell's footprint shows a
+// surface beyond the cell's farthest point. Such a view (the sun's, the overhead view) looks down past roofs' rims
+// from afar: a ray that crosses a cell in part, beside the wall under a rim, observes only that part, and the rest may
+// hide the wall. A texel's depth is that of the line through its centre, so the texels looked at are those whose
+// centres lie within the footprint grown by a texel's width less a voxel's, at most a voxel apart: of a wall a voxel
+// thick under a roof flush with its outer face, the first centre past the rim, which shows the roof, is then always
+// among them. (A wider texel that straddles the rim may see past it while it covers the wall's top, and the next one
+// lie more than half a texel off the footprint; jittered, a view comes to that offset in time, and a cell once
+// observed stays so.) Texels no wider than a voxel count only where their centres lie in the footprint: one that
+// straddles its edge shows what lies beyond as often as what lies within, and counting more would leave the cells
+// beside every wall unobserved.
 bool seesThroughCell(ivec3 worldBrick, vec2 size, CellFootprint footprint) {
   vec4 corner = footprint.viewProjection * vec4(vec3(worldBrick) * footprint.brickSize, 1.0);
   vec2 cornerPixel = ssvgiNdcToPixel(corner.xy, size);
   vec2 low = cornerPixel + footprint.low, high = cornerPixel + footprint.high;
   float farthestDepth = corner.z + footprint.farthestDepth;
-  bool wide = footprint.texelsWiderThanVoxel;
-  ivec2 first = clamp(ivec2(wide ? floor(low) : ceil(low - 0.5)), ivec2(0), ivec2(size) - 1);
-  ivec2 last = clamp(ivec2(wide ? ceil(high) - 1.0 : floor(high - 0.5)), ivec2(0), ivec2(size) - 1);
+  // Texel i's centre lies at i + 0.5.
+  ivec2 first = clamp(ivec2(ceil(low - footprint.margin - 0.5)), ivec2(0), ivec2(size) - 1);
+  ivec2 last = clamp(ivec2(floor(high + footprint.margin - 0.5)), ivec2(0), ivec2(size) - 1);
   if (any(lessThan(last, first))) return true;
-  ivec2 step = max((last - first + 3) / 4, ivec2(1));  // at most 4×4 texels looked at
-  for (int y = first.y; y <= last.y; y += step.y)
-    for (int x = first.x; x <= last.x; x += step.x)
+  for (int y = first.y; y <= last.y; y += footprint.stride.y)
+    for (int x = first.x; x <= last.x; x += footprint.stride.x)
       if (texelFetch(depthBuffer, ivec2(x, y), 0).r > farthestDepth) return false;
   return true;
 }
@@ -111,6 +121,9 @@ void main() {
   vec3 start = reconstructPosition(frame.inverseViewProjection, vec2(pixel), size, 1.0) * bricksPerMetre;
   vec3 end = reconstructPosition(frame.inverseViewProjection, vec2(pixel), size, max(depth, kNothingDrawnDepth)) *
              bricksPerMetre;
+  // The walk ends a hundredth of a voxel (heldSurfacePoint's hair) short of a surface: one on a cell's face may be held
+  // on either side of it, and the cell in front, where the walk then ends, is left as it was too.
+  if (depth > 0.0) end -= normalize(end - start) * (0.01 * volume.voxelSize * bricksPerMetre);
   vec3 segment = end - start;
   vec3 volumeMin = vec3(volume.originBrick);
   vec3 volumeMax = volumeMin + vec3(volumeDimensions());
@@ -138,7 +151,8 @@ void main() {
   nextCrossing = mix(nextCrossing, vec3(2.0), equal(stepDirection, ivec3(0)));
   vec3 crossingStep = abs(inverse);
   int maxSteps = volumeDimensions().x + volumeDimensions().y + volumeDimensions().z;
-  bool surfaceCellKept = (frame.viewKind & kViewObservesOnly) != 0u && depth > 0.0 && last == 1.0;
+  // The surface's own cell is left as it was (above).
+  bool endsAtSurface = depth > 0.0 && last == 1.0;
   // A perspective view's rays from inside the scene mark every cell they cross: its pixels are small where it looks
   // past a rim close by, and a cell's footprint is unbounded near its eye.
   CellFootprint footprint = orthographicCellFootprint(size);
@@ -146,8 +160,8 @@ void main() {
   uint crossedCells = 0u;
   for (int stepCount = 0; stepCount < maxSteps; ++stepCount) {
     bool atLastCell = all(equal(cell, lastCell));
-    if (atLastCell && surfaceCellKept) break;
-    if (atLastCell || !kOrthographic || seesThroughCell(cell, size, footprint)) markObserved(cell, layoutOfVolume);
+    if (atLastCell && endsAtSurface) break;
+    if (!kOrthographic || seesThroughCell(cell, size, footprint)) markObserved(cell, layoutOfVolume);
     ++crossedCells;
     if (atLastCell) break;
     int axis = nextCrossing.x <= nextCrossing.y && nextCrossing.x <= nextCrossing.z ? 0
