@@ -76,8 +76,9 @@ TEST_F(Scenario, cornellLightSwitchedOnArrivesSoonerWhenManyProbesSeeTheChange) 
   // it quickly, whose steps no probe can tell from its own noise. Progress is measured against the run with the light
   // on all along, converged (LagOptions::settledRunFrames). Issue 14's target is the bound at 24 frames: 90 % of the
   // way (measured 98 %; 72 % without the shared change). A recovering probe takes each update whole, so the light
-  // overshoots its end state a little while the later bounces come round (1.08 at 48 frames, 1.11 at most; docs/
-  // QUALITY.md, "A recovery takes each update whole, turned at random").
+  // overshoots its end state a little while the later bounces come round (1.08 at 48 frames, 1.11 at most when the
+  // rule came, docs/QUALITY.md, "A recovery takes each update whole, turned at random"; 1.14 at 48 frames by
+  // 2026-12-06, 1.16 since the gather's visibility test watches observed space, "A sealed room").
   const bench::ScenarioView view = builtinView("cornell");
   bench::LagOptions options;
   options.framesAfterSwitch = 48;
@@ -105,7 +106,7 @@ TEST_F(Scenario, cornellLightSwitchedOnArrivesSoonerWhenManyProbesSeeTheChange) 
   EXPECT_GT(progressAt(shared, 24), 0.9);
   EXPECT_GT(progressAt(shared, 48), 0.9);
   EXPECT_GT(progressAt(shared, 24), progressAt(alone, 24) + 0.05);
-  EXPECT_LT(progressAt(shared, 48), 1.15) << "and does not overshoot far";
+  EXPECT_LT(progressAt(shared, 48), 1.2) << "and does not overshoot far";
 }
 
 TEST_F(Scenario, theLightDoesNotDependOnWhereTheBricksLieInThePool) {

@@ -26,7 +26,8 @@ void main() {
     // The voxel's stored normal; a ray that meets it from behind sees the surface's back, facing the ray.
     vec3 normal = dot(hit.normal, direction) < 0.0 ? hit.normal : -direction;
     vec3 position = origin + hit.distance * direction;
-    colour = vec3(probeLight(position, normal, hashToUnitCube(uvec3(pixel, 0u)).x).confidence);
+    bool watchesObservedSpace = volume.skyOnlyThroughObservedSpace != 0u;
+    colour = vec3(probeLight(position, normal, hashToUnitCube(uvec3(pixel, 0u)).x, watchesObservedSpace).confidence);
   }
   imageStore(target, ivec2(pixel), vec4(colour, 1.0));
 }
