@@ -78,7 +78,7 @@ TEST_F(Scenario, cornellLightSwitchedOnArrivesSoonerWhenManyProbesSeeTheChange) 
   // way (measured 98 %; 72 % without the shared change). A recovering probe takes each update whole, so the light
   // overshoots its end state a little while the later bounces come round (1.08 at 48 frames, 1.11 at most when the
   // rule came, docs/QUALITY.md, "A recovery takes each update whole, turned at random"; 1.14 at 48 frames by
-  // 2026-12-06, 1.16 since the gather's visibility test watches observed space, "A sealed room").
+  // 2026-12-06, 1.151 since FinalGather's visibility test watches observed space, "A sealed room").
   const bench::ScenarioView view = builtinView("cornell");
   bench::LagOptions options;
   options.framesAfterSwitch = 48;
@@ -99,8 +99,8 @@ TEST_F(Scenario, cornellLightSwitchedOnArrivesSoonerWhenManyProbesSeeTheChange) 
   options.knownIrradianceAfter = shared.irradianceAfter;
   const bench::LagResult alone = measure(0.0f);
   const auto progressAt = [](const bench::LagResult& lag, size_t frame) { return lag.progress[frame - 1]; };
-  std::printf("lag: %.0f %% / %.0f %% of the way 24 / 48 frames after the switch with the shared change, "
-              "%.0f %% / %.0f %% with each probe on its own\n",
+  std::printf("lag: %.1f %% / %.1f %% of the way 24 / 48 frames after the switch with the shared change, "
+              "%.1f %% / %.1f %% with each probe on its own\n",
               100.0 * progressAt(shared, 24), 100.0 * progressAt(shared, 48), 100.0 * progressAt(alone, 24),
               100.0 * progressAt(alone, 48));
   EXPECT_GT(progressAt(shared, 24), 0.9);
