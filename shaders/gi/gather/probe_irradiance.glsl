@@ -219,9 +219,9 @@ GatheredLight probeLight(vec3 position, vec3 normal, float noise, bool watchesOb
 }
 
 // The probes' irradiance at a voxel's surface for VoxelRelight: rgb E; a: 1 when some probe contributed. Its
-// visibility tests take space no view has observed for open: watching it there too slowed the fall of cornell's light
-// switched off (89 % of the way 24 frames after the switch instead of 94 %, issue 14's target 90 %), while the sealed
-// room's walls take from it only 0.17 % of the sky's irradiance by frame 16 (docs/QUALITY.md, "A sealed room").
+// visibility tests take space no view has observed for open: watching it there too slowed the fall of a light switched
+// off below issue 14's target, while what it lets into a sealed room's walls is small (docs/QUALITY.md, "A sealed
+// room").
 vec4 probeIrradiance(vec3 position, vec3 normal, float noise) {
   GatheredLight light = probeLight(position, normal, noise, kIgnoreObservedSpace);
   return vec4(light.irradiance, light.found ? 1.0 : 0.0);
