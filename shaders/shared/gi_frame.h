@@ -19,8 +19,6 @@ SSVGI_CONSTANT(uint, kViewIsDirectOnly, 2u);  // its colour holds direct and emi
                                               // given: the voxels keep both and VoxelRelight adds the probes' light
 SSVGI_CONSTANT(uint, kViewIsLitWithOutput, 4u);  // (the camera's, direct only) the host lit it with ssvgi's last
                                                  // output: injection adds albedo/π · that E, as the host did
-SSVGI_CONSTANT(uint, kViewObservesOnly, 8u);  // (an extra view) given without colour: it marks observed space and
-                                              // writes no voxels
 SSVGI_CONSTANT(uint, kViewIsReflectiveShadowMap, 16u);  // (an extra view, direct only) its eye is its colour's one
                                                        // light: what it cannot see of a surface is in that shadow
 

@@ -537,7 +537,6 @@ class ContextImplementation final : public Context {
       uint32_t viewHizLevels = 0;
       const bool observesOnly = !view.color.view;
       const uint32_t kind = shader::kViewIsExtra | (view.albedo.view ? shader::kViewIsDirectOnly : 0u) |
-                            (observesOnly ? shader::kViewObservesOnly : 0u) |
                             (view.isReflectiveShadowMap ? shader::kViewIsReflectiveShadowMap : 0u);
       const shader::GiFrame viewFrame = viewConstants(view.camera, view.camera, desc.frameIndex, kind, viewHizLevels);
       std::memcpy(slot.extraViewConstants[i].mapped(), &viewFrame, sizeof(viewFrame));

@@ -109,7 +109,7 @@ bool probeSeesPoint(vec3 probePosition, vec3 biased, float ownSurface, bool watc
   if (pointDistance <= 1e-4) return true;
   VoxelHit blocker =
       traceVoxelsNearSurfaces(probePosition, fromProbe / pointDistance, pointDistance, watchesObservedSpace);
-  float reached = blocker.unobserved ? min(blocker.unobservedDistance, blocker.distance) : blocker.distance;
+  float reached = min(blocker.unobservedDistance, blocker.distance);
   return !(blocker.hit || blocker.unobserved) || reached >= pointDistance - ownSurface;
 }
 

@@ -30,7 +30,7 @@ struct VoxelHit {
   uint reads;       // buffer loads made (brick lookups, occupancy masks, grid words, the hit voxel): the cost statistic
   // For a trace that watches observed space (SPEC §6.4): whether the ray crossed a brick cell that no view has
   // observed and that holds no voxel, or ended at an unobserved voxel (below), before its hit or its end, and where it
-  // first entered unobserved space (metres).
+  // first entered unobserved space (metres; its `distance` where it crossed none).
   bool unobserved;
   float unobservedDistance;
   // A miss that ended at unobserved voxels beside a surface it moved along or away from (below), not in space that no
