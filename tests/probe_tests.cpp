@@ -19,7 +19,6 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -189,44 +188,26 @@ TEST(ProbeDirections, theDriftSumClimbsWithUpdatesThatKeepStrayingOneWayAndNotWi
 shader::ProbeChangeTally leaningTally(const std::vector<float>& strays) {
   shader::ProbeChangeTally tally{};
   for (const float stray : strays) {
-    const float leaning = shader::probeUpdateLeaning(1.0f + stray, 1.0f);
+    const float d = stray / (2.0f + stray);
     ++tally.watchedProbes;
     ++tally.leaningProbes;
-    tally.leaningSum += int32_t(std::round(leaning * shader::kProbeLeaningScale));
-    tally.leaningSquares += uint32_t(std::round(leaning * leaning * shader::kProbeLeaningScale));
+    tally.leaningSum += int32_t(std::round(d * shader::kProbeLeaningScale));
+    tally.leaningSquares += uint32_t(std::round(d * d * shader::kProbeLeaningScale));
   }
   return tally;
 }
 
-// Noise alone, whose mean is the history, of three shapes over 400 probes: half the updates 40 % above the history and
-// half 40 % below; half meeting no light and half twice the history (where d + d² had a mean of 0.22); seven in eight
-// at 0.6 of it and one at 3.8 (a bright spot one update in eight finds). None leans the probes either way.
-TEST(ProbeSharedDrift, noiseOfAnyShapeDoesNotLeanTheProbes) {
-  const std::vector<float> evenSpread = {0.4f, -0.4f};
-  const std::vector<float> noLightOrTwice = {-1.0f, 1.0f};
-  std::vector<float> brightSpot(7, -0.4f);
-  brightSpot.push_back(2.8f);
-  for (const std::vector<float>& shape : {evenSpread, noLightOrTwice, brightSpot}) {
-    std::vector<float> strays;
-    for (size_t probe = 0; probe < 400; ++probe) strays.push_back(shape[probe % shape.size()]);
-    const gi::ProbeLeaning leaning = gi::probeLeaning(leaningTally(strays));
-    EXPECT_NEAR(leaning.mean, 0.0, 1.0 / shader::kProbeLeaningScale);
-    EXPECT_GT(leaning.standardError, 0.0);
-    EXPECT_FALSE(gi::showsSharedDrift(leaning));
-  }
-  // Half the relative change: 40 % above leans 0.2; ±40 % a standard error of 0.2/√400.
-  const std::vector<float> allAbove(400, 0.4f);
-  EXPECT_NEAR(gi::probeLeaning(leaningTally(allAbove)).mean, 0.2, 1.0 / shader::kProbeLeaningScale);
-  std::vector<float> alternating;
-  for (int probe = 0; probe < 400; ++probe) alternating.push_back(probe % 2 ? 0.4f : -0.4f);
-  EXPECT_NEAR(gi::probeLeaning(leaningTally(alternating)).standardError, 0.2 / std::sqrt(400.0), 0.0005);
-
-  // A spot found one update in sixteen at 16 times the history is capped: it leans the probes toward less light only.
-  std::vector<float> rareSpot;
-  for (int probe = 0; probe < 400; ++probe) rareSpot.push_back(probe % 16 ? -1.0f : 15.0f);
-  const gi::ProbeLeaning capped = gi::probeLeaning(leaningTally(rareSpot));
-  EXPECT_NEAR(capped.mean, (15.0 * -0.5 + shader::kProbeLeaningCap) / 16.0, 1.0 / shader::kProbeLeaningScale);
-  EXPECT_FALSE(gi::showsSharedDrift(capped));
+// Noise alone: half the probes' updates 40 % above their history, half 40 % below. d leans them toward less light
+// (−0.042), d + d² does not (within the fourth-order term, 0.0035, well under the floor).
+TEST(ProbeSharedDrift, symmetricNoiseDoesNotLeanTheProbesEitherWay) {
+  std::vector<float> strays;
+  for (int probe = 0; probe < 400; ++probe) strays.push_back(probe % 2 ? 0.4f : -0.4f);
+  const shader::ProbeChangeTally tally = leaningTally(strays);
+  EXPECT_LT(double(tally.leaningSum) / shader::kProbeLeaningScale / tally.leaningProbes, -0.04);
+  const gi::ProbeLeaning leaning = gi::probeLeaning(tally);
+  EXPECT_NEAR(leaning.mean, 0.0, 0.005);
+  EXPECT_NEAR(leaning.standardError, 0.21 / std::sqrt(400.0), 0.001);  // d's spread: 0.167 and −0.25 about −0.042
+  EXPECT_FALSE(gi::showsSharedDrift(leaning));
 }
 
 // Light coming round the loop: every probe's update 10 % above its history, give or take 20 %. Shared by 400 probes
@@ -249,17 +230,6 @@ TEST(ProbeSharedDrift, manyProbesLeaningTowardMoreLightShowADriftAndFewOrScatter
   const gi::ProbeLeaning scatteredLeaning = gi::probeLeaning(leaningTally(scattered));
   EXPECT_GT(scatteredLeaning.mean, shader::kProbeSharedDriftFloor);
   EXPECT_FALSE(gi::showsSharedDrift(scatteredLeaning));
-
-  // Three frames' tallies (an update of each level) of 100 probes each, every update 10 % above its history give or
-  // take 40 %: within four standard errors of none alone (0.05 against 4 · 0.02), beyond those of the three pooled.
-  std::vector<float> few;
-  for (int probe = 0; probe < 100; ++probe) few.push_back(0.1f + (probe % 2 ? 0.4f : -0.4f));
-  const std::array<shader::ProbeChangeTally, 3> frames = {leaningTally(few), leaningTally(few), leaningTally(few)};
-  EXPECT_FALSE(gi::showsSharedDrift(gi::probeLeaning(frames[0])));
-  const gi::ProbeLeaning pooled = gi::probeLeaning(frames);
-  EXPECT_NEAR(pooled.mean, 0.05, 0.005);
-  EXPECT_NEAR(pooled.standardError, 0.2 / std::sqrt(300.0), 0.0005);
-  EXPECT_TRUE(gi::showsSharedDrift(pooled));
 
   // Light that fades leans them the other way: no drift toward more light.
   for (float& stray : strays) stray = -0.1f;

@@ -346,10 +346,10 @@ struct Stats {
   uint32_t probesWatchedForChange = 0;
   uint32_t probesCutByChange = 0;
   bool sharedChangeRecovery = false;
-  // A drift many probes share (Settings::probeSharedChangeShare): how far the probes watched in the last round of three
-  // frames read back (an update of each probe level) strayed from their histories, the mean of (T − H) / 2H (half the
-  // relative change, at most 4), its standard error, and whether the last frame's update held the probes' history short
-  // because light kept coming round the loop.
+  // A drift many probes share (Settings::probeSharedChangeShare): how far those watched probes' updates strayed from
+  // their histories, the mean of d + d² for d = (T − H) / (T + H) (d² takes back the lean toward less light that noise
+  // gives d), its standard error, and whether the last frame's update held the probes' history short because light
+  // kept coming round the loop.
   float probesLeaning = 0.0f;
   float probesLeaningError = 0.0f;
   bool sharedDrift = false;

@@ -512,43 +512,31 @@ SSVGI_CONSTANT(float, kProbeDriftStep, kProbeDriftLimit / 7.0f);
 // frames of a view, a hall lit through openings in its roof whose later bounces are most of its light — every probe's
 // history trails light that keeps growing by a step too small for its own drift sum to tell, and a window of about the
 // history cap (32 updates, 96 frames) makes each bounce take that long again. So ProbeTrace also sums the watched
-// probes' leaning (probeUpdateLeaning) and its square, in steps of 1/kProbeLeaningScale: still light gives a mean
-// within its standard error of zero, light coming round the loop a mean that many probes share. The probes of one level
-// trace the same 32 directions in an update, so their noise is partly shared and one frame's mean leans now and then in
-// a still scene too: ProbeVolume pools the tallies of each round of kProbeLevels frames — an update of each level, each
-// with its own directions, and three times the probes. Where that mean leans toward more light by more than
-// kProbeSharedDriftErrors standard errors and more than kProbeSharedDriftFloor (the lag worth a shorter window: updates
-// 2 % above their history) in kProbeSharedDriftRounds rounds in a row (light that keeps coming, not one update's blip),
-// it holds the history cap of the updates in the next kProbeLevels frames at kProbeSharedDriftHistoryCap and lets no
-// probe sit out: the loop goes round at the pace of that shorter window until the probes' mean no longer leans, and the
-// full window then averages their noise away again. Half the default cap, not less: a window of 4 or 8 updates left
-// sunlit scenes blotchy (docs/QUALITY.md, "A drift many probes share").
+// probes' d and d² (their leaning, in steps of 1/kProbeLeaningScale): still light gives d + d² (d leans toward less
+// light under noise, by about a quarter of its variance, which d² takes back) a mean within its standard error of zero,
+// light coming round the loop a mean that many probes share. Where that mean leans toward more light by more than
+// kProbeSharedDriftErrors standard errors and more than kProbeSharedDriftFloor in kProbeSharedDriftTallies frames in a
+// row, ProbeVolume holds the history cap of the updates in the next kProbeLevels frames at kProbeSharedDriftHistoryCap
+// and lets no probe sit out: the loop goes round at the pace of that shorter window until the probes' mean no longer
+// leans, and the full window then averages their noise away again. The probes of one level trace the same 32 directions
+// in an update, so their noise is partly shared and one frame's mean leans now and then in a still scene too: two
+// frames in a row — two levels, two direction subsets — and half the default cap, not less (a window of 4 or 8 updates
+// left sunlit scenes blotchy; docs/QUALITY.md, "A drift many probes share").
 struct ProbeChangeTally {
   uint watchedProbes;   // traced with a history of at least kProbeChangeMinimumHistory, change detection on
   uint cutProbes;       // of those, whose history a large change cut
-  uint leaningProbes;   // of those, the probes whose leaning is summed: those with a history of some light, and
-                        // without reservoirs
-  int leaningSum;       // Σ probeUpdateLeaning · kProbeLeaningScale over them, each rounded to the nearest step
-  uint leaningSquares;  // Σ probeUpdateLeaning² · kProbeLeaningScale alike
+  uint leaningProbes;   // of those, the probes whose leaning is summed: all but those with reservoirs
+  int leaningSum;       // Σ d · kProbeLeaningScale over them, each rounded to the nearest step
+  uint leaningSquares;  // Σ d² · kProbeLeaningScale alike
 };
 SSVGI_CHECK_SIZE(ProbeChangeTally, 20);
 SSVGI_CONSTANT(uint, kProbeSharedChangeMinimumProbes, 32u);
-SSVGI_CONSTANT(float, kProbeLeaningScale, 1024.0f);  // leanings ≤ 4: squares of 2^18 probes fit in 32 bits
+SSVGI_CONSTANT(float, kProbeLeaningScale, 4096.0f);  // |d| ≤ 1: 4096 probes sum to at most 2^24
 SSVGI_CONSTANT(float, kProbeSharedDriftErrors, 4.0f);
-SSVGI_CONSTANT(float, kProbeSharedDriftFloor, 0.01f);
+SSVGI_CONSTANT(float, kProbeSharedDriftFloor, 0.02f);  // updates about 4 % above their history
 SSVGI_CONSTANT(uint, kProbeSharedDriftHistoryCap, 16u);
-SSVGI_CONSTANT(uint, kProbeSharedDriftRounds, 2u);
-// How far an update T leans from the history H of a probe: (T − H) / 2H, half its relative change (as d is, to the
-// first order), at most kProbeLeaningCap. Divided by the history alone, not by T + H as d is, so that noise leans it
-// neither way: a history that is the mean of past updates gives it a mean of zero for any spread of T, where d's mean
-// (and any correction of it by d²) depends on the spread's shape — a probe whose updates often meet no light gives
-// d = −1 at T = 0 but d + d² = 0, and such noise leaned d + d²'s mean by about the floor in still scenes. The cap
-// bounds the sums; it takes a little from the lean of probes that now and then see a bright spot, the more the lower
-// it is (docs/QUALITY.md, "A drift many probes share").
-SSVGI_CONSTANT(float, kProbeLeaningCap, 4.0f);
-SSVGI_INLINE float probeUpdateLeaning(float update, float history) {
-  return min((update - history) / (2.0f * history), kProbeLeaningCap);
-}
+SSVGI_CONSTANT(uint, kProbeSharedDriftTallies, 2u);
+
 // A probe's word of the change buffer: bits 0–15 the trimmed mean H (half float); bits 16–23 the rms of d, √(mean
 // d²), in 8-bit fixed point over [0, 1] (|d| ≤ 1), rounded with `dither` as packProbeUnitSh rounds (the variance
 // blends with α down to 1/(m+1), below one step); bits 24–27 the updates left of a recovery; bits 28–30 the drift's

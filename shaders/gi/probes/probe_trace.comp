@@ -256,11 +256,10 @@ uint followChange(uint probeIndex, uint storedCount, float trimmedMean) {
     // A probe with reservoirs draws its rays toward its bright directions, so the trimmed mean of their light leans
     // from its history by itself (in the dark room by enough to start a shared drift that doubled its noise): it
     // tells no shared drift.
-    if (!kKeepsReservoirs && change.mean > 0.0) {
-      float leaning = probeUpdateLeaning(trimmedMean, change.mean);
+    if (!kKeepsReservoirs) {
       atomicAdd(tally.leaningProbes, 1u);
-      atomicAdd(tally.leaningSum, int(round(leaning * kProbeLeaningScale)));
-      atomicAdd(tally.leaningSquares, uint(round(leaning * leaning * kProbeLeaningScale)));
+      atomicAdd(tally.leaningSum, int(round(deviation * kProbeLeaningScale)));
+      atomicAdd(tally.leaningSquares, uint(round(squaredDeviation * kProbeLeaningScale)));
     }
     float noise = max(change.variance, kProbeChangeVarianceFloor);
     float expected = threshold * threshold * noise;

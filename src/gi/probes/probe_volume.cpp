@@ -16,17 +16,14 @@ glm::uvec3 gridOf(const Settings& settings) {
 
 }  // namespace
 
-ProbeLeaning probeLeaning(std::span<const shader::ProbeChangeTally> tallies) {
-  double probes = 0.0, sum = 0.0, squares = 0.0;
-  for (const shader::ProbeChangeTally& tally : tallies) {
-    probes += double(tally.leaningProbes);
-    sum += double(tally.leaningSum);
-    squares += double(tally.leaningSquares);
-  }
-  if (probes < shader::kProbeSharedChangeMinimumProbes) return {};
-  const double mean = sum / shader::kProbeLeaningScale / probes;
-  const double meanSquare = squares / shader::kProbeLeaningScale / probes;
-  return {mean, std::sqrt(std::max(meanSquare - mean * mean, 0.0) / probes)};
+ProbeLeaning probeLeaning(const shader::ProbeChangeTally& tally) {
+  if (tally.leaningProbes < shader::kProbeSharedChangeMinimumProbes) return {};
+  const double probes = double(tally.leaningProbes);
+  const double mean = double(tally.leaningSum) / shader::kProbeLeaningScale / probes;
+  const double meanSquare = double(tally.leaningSquares) / shader::kProbeLeaningScale / probes;
+  // For an update T = H·(1 + ε), d = ε/(2 + ε) = ε/2 − ε²/4 + O(ε³) and d² = ε²/4 + O(ε³): d + d² is ε/2 to the
+  // second order, so a probe's noise (ε of zero mean) does not lean it toward less light as d alone does.
+  return {mean + meanSquare, std::sqrt(std::max(meanSquare - mean * mean, 0.0) / probes)};
 }
 
 bool showsSharedDrift(const ProbeLeaning& leaning) {
@@ -130,14 +127,9 @@ OfferedProbeBlocks ProbeVolume::prepare(uint32_t frameIndex, glm::vec3 cameraPos
     sharedRecoveryFramesLeft_ = shader::kProbeLevels;
   current_.startsSharedRecovery = sharedRecoveryFramesLeft_ > 0 ? 1u : 0u;
   if (sharedRecoveryFramesLeft_ > 0) --sharedRecoveryFramesLeft_;
-  roundTallies_[roundTalliesRead_++] = lastTally_;
-  if (roundTalliesRead_ == roundTallies_.size()) {
-    roundTalliesRead_ = 0;
-    leaning_ = probeLeaning(roundTallies_);
-    const bool roundShowsDrift = sharedShare > 0.0f && showsSharedDrift(leaning_);
-    roundsShowingDrift_ = roundShowsDrift ? roundsShowingDrift_ + 1 : 0;
-    if (roundsShowingDrift_ >= shader::kProbeSharedDriftRounds) sharedDriftFramesLeft_ = shader::kProbeLevels;
-  }
+  const bool tallyShowsDrift = sharedShare > 0.0f && showsSharedDrift(probeLeaning(lastTally_));
+  talliesShowingDrift_ = tallyShowsDrift ? talliesShowingDrift_ + 1 : 0;
+  if (talliesShowingDrift_ >= shader::kProbeSharedDriftTallies) sharedDriftFramesLeft_ = shader::kProbeLevels;
   followsSharedDrift_ = sharedDriftFramesLeft_ > 0;
   if (followsSharedDrift_) --sharedDriftFramesLeft_;
   current_.historyCap = followsSharedDrift_ ? std::min(settings_.probeHistoryCap, shader::kProbeSharedDriftHistoryCap)

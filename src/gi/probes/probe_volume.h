@@ -8,7 +8,6 @@
 #include <glm/glm.hpp>
 
 #include <array>
-#include <span>
 #include <vector>
 
 namespace ssvgi::gi {
@@ -20,14 +19,13 @@ struct OfferedProbeBlocks {
   uint32_t beyondView = 0;
 };
 
-// The watched probes' mean leaning in frames' tallies, pooled (shared/probe_interface.h, probeUpdateLeaning), and its
-// standard error; both 0 where fewer than kProbeSharedChangeMinimumProbes leaned.
+// The watched probes' mean leaning in a frame's tally, d + d² (shared/probe_interface.h, "A drift many probes
+// share"), and its standard error; both 0 where fewer than kProbeSharedChangeMinimumProbes leaned.
 struct ProbeLeaning {
   double mean = 0.0;
   double standardError = 0.0;
 };
-ProbeLeaning probeLeaning(std::span<const shader::ProbeChangeTally> tallies);
-inline ProbeLeaning probeLeaning(const shader::ProbeChangeTally& tally) { return probeLeaning({&tally, 1}); }
+ProbeLeaning probeLeaning(const shader::ProbeChangeTally& tally);
 // Whether a tally's leaning shows light coming round the loop: toward more light by more than
 // kProbeSharedDriftErrors standard errors and kProbeSharedDriftFloor.
 bool showsSharedDrift(const ProbeLeaning& leaning);
@@ -59,9 +57,6 @@ class ProbeVolume {
   const gpu::Buffer& changeTallyReadback() const { return tallyReadbacks_[currentFrame_]; }
   // The tally prepare() last read back (of the frame framesInFlight before its own): for Stats.
   const shader::ProbeChangeTally& lastTally() const { return lastTally_; }
-  // The leaning of the last round of kProbeLevels tallies read back, pooled: an update of each level, each with its own
-  // directions. What prepare() tells a drift many probes share by.
-  const ProbeLeaning& leaning() const { return leaning_; }
   // Whether this frame's update holds the history short for a drift many probes share.
   bool followsSharedDrift() const { return followsSharedDrift_; }
   const gpu::Buffer& update() const { return updates_[currentFrame_]; }  // this frame's ProbeUpdate
@@ -92,11 +87,8 @@ class ProbeVolume {
   gpu::Buffer changeTally_;
   std::vector<gpu::Buffer> tallyReadbacks_;
   shader::ProbeChangeTally lastTally_{};
-  std::array<shader::ProbeChangeTally, shader::kProbeLevels> roundTallies_{};  // this round's, read back so far
-  size_t roundTalliesRead_ = 0;
-  ProbeLeaning leaning_;
   uint32_t sharedRecoveryFramesLeft_ = 0;  // frames to come that start a recovery in every probe they update
-  uint32_t roundsShowingDrift_ = 0;        // the rounds of tallies in a row that showed a shared drift
+  uint32_t talliesShowingDrift_ = 0;       // the tallies read back in a row that showed a shared drift
   uint32_t sharedDriftFramesLeft_ = 0;     // frames to come whose update holds the history short (a shared drift)
   bool followsSharedDrift_ = false;
   size_t currentFrame_ = 0;
