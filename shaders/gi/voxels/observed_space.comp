@@ -7,6 +7,7 @@
 // its other side (heldSurfacePoint), and a thick wall's inner face seen on a cell boundary would mark the wall's own
 // cell, which no view sees into, as known empty — a probe ray crossing it before any voxel is there would find the
 // sky beyond the wall. Where the surface's voxels are, the trace reads them at the voxel's scale (Brick::observed).
+// Only the cell in front of a surface held beyond it is marked (surfaceHeldBeyond).
 #define SSVGI_OBSERVED_SPACE_WRITABLE
 #include "gi/gi_frame.glsl"
 #include "gi/voxels/voxel_access.glsl"
@@ -110,6 +111,25 @@ bool seesThroughCell(ivec3 worldBrick, vec2 size, CellFootprint footprint) {
   return true;
 }
 
+// Whether the surface a walk ends at (in brick units) lies on a face of the cell the walk ends in, within a hair, and
+// its voxels lie beyond that face: a face towards the volume's viewpoint is held on its solid side (heldSurfacePoint,
+// whose rule this is, with the face's normal towards the view). The cell then holds none of that surface, only the air
+// the view saw through in front of it — above a floor on the grid, the layer where probes stand, which an orthographic
+// view would otherwise never observe (every texel of its footprint shows the floor, nearer than its farthest corner).
+bool surfaceHeldBeyond(ivec3 cell, vec3 surface, ivec3 stepDirection) {
+  float hair = 0.02 * volume.voxelSize * volume.bricksPerMetre;
+  vec3 viewpoint = vec3(volumeViewpointBrick());
+  for (int axis = 0; axis < 3; ++axis) {
+    int step = stepDirection[axis];
+    if (step == 0) continue;
+    float face = float(cell[axis] + max(step, 0));
+    if (abs(surface[axis] - face) > hair) continue;
+    // The face's normal is −step along the axis; towards the viewpoint within half a voxel, it is held behind.
+    return float(-step) * (viewpoint[axis] - surface[axis]) >= -0.5 * volume.voxelSize * volume.bricksPerMetre;
+  }
+  return false;
+}
+
 void main() {
   uint offset = frame.frameIndex % (pixelStride * pixelStride);
   uvec2 pixel = gl_GlobalInvocationID.xy * pixelStride + uvec2(offset % pixelStride, offset / pixelStride);
@@ -122,7 +142,9 @@ void main() {
   vec3 end = reconstructPosition(frame.inverseViewProjection, vec2(pixel), size, max(depth, kNothingDrawnDepth)) *
              bricksPerMetre;
   // The walk ends a hundredth of a voxel (heldSurfacePoint's hair) short of a surface: one on a cell's face may be held
-  // on either side of it, and the cell in front, where the walk then ends, is left as it was too.
+  // on either side of it, and the cell in front, where the walk then ends, is left as it was too — unless the surface
+  // is held on its far side (surfaceHeldBeyond).
+  vec3 surface = end;
   if (depth > 0.0) end -= normalize(end - start) * (0.01 * volume.voxelSize * bricksPerMetre);
   vec3 segment = end - start;
   vec3 volumeMin = vec3(volume.originBrick);
@@ -160,7 +182,10 @@ void main() {
   uint crossedCells = 0u;
   for (int stepCount = 0; stepCount < maxSteps; ++stepCount) {
     bool atLastCell = all(equal(cell, lastCell));
-    if (atLastCell && endsAtSurface) break;
+    if (atLastCell && endsAtSurface) {
+      if (surfaceHeldBeyond(cell, surface, stepDirection)) markObserved(cell, layoutOfVolume);
+      break;
+    }
     if (!kOrthographic || seesThroughCell(cell, size, footprint)) markObserved(cell, layoutOfVolume);
     ++crossedCells;
     if (atLastCell) break;
