@@ -488,8 +488,7 @@ TEST_F(RendererAnalytic, surfacesInsideTheVoxelVolumeGetNoFallbackWhereSsvgiKnow
 // walls' voxels in and leave holes. Seen from inside, a wall's inner face on a brick cell's face lies on the wall's own
 // cell, and a view from above, whose texels straddle the roof's rim, looks past it; taken for known empty, that cell
 // let the probes' rays through the holes to the sky beside the room, and let the probes out there, lit by the sky,
-// light the walls inside (docs/QUALITY.md, "A sealed room"): 4.6–14.8 % of π·L over the image in these 16 frames,
-// now 0.19 % at most.
+// light the walls inside (docs/QUALITY.md, "A sealed room", has the figures before and after).
 TEST_F(RendererAnalytic, aSealedRoomUnderTheSkyStaysDarkFromItsFirstFrames) {
   Scene scene;
   scene.name = "sealed room";

@@ -112,20 +112,18 @@ bool seesThroughCell(ivec3 worldBrick, vec2 size, CellFootprint footprint) {
 }
 
 // Whether the surface a walk ends at (in brick units) lies on a face of the cell the walk ends in, within a hair, and
-// its voxels lie beyond that face: a face towards the volume's viewpoint is held on its solid side (heldSurfacePoint,
-// whose rule this is, with the face's normal towards the view). The cell then holds none of that surface, only the air
-// the view saw through in front of it — above a floor on the grid, the layer where probes stand, which an orthographic
-// view would otherwise never observe (every texel of its footprint shows the floor, nearer than its farthest corner).
+// its voxels lie beyond that face (heldSurfacePoint, with the face's normal towards the view): the cell then holds
+// none of that surface, only the air the view saw through in front of it — above a floor on the grid, the layer where
+// probes stand, which an orthographic view would otherwise never observe (every texel of its footprint shows the
+// floor, nearer than the cell's farthest corner).
 bool surfaceHeldBeyond(ivec3 cell, vec3 surface, ivec3 stepDirection) {
   float hair = 0.02 * volume.voxelSize * volume.bricksPerMetre;
-  vec3 viewpoint = vec3(volumeViewpointBrick());
   for (int axis = 0; axis < 3; ++axis) {
     int step = stepDirection[axis];
-    if (step == 0) continue;
-    float face = float(cell[axis] + max(step, 0));
-    if (abs(surface[axis] - face) > hair) continue;
-    // The face's normal is −step along the axis; towards the viewpoint within half a voxel, it is held behind.
-    return float(-step) * (viewpoint[axis] - surface[axis]) >= -0.5 * volume.voxelSize * volume.bricksPerMetre;
+    if (step == 0 || abs(surface[axis] - float(cell[axis] + max(step, 0))) > hair) continue;
+    vec3 normal = vec3(0.0);
+    normal[axis] = float(-step);
+    return worldBrickOf(heldSurfacePoint(surface * volume.brickSize, normal)) != cell;
   }
   return false;
 }
