@@ -184,57 +184,82 @@ TEST(ProbeDirections, theDriftSumClimbsWithUpdatesThatKeepStrayingOneWayAndNotWi
 }
 
 // A drift many probes share (shared/probe_interface.h): a frame's tally as ProbeTrace sums it, from each watched
-// probe's update T = H·(1 + ε).
-shader::ProbeChangeTally leaningTally(const std::vector<float>& strays) {
+// probe's update T = H·(1 + ε) and the direct share of its light.
+shader::ProbeChangeTally leaningTally(const std::vector<float>& strays, float directShare = 1.0f) {
   shader::ProbeChangeTally tally{};
   for (const float stray : strays) {
-    const float d = stray / (2.0f + stray);
+    const float leaning = shader::probeUpdateLeaning(1.0f + stray, 1.0f);
     ++tally.watchedProbes;
     ++tally.leaningProbes;
-    tally.leaningSum += int32_t(std::round(d * shader::kProbeLeaningScale));
-    tally.leaningSquares += uint32_t(std::round(d * d * shader::kProbeLeaningScale));
+    tally.leaningSum += int32_t(std::round(leaning * shader::kProbeLeaningScale));
+    tally.leaningSquares += uint32_t(std::round(leaning * leaning * shader::kProbeLeaningScale));
+    tally.directShareSum += uint32_t(std::round(directShare * shader::kProbeLeaningScale));
   }
   return tally;
 }
 
-// Noise alone: half the probes' updates 40 % above their history, half 40 % below. d leans them toward less light
-// (−0.042), d + d² does not (within the fourth-order term, 0.0035, well under the floor).
-TEST(ProbeSharedDrift, symmetricNoiseDoesNotLeanTheProbesEitherWay) {
-  std::vector<float> strays;
-  for (int probe = 0; probe < 400; ++probe) strays.push_back(probe % 2 ? 0.4f : -0.4f);
-  const shader::ProbeChangeTally tally = leaningTally(strays);
-  EXPECT_LT(double(tally.leaningSum) / shader::kProbeLeaningScale / tally.leaningProbes, -0.04);
-  const gi::ProbeLeaning leaning = gi::probeLeaning(tally);
-  EXPECT_NEAR(leaning.mean, 0.0, 0.005);
-  EXPECT_NEAR(leaning.standardError, 0.21 / std::sqrt(400.0), 0.001);  // d's spread: 0.167 and −0.25 about −0.042
-  EXPECT_FALSE(gi::showsSharedDrift(leaning));
+gi::ProbeLeaning leaningOf(const std::vector<float>& strays, float directShare = 1.0f) {
+  const shader::ProbeChangeTally tally = leaningTally(strays, directShare);
+  return gi::probeLeaning({&tally, 1});
 }
 
-// Light coming round the loop: every probe's update 10 % above its history, give or take 20 %. Shared by 400 probes
-// the lean (about 0.05) is many standard errors; by 31 it is not counted at all, and by 32 with a spread twice the
-// mean it is within four standard errors.
+// Noise alone leans the probes neither way, whatever its shape: half the updates 40 % above their history and half
+// 40 % below, or half meeting no light at all and half twice the history — where d + d² (d = (T − H)/(T + H), the
+// leaning before) had a mean of +0.22, ten times the gap floor's lean.
+TEST(ProbeSharedDrift, noiseOfAnyShapeDoesNotLeanTheProbesEitherWay) {
+  for (const float spread : {0.4f, 1.0f}) {
+    std::vector<float> strays;
+    for (int probe = 0; probe < 400; ++probe) strays.push_back(probe % 2 ? spread : -spread);
+    const gi::ProbeLeaning leaning = leaningOf(strays);
+    EXPECT_NEAR(leaning.mean, 0.0, 0.001) << spread;
+    EXPECT_NEAR(leaning.standardError, spread / 2.0 / std::sqrt(400.0), 0.001) << spread;
+    EXPECT_FALSE(gi::showsSharedDrift(leaning)) << spread;
+  }
+}
+
+// Light coming round the loop: every probe's update 10 % above its history, give or take 20 %: a lean of 0.05, many
+// standard errors over 400 probes; by 31 it is not counted at all, and by 32 with a spread four times the lean it is
+// within four standard errors. Pooled over frames, the same probes' evidence adds up.
 TEST(ProbeSharedDrift, manyProbesLeaningTowardMoreLightShowADriftAndFewOrScatteredOnesDoNot) {
   std::vector<float> strays;
   for (int probe = 0; probe < 400; ++probe) strays.push_back(0.1f + (probe % 2 ? 0.2f : -0.2f));
-  const gi::ProbeLeaning leaning = gi::probeLeaning(leaningTally(strays));
-  EXPECT_NEAR(leaning.mean, 0.05, 0.005);
+  const gi::ProbeLeaning leaning = leaningOf(strays);
+  EXPECT_NEAR(leaning.mean, 0.05, 0.001);
+  EXPECT_NEAR(leaning.gap(), 0.1, 0.002);
   EXPECT_TRUE(gi::showsSharedDrift(leaning));
 
   strays.resize(shader::kProbeSharedChangeMinimumProbes - 1);
-  EXPECT_EQ(gi::probeLeaning(leaningTally(strays)).mean, 0.0);
-  EXPECT_FALSE(gi::showsSharedDrift(gi::probeLeaning(leaningTally(strays))));
+  EXPECT_EQ(leaningOf(strays).mean, 0.0);
+  EXPECT_FALSE(gi::showsSharedDrift(leaningOf(strays)));
 
   std::vector<float> scattered;
   for (uint32_t probe = 0; probe < shader::kProbeSharedChangeMinimumProbes; ++probe)
     scattered.push_back(0.1f + (probe % 2 ? 0.8f : -0.6f));
-  const gi::ProbeLeaning scatteredLeaning = gi::probeLeaning(leaningTally(scattered));
-  EXPECT_GT(scatteredLeaning.mean, shader::kProbeSharedDriftFloor);
-  EXPECT_FALSE(gi::showsSharedDrift(scatteredLeaning));
+  EXPECT_GT(leaningOf(scattered).gap(), shader::kProbeSharedDriftGapFloor);
+  EXPECT_FALSE(gi::showsSharedDrift(leaningOf(scattered)));
+  const std::vector<shader::ProbeChangeTally> frames(shader::kProbeSharedDriftWindow, leaningTally(scattered));
+  EXPECT_TRUE(gi::showsSharedDrift(gi::probeLeaning(frames)));
 
   // Light that fades leans them the other way: no drift toward more light.
   for (float& stray : strays) stray = -0.1f;
   strays.resize(400, -0.1f);
-  EXPECT_FALSE(gi::showsSharedDrift(gi::probeLeaning(leaningTally(strays))));
+  EXPECT_FALSE(gi::showsSharedDrift(leaningOf(strays)));
+}
+
+// The same lean tells a gap in proportion to the light that comes round the loop: updates 4 % above their histories
+// are their last 4 % where all their light is direct, and 13 % short of the loop's end where 70 % of it has bounced.
+TEST(ProbeSharedDrift, theSameLeanTellsALargerGapWhereMoreOfTheLightHasBounced) {
+  std::vector<float> strays;
+  for (int probe = 0; probe < 1000; ++probe) strays.push_back(0.04f + (probe % 2 ? 0.1f : -0.1f));
+  const gi::ProbeLeaning open = leaningOf(strays, 1.0f);
+  const gi::ProbeLeaning bounced = leaningOf(strays, 0.3f);
+  EXPECT_NEAR(open.mean, bounced.mean, 1e-9);
+  EXPECT_GT(open.mean, shader::kProbeSharedDriftErrors * open.standardError);
+  EXPECT_NEAR(open.gap(), 0.04, 0.002);
+  EXPECT_NEAR(bounced.gap(), 0.04 / 0.3, 0.005);
+  EXPECT_FALSE(gi::showsSharedDrift(open));
+  EXPECT_TRUE(gi::showsSharedDrift(bounced));
+  EXPECT_TRUE(gi::showsSharedDrift(leaningOf(strays, 0.0f)));  // all of it bounced: any significant lean is a gap
 }
 
 // ---------------------------------------------------------------------------------------------------------------------

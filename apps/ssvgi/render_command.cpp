@@ -49,6 +49,7 @@ nlohmann::json giStatsJson(const ssvgi::Stats& gi) {
           {"sharedChangeRecovery", gi.sharedChangeRecovery},
           {"probesLeaning", gi.probesLeaning},
           {"probesLeaningError", gi.probesLeaningError},
+          {"probesLoopGap", gi.probesLoopGap},
           {"sharedDrift", gi.sharedDrift},
           {"voxelVolume", {{"min", gi.voxelVolume.min}, {"max", gi.voxelVolume.max}}}};
 }

@@ -346,12 +346,14 @@ struct Stats {
   uint32_t probesWatchedForChange = 0;
   uint32_t probesCutByChange = 0;
   bool sharedChangeRecovery = false;
-  // A drift many probes share (Settings::probeSharedChangeShare): how far those watched probes' updates strayed from
-  // their histories, the mean of d + d² for d = (T − H) / (T + H) (d² takes back the lean toward less light that noise
-  // gives d), its standard error, and whether the last frame's update held the probes' history short because light
-  // kept coming round the loop.
+  // A drift many probes share (Settings::probeSharedChangeShare), pooled over the frames read back since the last drift
+  // followed (up to nine): how far those watched probes' updates T leaned from their histories H, the mean of
+  // (T − H) / 2H, and its standard error; the gap this tells, the share by which their histories fall short of where
+  // light coming round the loop leads them (2 · lean / the share of their light that is direct or sky; infinite where
+  // none is); and whether the last frame's update held the probes' history short because of it.
   float probesLeaning = 0.0f;
   float probesLeaningError = 0.0f;
+  float probesLoopGap = 0.0f;
   bool sharedDrift = false;
   // Where the last dispatch() placed the voxel volume (SPEC §4.1), the space the GI knows of: centred across on the
   // 4-brick step under FrameDesc::camera's position, and as high as holds the most of the surfaces the camera saw (a

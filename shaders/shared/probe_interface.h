@@ -511,31 +511,44 @@ SSVGI_CONSTANT(float, kProbeDriftStep, kProbeDriftLimit / 7.0f);
 // A drift many probes share is not their noise either. Where light comes round the loop bounce after bounce — the first
 // frames of a view, a hall lit through openings in its roof whose later bounces are most of its light — every probe's
 // history trails light that keeps growing by a step too small for its own drift sum to tell, and a window of about the
-// history cap (32 updates, 96 frames) makes each bounce take that long again. So ProbeTrace also sums the watched
-// probes' d and d² (their leaning, in steps of 1/kProbeLeaningScale): still light gives d + d² (d leans toward less
-// light under noise, by about a quarter of its variance, which d² takes back) a mean within its standard error of zero,
-// light coming round the loop a mean that many probes share. Where that mean leans toward more light by more than
-// kProbeSharedDriftErrors standard errors and more than kProbeSharedDriftFloor in kProbeSharedDriftTallies frames in a
-// row, ProbeVolume holds the history cap of the updates in the next kProbeLevels frames at kProbeSharedDriftHistoryCap
-// and lets no probe sit out: the loop goes round at the pace of that shorter window until the probes' mean no longer
-// leans, and the full window then averages their noise away again. The probes of one level trace the same 32 directions
-// in an update, so their noise is partly shared and one frame's mean leans now and then in a still scene too: two
-// frames in a row — two levels, two direction subsets — and half the default cap, not less (a window of 4 or 8 updates
-// left sunlit scenes blotchy; docs/QUALITY.md, "A drift many probes share").
+// history cap (32 updates, 96 frames) makes each bounce take that long again. So ProbeTrace also sums, over the watched
+// probes, each update's leaning (probeUpdateLeaning) and its square, and the share of its known rays' light that did
+// not come round the loop (direct light and sky: the direct share s), in steps of 1/kProbeLeaningScale. Where the loop
+// feeds back a share 1 − s of the light, an update T of a probe whose history H falls a share G short of the loop's
+// fixed point leans by T − H = s·G·H: a lean tells the gap only with the direct share, and a hall whose light is mostly
+// bounced can be far from its end with a lean the size of a sunlit courtyard's last percent (docs/QUALITY.md, "The
+// loop's gap, not its lean"). ProbeVolume pools the tallies of the last kProbeSharedDriftWindow frames since the last
+// drift it followed — rounds of an update of each level, each with its own 32 directions, which the probes of a level
+// share (so one frame's mean leans now and then in a still scene) — and where their mean leaning is toward more light
+// by more than kProbeSharedDriftErrors standard errors and tells a gap 2·lean / s above kProbeSharedDriftGapFloor, it
+// holds the history cap of the updates in the next kProbeLevels frames at kProbeSharedDriftHistoryCap and lets no probe
+// sit out: the loop goes round at the pace of that shorter window until the probes no longer lean, and the full window
+// then averages their noise away again. Half the default cap, not less: a window of 4 or 8 updates left sunlit scenes
+// blotchy (docs/QUALITY.md, "A drift many probes share").
 struct ProbeChangeTally {
   uint watchedProbes;   // traced with a history of at least kProbeChangeMinimumHistory, change detection on
   uint cutProbes;       // of those, whose history a large change cut
-  uint leaningProbes;   // of those, the probes whose leaning is summed: all but those with reservoirs
-  int leaningSum;       // Σ d · kProbeLeaningScale over them, each rounded to the nearest step
-  uint leaningSquares;  // Σ d² · kProbeLeaningScale alike
+  uint leaningProbes;   // of those, the probes whose leaning is summed: with a history of some light, no reservoirs
+  int leaningSum;       // Σ probeUpdateLeaning · kProbeLeaningScale over them, each rounded to the nearest step
+  uint leaningSquares;  // Σ probeUpdateLeaning² · kProbeLeaningScale alike
+  uint directShareSum;  // Σ s · kProbeLeaningScale alike: the share of the known rays' light that is direct or sky
 };
-SSVGI_CHECK_SIZE(ProbeChangeTally, 20);
+SSVGI_CHECK_SIZE(ProbeChangeTally, 24);
 SSVGI_CONSTANT(uint, kProbeSharedChangeMinimumProbes, 32u);
-SSVGI_CONSTANT(float, kProbeLeaningScale, 4096.0f);  // |d| ≤ 1: 4096 probes sum to at most 2^24
+SSVGI_CONSTANT(float, kProbeLeaningScale, 1024.0f);  // leanings ≤ 4: squares of 2^18 probes fit in 32 bits
 SSVGI_CONSTANT(float, kProbeSharedDriftErrors, 4.0f);
-SSVGI_CONSTANT(float, kProbeSharedDriftFloor, 0.02f);  // updates about 4 % above their history
+SSVGI_CONSTANT(float, kProbeSharedDriftGapFloor, 0.05f);  // histories 5 % short of the loop's fixed point
+SSVGI_CONSTANT(uint, kProbeSharedDriftWindow, 9u);        // frames: three rounds of the three levels
 SSVGI_CONSTANT(uint, kProbeSharedDriftHistoryCap, 16u);
-SSVGI_CONSTANT(uint, kProbeSharedDriftTallies, 2u);
+// How far an update T leans from the history H of a probe: (T − H) / 2H, half its relative change, at most
+// kProbeLeaningCap. Divided by the history alone, so that noise leans it neither way: a history that is the mean of past
+// updates gives it a mean of zero whatever the spread of T. (d = (T − H)/(T + H) leans toward less light under noise,
+// and d + d², which takes that back to the second order, leaned by about 0.02 in still scenes where updates often meet
+// no light: T = 0 gives d + d² = 0 where its share of the truth is −1/2.) The cap bounds the sums.
+SSVGI_CONSTANT(float, kProbeLeaningCap, 4.0f);
+SSVGI_INLINE float probeUpdateLeaning(float update, float history) {
+  return min((update - history) / (2.0f * history), kProbeLeaningCap);
+}
 
 // A probe's word of the change buffer: bits 0–15 the trimmed mean H (half float); bits 16–23 the rms of d, √(mean
 // d²), in 8-bit fixed point over [0, 1] (|d| ≤ 1), rounded with `dither` as packProbeUnitSh rounds (the variance

@@ -278,9 +278,9 @@ class ContextImplementation final : public Context {
     stats.probesWatchedForChange = probes_.lastTally().watchedProbes;
     stats.probesCutByChange = probes_.lastTally().cutProbes;
     stats.sharedChangeRecovery = probes_.current().startsSharedRecovery != 0u;
-    const gi::ProbeLeaning leaning = gi::probeLeaning(probes_.lastTally());
-    stats.probesLeaning = float(leaning.mean);
-    stats.probesLeaningError = float(leaning.standardError);
+    stats.probesLeaning = float(probes_.leaning().mean);
+    stats.probesLeaningError = float(probes_.leaning().standardError);
+    stats.probesLoopGap = float(probes_.leaning().gap());
     stats.sharedDrift = probes_.followsSharedDrift();
     stats.work = workCounts(slot);
     for (const auto& timing : slot.profiler.resolve()) stats.passes.push_back({timing.name, timing.milliseconds});

@@ -100,6 +100,7 @@ shared vec3 knownMeanWithoutDirect[2];
 shared float knownSkyShare[2];
 shared vec3 surfacesMeanRadiance;
 shared float surfacesSkyShare;
+shared float knownDirectShare;  // of the known rays' light, the share that did not come off the probes (a drift)
 shared vec4 heldSkyVisibility;
 shared Sh2Rgb heldRadiance;
 shared bool startsFromCoarserLevel;
@@ -256,10 +257,12 @@ uint followChange(uint probeIndex, uint storedCount, float trimmedMean) {
     // A probe with reservoirs draws its rays toward its bright directions, so the trimmed mean of their light leans
     // from its history by itself (in the dark room by enough to start a shared drift that doubled its noise): it
     // tells no shared drift.
-    if (!kKeepsReservoirs) {
+    if (!kKeepsReservoirs && change.mean > 0.0) {
+      float leaning = probeUpdateLeaning(trimmedMean, change.mean);
       atomicAdd(tally.leaningProbes, 1u);
-      atomicAdd(tally.leaningSum, int(round(deviation * kProbeLeaningScale)));
-      atomicAdd(tally.leaningSquares, uint(round(squaredDeviation * kProbeLeaningScale)));
+      atomicAdd(tally.leaningSum, int(round(leaning * kProbeLeaningScale)));
+      atomicAdd(tally.leaningSquares, uint(round(leaning * leaning * kProbeLeaningScale)));
+      atomicAdd(tally.directShareSum, uint(round(knownDirectShare * kProbeLeaningScale)));
     }
     float noise = max(change.variance, kProbeChangeVarianceFloor);
     float expected = threshold * threshold * noise;
@@ -445,6 +448,9 @@ void averageKnownRays() {
     }
   }
   knownRays = count[2];
+  float knownLuminance = probeSampleLuminance(surfaceSum + skySum[2]);
+  knownDirectShare =
+      knownLuminance > 0.0 ? clamp(1.0 - probeSampleLuminance(surfaceIndirectSum) / knownLuminance, 0.0, 1.0) : 1.0;
   vec3 surfacesIndirectMean = surfaces > 0u ? surfaceIndirectSum / float(surfaces) : vec3(0.0);
   for (uint side = 0u; side < 2u; ++side) {
     uint h = count[side] > 0u ? side : 2u;  // a half with no known ray takes the whole sphere's

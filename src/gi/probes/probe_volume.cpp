@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 namespace ssvgi::gi {
 
@@ -16,19 +17,28 @@ glm::uvec3 gridOf(const Settings& settings) {
 
 }  // namespace
 
-ProbeLeaning probeLeaning(const shader::ProbeChangeTally& tally) {
-  if (tally.leaningProbes < shader::kProbeSharedChangeMinimumProbes) return {};
-  const double probes = double(tally.leaningProbes);
-  const double mean = double(tally.leaningSum) / shader::kProbeLeaningScale / probes;
-  const double meanSquare = double(tally.leaningSquares) / shader::kProbeLeaningScale / probes;
-  // For an update T = H·(1 + ε), d = ε/(2 + ε) = ε/2 − ε²/4 + O(ε³) and d² = ε²/4 + O(ε³): d + d² is ε/2 to the
-  // second order, so a probe's noise (ε of zero mean) does not lean it toward less light as d alone does.
-  return {mean + meanSquare, std::sqrt(std::max(meanSquare - mean * mean, 0.0) / probes)};
+ProbeLeaning probeLeaning(std::span<const shader::ProbeChangeTally> tallies) {
+  double probes = 0.0, sum = 0.0, squares = 0.0, directShares = 0.0;
+  for (const shader::ProbeChangeTally& tally : tallies) {
+    probes += double(tally.leaningProbes);
+    sum += double(tally.leaningSum);
+    squares += double(tally.leaningSquares);
+    directShares += double(tally.directShareSum);
+  }
+  if (probes < shader::kProbeSharedChangeMinimumProbes) return {};
+  const double scale = shader::kProbeLeaningScale * probes;
+  const double mean = sum / scale, meanSquare = squares / scale;
+  return {mean, std::sqrt(std::max(meanSquare - mean * mean, 0.0) / probes), directShares / scale};
+}
+
+double ProbeLeaning::gap() const {
+  if (directShare > 0.0) return 2.0 * mean / directShare;
+  return mean > 0.0 ? std::numeric_limits<double>::infinity() : 0.0;
 }
 
 bool showsSharedDrift(const ProbeLeaning& leaning) {
-  return leaning.mean > shader::kProbeSharedDriftFloor &&
-         leaning.mean > shader::kProbeSharedDriftErrors * leaning.standardError;
+  return leaning.mean > shader::kProbeSharedDriftErrors * leaning.standardError &&
+         leaning.gap() > shader::kProbeSharedDriftGapFloor;
 }
 
 // The bytes of each buffer of a volume of `settings`: what the constructor allocates and bytes() counts.
@@ -127,9 +137,15 @@ OfferedProbeBlocks ProbeVolume::prepare(uint32_t frameIndex, glm::vec3 cameraPos
     sharedRecoveryFramesLeft_ = shader::kProbeLevels;
   current_.startsSharedRecovery = sharedRecoveryFramesLeft_ > 0 ? 1u : 0u;
   if (sharedRecoveryFramesLeft_ > 0) --sharedRecoveryFramesLeft_;
-  const bool tallyShowsDrift = sharedShare > 0.0f && showsSharedDrift(probeLeaning(lastTally_));
-  talliesShowingDrift_ = tallyShowsDrift ? talliesShowingDrift_ + 1 : 0;
-  if (talliesShowingDrift_ >= shader::kProbeSharedDriftTallies) sharedDriftFramesLeft_ = shader::kProbeLevels;
+  // A drift is told from at least a round of tallies (an update of each level) and at most kProbeSharedDriftWindow,
+  // none of them from before the last drift followed: each is told from evidence of its own.
+  if (driftWindow_.size() == shader::kProbeSharedDriftWindow) driftWindow_.erase(driftWindow_.begin());
+  driftWindow_.push_back(lastTally_);
+  leaning_ = probeLeaning(driftWindow_);
+  if (sharedShare > 0.0f && driftWindow_.size() >= shader::kProbeLevels && showsSharedDrift(leaning_)) {
+    sharedDriftFramesLeft_ = shader::kProbeLevels;
+    driftWindow_.clear();
+  }
   followsSharedDrift_ = sharedDriftFramesLeft_ > 0;
   if (followsSharedDrift_) --sharedDriftFramesLeft_;
   current_.historyCap = followsSharedDrift_ ? std::min(settings_.probeHistoryCap, shader::kProbeSharedDriftHistoryCap)

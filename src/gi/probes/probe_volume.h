@@ -8,6 +8,7 @@
 #include <glm/glm.hpp>
 
 #include <array>
+#include <span>
 #include <vector>
 
 namespace ssvgi::gi {
@@ -19,15 +20,20 @@ struct OfferedProbeBlocks {
   uint32_t beyondView = 0;
 };
 
-// The watched probes' mean leaning in a frame's tally, d + d² (shared/probe_interface.h, "A drift many probes
-// share"), and its standard error; both 0 where fewer than kProbeSharedChangeMinimumProbes leaned.
+// The watched probes' leaning pooled over frames' tallies (shared/probe_interface.h, "A drift many probes share"): its
+// mean and standard error, and the mean direct share of their light; all 0 where fewer than
+// kProbeSharedChangeMinimumProbes leaned.
 struct ProbeLeaning {
   double mean = 0.0;
   double standardError = 0.0;
+  double directShare = 0.0;
+  // The share by which the probes' histories fall short of where the loop leads them, 2·lean / direct share (infinite
+  // where a lean toward more light has no direct light to come from: all of it comes round the loop).
+  double gap() const;
 };
-ProbeLeaning probeLeaning(const shader::ProbeChangeTally& tally);
-// Whether a tally's leaning shows light coming round the loop: toward more light by more than
-// kProbeSharedDriftErrors standard errors and kProbeSharedDriftFloor.
+ProbeLeaning probeLeaning(std::span<const shader::ProbeChangeTally> tallies);
+// Whether a leaning shows light coming round the loop: toward more light by more than kProbeSharedDriftErrors standard
+// errors, and a gap above kProbeSharedDriftGapFloor.
 bool showsSharedDrift(const ProbeLeaning& leaning);
 
 class ProbeVolume {
@@ -57,6 +63,9 @@ class ProbeVolume {
   const gpu::Buffer& changeTallyReadback() const { return tallyReadbacks_[currentFrame_]; }
   // The tally prepare() last read back (of the frame framesInFlight before its own): for Stats.
   const shader::ProbeChangeTally& lastTally() const { return lastTally_; }
+  // The leaning of the tallies read back since the last drift followed (at most kProbeSharedDriftWindow), pooled: what
+  // prepare() tells a drift many probes share by.
+  const ProbeLeaning& leaning() const { return leaning_; }
   // Whether this frame's update holds the history short for a drift many probes share.
   bool followsSharedDrift() const { return followsSharedDrift_; }
   const gpu::Buffer& update() const { return updates_[currentFrame_]; }  // this frame's ProbeUpdate
@@ -88,7 +97,8 @@ class ProbeVolume {
   std::vector<gpu::Buffer> tallyReadbacks_;
   shader::ProbeChangeTally lastTally_{};
   uint32_t sharedRecoveryFramesLeft_ = 0;  // frames to come that start a recovery in every probe they update
-  uint32_t talliesShowingDrift_ = 0;       // the tallies read back in a row that showed a shared drift
+  std::vector<shader::ProbeChangeTally> driftWindow_;  // the tallies read back since the last drift followed
+  ProbeLeaning leaning_;
   uint32_t sharedDriftFramesLeft_ = 0;     // frames to come whose update holds the history short (a shared drift)
   bool followsSharedDrift_ = false;
   size_t currentFrame_ = 0;
