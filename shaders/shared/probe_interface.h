@@ -541,10 +541,10 @@ SSVGI_CONSTANT(float, kProbeSharedDriftGapFloor, 0.05f);  // histories 5 % short
 SSVGI_CONSTANT(uint, kProbeSharedDriftWindow, 9u);        // frames: three rounds of the three levels
 SSVGI_CONSTANT(uint, kProbeSharedDriftHistoryCap, 16u);
 // How far an update T leans from the history H of a probe: (T − H) / 2H, half its relative change, at most
-// kProbeLeaningCap. Divided by the history alone, so that noise leans it neither way: a history that is the mean of past
-// updates gives it a mean of zero whatever the spread of T. (d = (T − H)/(T + H) leans toward less light under noise,
-// and d + d², which takes that back to the second order, leaned by about 0.02 in still scenes where updates often meet
-// no light: T = 0 gives d + d² = 0 where its share of the truth is −1/2.) The cap bounds the sums.
+// kProbeLeaningCap. Divided by the history alone, so that noise leans it neither way: a history that is the mean of
+// past updates gives it a mean of zero whatever the spread of T. (d = (T − H)/(T + H) leans toward less light under
+// noise, and d + d², which takes that back to the second order, leaned by about 0.02 in still scenes where updates
+// often meet no light: T = 0 gives d + d² = 0 where its share of the truth is −1/2.) The cap bounds the sums.
 SSVGI_CONSTANT(float, kProbeLeaningCap, 4.0f);
 SSVGI_INLINE float probeUpdateLeaning(float update, float history) {
   return min((update - history) / (2.0f * history), kProbeLeaningCap);
