@@ -149,12 +149,17 @@ TEST(Cli, renderWithAMemoryBudgetReportsItAndTheSettingsItChose) {
 TEST(Cli, benchReportsTheWorkOfSsvgisPassesInOneMoreFrame) {
   const fs::path out = freshDirectory("bench-work");
   fs::create_directories(out);
-  const CliRun run = runCli("bench --scene cornell --size 32x32 --frames 3 --measured-frames 1 "
+  const CliRun run = runCli("bench --scene cornell --size 32x32 --frames 3 --measured-frames 2 "
                             "--gi-set raysPerProbe=16 --rays 100 --repetitions 1 --pixel-rays 4 --validation --out " +
                             (out / "bench.json").string());
   ASSERT_EQ(run.exitCode, 0) << run.output;
   std::ifstream reportFile(out / "bench.json");
   const auto report = nlohmann::json::parse(reportFile);
+  // Each pass's median and mean over the measured frames: of two frames, the same.
+  const auto& milliseconds = report["gpuMilliseconds"];
+  ASSERT_TRUE(milliseconds["passes"].contains("ssvgi: ProbeTrace"));
+  for (const auto& [pass, median] : milliseconds["passes"].items())
+    EXPECT_NEAR(milliseconds["passMeans"].value(pass, -1.0), median.get<double>(), 1e-9) << pass;
   ASSERT_TRUE(report.contains("work"));
   const auto& work = report["work"];
   EXPECT_EQ(work["frame"], 3);  // after the 3 timed frames
