@@ -262,6 +262,23 @@ TEST(ProbeSharedDrift, theSameLeanTellsALargerGapWhereMoreOfTheLightHasBounced) 
   EXPECT_TRUE(gi::showsSharedDrift(leaningOf(strays, 0.0f)));  // all of it bounced: any significant lean is a gap
 }
 
+// The window a drift holds the probes to: about 1/gap updates, from 16 for the smallest gap followed down to 8.
+TEST(ProbeSharedDrift, theLargerTheGapTheShorterTheHistoryItHoldsTheProbesTo) {
+  auto capForGap = [](double gap) {
+    gi::ProbeLeaning leaning;
+    leaning.mean = gap / 2.0;
+    leaning.directShare = 1.0;
+    return gi::sharedDriftHistoryCap(leaning);
+  };
+  EXPECT_EQ(capForGap(shader::kProbeSharedDriftGapFloor), shader::kProbeSharedDriftHistoryCap);
+  EXPECT_EQ(capForGap(0.1), 10u);
+  EXPECT_EQ(capForGap(0.125), shader::kProbeSharedDriftShortestHistoryCap);
+  EXPECT_EQ(capForGap(0.9), shader::kProbeSharedDriftShortestHistoryCap);
+  gi::ProbeLeaning allBounced;
+  allBounced.mean = 0.01;
+  EXPECT_EQ(gi::sharedDriftHistoryCap(allBounced), shader::kProbeSharedDriftShortestHistoryCap);
+}
+
 // ---------------------------------------------------------------------------------------------------------------------
 // GPU: scenes of bricks under the probes.
 

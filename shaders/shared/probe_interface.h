@@ -521,10 +521,12 @@ SSVGI_CONSTANT(float, kProbeDriftStep, kProbeDriftLimit / 7.0f);
 // drift it followed — rounds of an update of each level, each with its own 32 directions, which the probes of a level
 // share (so one frame's mean leans now and then in a still scene) — and where their mean leaning is toward more light
 // by more than kProbeSharedDriftErrors standard errors and tells a gap 2·lean / s above kProbeSharedDriftGapFloor, it
-// holds the history cap of the updates in the next kProbeLevels frames at kProbeSharedDriftHistoryCap and lets no probe
-// sit out: the loop goes round at the pace of that shorter window until the probes no longer lean, and the full window
-// then averages their noise away again. Half the default cap, not less: a window of 4 or 8 updates left sunlit scenes
-// blotchy (docs/QUALITY.md, "A drift many probes share").
+// holds the history cap of the updates in the next kProbeLevels frames at about 1/gap updates, between
+// kProbeSharedDriftShortestHistoryCap and kProbeSharedDriftHistoryCap, and lets no probe sit out: the loop goes round
+// at the pace of that shorter window until the probes no longer lean, and the full window then averages their noise
+// away again. A history 12 % or more short of its end takes a window of 8 updates, one 6 % short 16: a hall whose light
+// is mostly bounced gets there sooner (docs/QUALITY.md, "The loop's gap, not its lean"). Not 4: the hall without the
+// capture, many of whose rays are unknown, went blotchy (its error twice as large).
 struct ProbeChangeTally {
   uint watchedProbes;   // traced with a history of at least kProbeChangeMinimumHistory, change detection on
   uint cutProbes;       // of those, whose history a large change cut
@@ -540,6 +542,7 @@ SSVGI_CONSTANT(float, kProbeSharedDriftErrors, 4.0f);
 SSVGI_CONSTANT(float, kProbeSharedDriftGapFloor, 0.05f);  // histories 5 % short of the loop's fixed point
 SSVGI_CONSTANT(uint, kProbeSharedDriftWindow, 9u);        // frames: three rounds of the three levels
 SSVGI_CONSTANT(uint, kProbeSharedDriftHistoryCap, 16u);
+SSVGI_CONSTANT(uint, kProbeSharedDriftShortestHistoryCap, 8u);
 // How far an update T leans from the history H of a probe: (T − H) / 2H, half its relative change, at most
 // kProbeLeaningCap. Divided by the history alone, so that noise leans it neither way: a history that is the mean of
 // past updates gives it a mean of zero whatever the spread of T. (d = (T − H)/(T + H) leans toward less light under

@@ -41,6 +41,11 @@ bool showsSharedDrift(const ProbeLeaning& leaning) {
          leaning.gap() > shader::kProbeSharedDriftGapFloor;
 }
 
+uint32_t sharedDriftHistoryCap(const ProbeLeaning& leaning) {
+  return uint32_t(std::clamp(std::round(1.0 / leaning.gap()), double(shader::kProbeSharedDriftShortestHistoryCap),
+                             double(shader::kProbeSharedDriftHistoryCap)));
+}
+
 // The bytes of each buffer of a volume of `settings`: what the constructor allocates and bytes() counts.
 struct ProbeVolume::BufferBytes {
   VkDeviceSize probes, list, reservoirs, changes, update, offeredBlocks, changeTally;
@@ -144,11 +149,12 @@ OfferedProbeBlocks ProbeVolume::prepare(uint32_t frameIndex, glm::vec3 cameraPos
   leaning_ = probeLeaning(driftWindow_);
   if (sharedShare > 0.0f && driftWindow_.size() >= shader::kProbeLevels && showsSharedDrift(leaning_)) {
     sharedDriftFramesLeft_ = shader::kProbeLevels;
+    sharedDriftHistoryCap_ = sharedDriftHistoryCap(leaning_);
     driftWindow_.clear();
   }
   followsSharedDrift_ = sharedDriftFramesLeft_ > 0;
   if (followsSharedDrift_) --sharedDriftFramesLeft_;
-  current_.historyCap = followsSharedDrift_ ? std::min(settings_.probeHistoryCap, shader::kProbeSharedDriftHistoryCap)
+  current_.historyCap = followsSharedDrift_ ? std::min(settings_.probeHistoryCap, sharedDriftHistoryCap_)
                                             : settings_.probeHistoryCap;
   current_.settledProbeInterval = followsSharedDrift_ ? 1u : settings_.settledProbeInterval;
   std::memcpy(&current_.skyRadiance, skyRadianceSh.data(), sizeof(current_.skyRadiance));

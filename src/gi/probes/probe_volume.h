@@ -35,6 +35,9 @@ ProbeLeaning probeLeaning(std::span<const shader::ProbeChangeTally> tallies);
 // Whether a leaning shows light coming round the loop: toward more light by more than kProbeSharedDriftErrors standard
 // errors, and a gap above kProbeSharedDriftGapFloor.
 bool showsSharedDrift(const ProbeLeaning& leaning);
+// The history cap a shared drift holds the probes at: about 1/gap updates, between kProbeSharedDriftShortestHistoryCap
+// and kProbeSharedDriftHistoryCap.
+uint32_t sharedDriftHistoryCap(const ProbeLeaning& leaning);
 
 class ProbeVolume {
  public:
@@ -100,6 +103,7 @@ class ProbeVolume {
   std::vector<shader::ProbeChangeTally> driftWindow_;  // the tallies read back since the last drift followed
   ProbeLeaning leaning_;
   uint32_t sharedDriftFramesLeft_ = 0;     // frames to come whose update holds the history short (a shared drift)
+  uint32_t sharedDriftHistoryCap_ = shader::kProbeSharedDriftHistoryCap;  // the cap it holds them at
   bool followsSharedDrift_ = false;
   size_t currentFrame_ = 0;
   // Per level, where the turn of the blocks beyond the view stands (an index into those beyond it, in grid order).
