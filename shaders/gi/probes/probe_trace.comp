@@ -100,7 +100,7 @@ shared vec3 knownMeanWithoutDirect[2];
 shared float knownSkyShare[2];
 shared vec3 surfacesMeanRadiance;
 shared float surfacesSkyShare;
-shared float knownDirectShare;  // of the known rays' light, the share that did not come off the probes (a drift)
+shared float knownDirectShare;  // of the known rays' light, the share not relit from the probes: direct and sky
 shared vec4 heldSkyVisibility;
 shared Sh2Rgb heldRadiance;
 shared bool startsFromCoarserLevel;
