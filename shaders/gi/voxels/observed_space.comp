@@ -26,12 +26,17 @@ layout(constant_id = 0) const bool kOrthographic = false;
 // infinity, and this one lies beyond any volume (near plane / 1e-6); an orthographic view's is its far plane.
 const float kNothingDrawnDepth = 1e-6;
 
+bool brickCellObserved(ivec3 worldBrick, VolumeLayout volumeLayout) {
+  uvec2 address = gridBitAddressInVolume(kFirstGridLevel, worldBrick, volumeLayout);
+  return (observedSpace[address.x] & address.y) != 0u;
+}
+
 // Marks a brick cell observed. The walk that observes the last brick cell of a level-3 cell marks that one too, and so
 // on for level 4. (Two walks that observe a cell's last two bricks at once may both miss it; the trace then goes
 // down to the bricks, which is only slower.)
 void markObserved(ivec3 worldBrick, VolumeLayout volumeLayout) {
+  if (brickCellObserved(worldBrick, volumeLayout)) return;
   uvec2 address = gridBitAddressInVolume(kFirstGridLevel, worldBrick, volumeLayout);
-  if ((observedSpace[address.x] & address.y) != 0u) return;
   if ((atomicOr(observedSpace[address.x], address.y) & address.y) != 0u) return;
   for (uint level = kFirstGridLevel + 1u; level < kFirstLocalGridLevel; ++level) {
     ivec3 cell = worldBrick >> (level - kFirstGridLevel);
@@ -184,7 +189,10 @@ void main() {
       if (surfaceHeldBeyond(cell, surface, stepDirection)) markObserved(cell, layoutOfVolume);
       break;
     }
-    if (!kOrthographic || seesThroughCell(cell, size, footprint)) markObserved(cell, layoutOfVolume);
+    // A cell once observed stays so: only one not yet observed is looked at (an orthographic view's look reads a
+    // dozen texels or more, and its walk crosses the whole volume).
+    if (!brickCellObserved(cell, layoutOfVolume) && (!kOrthographic || seesThroughCell(cell, size, footprint)))
+      markObserved(cell, layoutOfVolume);
     ++crossedCells;
     if (atLastCell) break;
     int axis = nextCrossing.x <= nextCrossing.y && nextCrossing.x <= nextCrossing.z ? 0
