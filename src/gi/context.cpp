@@ -449,7 +449,7 @@ class ContextImplementation final : public Context {
     const shader::IndirectList empty{0, 1, 1, 0};
     commands.updateBuffer(visibleBricks_, 0, &empty, sizeof(empty));
     brickCulling_.record(commands, scene_, inputs);
-    if (view.injected) sceneVoxelization_.record(commands, scene_, inputs, *view.injected);
+    if (view.injected) sceneVoxelization_.record(commands, scene_, inputs, *view.injected, view.frame.viewKind);
   }
 
   // The camera's kind of view (gi_frame.h): a lit frame given with its albedo holds direct light only, and was lit

@@ -18,6 +18,10 @@
 #include "shared/ray_box.h"
 
 layout(local_size_x = 64) in;
+// Whether the view is a reflective shadow map (kViewIsReflectiveShadowMap; SceneVoxelization::record picks the
+// pipeline): a pipeline of its own, since lavapipe would run litShareOfPlane's lattice for every voxel of every view,
+// taken or not.
+layout(constant_id = 0) const bool kReflectiveShadowMap = false;
 
 layout(binding = kBindInjectionColor) uniform sampler2D litColor;
 layout(binding = kBindInjectionDepth) uniform sampler2D litDepth;
@@ -301,7 +305,7 @@ void main() {
   vec3 voxelMin = vec3(worldVoxel) * voxelSize;
   vec3 samplePoint =
       voxelMin + hashToUnitCube(uvec3(ivec3(worldVoxel)) ^ uvec3(0u, 0u, frame.frameIndex * 0x9e3779b9u)) * voxelSize;
-  bool samplesShadow = occupied && (frame.viewKind & kViewIsReflectiveShadowMap) != 0u &&
+  bool samplesShadow = kReflectiveShadowMap && occupied &&
                        (voxel.albedo & kVoxelRelit) != 0u && voxelPlaneCode(voxel) != 0u;
   if (samplesShadow) samplePoint = ontoVoxelPlane(samplePoint, voxel, voxelMin);
   vec2 litSize = vec2(frame.litSize);

@@ -3,12 +3,15 @@
 
 namespace ssvgi::gi {
 
-SceneVoxelization::SceneVoxelization(gpu::Device& device) : pipeline_(device, shaders::scene_voxelization_comp) {}
+SceneVoxelization::SceneVoxelization(gpu::Device& device)
+    : pipeline_(device, shaders::scene_voxelization_comp, {VK_FALSE}),
+      reflectiveShadowMap_(device, shaders::scene_voxelization_comp, {VK_TRUE}) {}
 
 void SceneVoxelization::record(gpu::CommandList& commands, const VoxelScene& scene, const VoxelFrameInputs& inputs,
-                               const LitFrameImages& lit) {
+                               const LitFrameImages& lit, uint32_t viewKind) {
   auto scope = commands.scope("ssvgi: SceneVoxelization");
-  commands.dispatchIndirect(pipeline_,
+  const bool reflectiveShadowMap = (viewKind & shader::kViewIsReflectiveShadowMap) != 0u;
+  commands.dispatchIndirect(reflectiveShadowMap ? reflectiveShadowMap_ : pipeline_,
                             scene.bindings()
                                 .buffer(shader::kBindGiFrame, inputs.frame)
                                 .externalSampled(shader::kBindInjectionColor, lit.color, inputs.pointSampler)

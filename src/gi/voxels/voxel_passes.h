@@ -90,11 +90,13 @@ struct ProbeLight {
 class SceneVoxelization {
  public:
   explicit SceneVoxelization(gpu::Device& device);
+  // `viewKind`: the view's GiFrame::viewKind.
   void record(gpu::CommandList& commands, const VoxelScene& scene, const VoxelFrameInputs& inputs,
-              const LitFrameImages& lit);
+              const LitFrameImages& lit, uint32_t viewKind);
 
  private:
   gpu::ComputePipeline pipeline_;
+  gpu::ComputePipeline reflectiveShadowMap_;  // for views with kViewIsReflectiveShadowMap
 };
 
 // VoxelRelight: the voxels given direct light and albedo get direct + albedo/π · E of the probes (SPEC §6.1), the
