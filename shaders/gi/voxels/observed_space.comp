@@ -133,6 +133,28 @@ bool surfaceHeldBeyond(ivec3 cell, vec3 surface, ivec3 stepDirection) {
   return false;
 }
 
+// A walk's place among the brick cells and what it steps with (main).
+struct CellWalk {
+  ivec3 cell;
+  vec3 nextCrossing;  // the segment's parameter t where it crosses into the next cell along each axis
+  ivec3 stepDirection;
+  vec3 crossingStep;
+  float last;  // the parameter t where the walk ends
+  ivec3 lowest;
+  ivec3 highest;  // the volume's cells, inclusive
+};
+
+// Steps into the next cell; false where the walk ends first (its end, or the volume's edge).
+bool stepToNextCell(inout CellWalk walk) {
+  vec3 crossing = walk.nextCrossing;
+  int axis = crossing.x <= crossing.y && crossing.x <= crossing.z ? 0 : (crossing.y <= crossing.z ? 1 : 2);
+  if (crossing[axis] > walk.last) return false;
+  walk.cell[axis] += walk.stepDirection[axis];
+  if (walk.cell[axis] < walk.lowest[axis] || walk.cell[axis] > walk.highest[axis]) return false;
+  walk.nextCrossing[axis] += walk.crossingStep[axis];
+  return true;
+}
+
 void main() {
   uint offset = frame.frameIndex % (pixelStride * pixelStride);
   uvec2 pixel = gl_GlobalInvocationID.xy * pixelStride + uvec2(offset % pixelStride, offset / pixelStride);
@@ -168,13 +190,16 @@ void main() {
   if (first > last) return;
 
   // A voxel DDA over brick cells (Amanatides & Woo), in the segment's parameter t ∈ [first, last].
-  ivec3 lowest = volume.originBrick, highest = lowest + volumeDimensions() - 1;
-  ivec3 cell = clamp(ivec3(floor(start + segment * first)), lowest, highest);
-  ivec3 lastCell = clamp(ivec3(floor(start + segment * last)), lowest, highest);
-  ivec3 stepDirection = ivec3(sign(segment));
-  vec3 nextCrossing = (vec3(cell + max(stepDirection, ivec3(0))) - start) * inverse;
-  nextCrossing = mix(nextCrossing, vec3(2.0), equal(stepDirection, ivec3(0)));
-  vec3 crossingStep = abs(inverse);
+  CellWalk walk;
+  walk.lowest = volume.originBrick;
+  walk.highest = walk.lowest + volumeDimensions() - 1;
+  walk.cell = clamp(ivec3(floor(start + segment * first)), walk.lowest, walk.highest);
+  walk.stepDirection = ivec3(sign(segment));
+  walk.nextCrossing = (vec3(walk.cell + max(walk.stepDirection, ivec3(0))) - start) * inverse;
+  walk.nextCrossing = mix(walk.nextCrossing, vec3(2.0), equal(walk.stepDirection, ivec3(0)));
+  walk.crossingStep = abs(inverse);
+  walk.last = last;
+  ivec3 lastCell = clamp(ivec3(floor(start + segment * last)), walk.lowest, walk.highest);
   int maxSteps = volumeDimensions().x + volumeDimensions().y + volumeDimensions().z;
   // The surface's own cell is left as it was (above).
   bool endsAtSurface = depth > 0.0 && last == 1.0;
@@ -183,24 +208,30 @@ void main() {
   CellFootprint footprint = orthographicCellFootprint(size);
   VolumeLayout layoutOfVolume = volumeLayout();
   uint crossedCells = 0u;
-  for (int stepCount = 0; stepCount < maxSteps; ++stepCount) {
-    bool atLastCell = all(equal(cell, lastCell));
+  // A cell once observed stays so: only the last cell and those not yet observed are looked at. The walk passes the
+  // others in a loop of their own, which holds no look: lavapipe runs a loop's whole body while any of its lanes is in
+  // it, and an orthographic view's look reads a dozen texels or more, a mark a dozen words.
+  int stepCount = 0;
+  for (;;) {
+    bool atCellToLookAt = false;
+    for (; stepCount < maxSteps; ++stepCount) {
+      atCellToLookAt = all(equal(walk.cell, lastCell)) || !brickCellObserved(walk.cell, layoutOfVolume);
+      if (atCellToLookAt) break;
+      ++crossedCells;
+      if (!stepToNextCell(walk)) break;
+    }
+    if (!atCellToLookAt) break;
+    bool atLastCell = all(equal(walk.cell, lastCell));
     if (atLastCell && endsAtSurface) {
-      if (surfaceHeldBeyond(cell, surface, stepDirection)) markObserved(cell, layoutOfVolume);
+      if (surfaceHeldBeyond(walk.cell, surface, walk.stepDirection)) markObserved(walk.cell, layoutOfVolume);
       break;
     }
-    // A cell once observed stays so: only one not yet observed is looked at (an orthographic view's look reads a
-    // dozen texels or more, and its walk crosses the whole volume).
-    if (!brickCellObserved(cell, layoutOfVolume) && (!kOrthographic || seesThroughCell(cell, size, footprint)))
-      markObserved(cell, layoutOfVolume);
+    if (!brickCellObserved(walk.cell, layoutOfVolume) &&
+        (!kOrthographic || seesThroughCell(walk.cell, size, footprint)))
+      markObserved(walk.cell, layoutOfVolume);
     ++crossedCells;
-    if (atLastCell) break;
-    int axis = nextCrossing.x <= nextCrossing.y && nextCrossing.x <= nextCrossing.z ? 0
-                                                                                   : (nextCrossing.y <= nextCrossing.z ? 1 : 2);
-    if (nextCrossing[axis] > last) break;
-    cell[axis] += stepDirection[axis];
-    if (cell[axis] < lowest[axis] || cell[axis] > highest[axis]) break;
-    nextCrossing[axis] += crossingStep[axis];
+    if (atLastCell || !stepToNextCell(walk)) break;
+    ++stepCount;
   }
   if (countsWork()) {
     atomicAdd(work.observedSpaceRays, 1u);
