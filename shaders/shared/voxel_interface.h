@@ -153,10 +153,11 @@ SSVGI_CHECK_SIZE(Voxel, 16);
 
 SSVGI_CONSTANT(uint, kVoxelRelit, 1u << 24u);
 // A VoxelRelight workgroup relights this many bricks at a time, this many occupied voxels of each at a time: a brick
-// holds a dozen occupied voxels on average (a wall fills 16 of its 64), and with a thread per voxel slot the idle
-// three quarters of each workgroup still cost lavapipe a fifth of the pass (docs/PERFORMANCE.md).
-SSVGI_CONSTANT(uint, kRelightBricksAtOnce, 4u);
-SSVGI_CONSTANT(uint, kRelightVoxelsAtOnce, 16u);
+// holds a dozen occupied voxels on average (a wall fills 16 of its 64). With a thread per voxel slot the idle three
+// quarters of each workgroup still cost lavapipe a fifth of the pass, and with 16 slots a brick of 8 voxels or fewer
+// still ran its second 8 (lavapipe's vector) through the relight, masked (docs/PERFORMANCE.md).
+SSVGI_CONSTANT(uint, kRelightBricksAtOnce, 8u);
+SSVGI_CONSTANT(uint, kRelightVoxelsAtOnce, 8u);
 SSVGI_INLINE uint packVoxelAlbedo(vec3 albedo) {
   uvec3 quantised = uvec3(clamp(albedo, vec3(0.0f), vec3(1.0f)) * 255.0f + vec3(0.5f));
   return quantised.x | (quantised.y << 8u) | (quantised.z << 16u) | kVoxelRelit;
