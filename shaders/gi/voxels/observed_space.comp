@@ -35,7 +35,6 @@ bool brickCellObserved(ivec3 worldBrick, VolumeLayout volumeLayout) {
 // on for level 4. (Two walks that observe a cell's last two bricks at once may both miss it; the trace then goes
 // down to the bricks, which is only slower.)
 void markObserved(ivec3 worldBrick, VolumeLayout volumeLayout) {
-  if (brickCellObserved(worldBrick, volumeLayout)) return;
   uvec2 address = gridBitAddressInVolume(kFirstGridLevel, worldBrick, volumeLayout);
   if ((atomicOr(observedSpace[address.x], address.y) & address.y) != 0u) return;
   for (uint level = kFirstGridLevel + 1u; level < kFirstLocalGridLevel; ++level) {
