@@ -25,6 +25,7 @@
 #include <cstdio>
 #include <cstring>
 #include <functional>
+#include <numeric>
 #include <set>
 #include <vector>
 
@@ -843,30 +844,33 @@ TEST(GatherEmitters, aCyanPanelOnAGreyWallUnderWhiteLightGivesNoPixelAHueOfItsOw
 
 class GatherConfidence : public testing::GpuTest {};
 
-// A closed box, interior 4 × 2.5 × 4 m, lit by a point light, the camera inside. The capture around the camera (SPEC
-// §6.3) shows every wall within a few frames: nothing inside the box is unobserved, so every probe ray that stays in
-// it finds something known, while the probes outside the walls know little, and the gather must not lean on them.
-TEST_F(GatherConfidence, aFullyObservedClosedBoxIsConfidentEverywhere) {
-  renderer::Scene scene;
-  scene.name = "closed box";
-  scene.materials.push_back({"white", glm::vec3(0.7f)});
+// A closed box, interior 4 × 2.5 × 4 m with walls 0.2 m thick, centred at `centre` on the floor, lit by a point light.
+void addClosedBox(renderer::Scene& scene, glm::vec3 centre) {
   renderer::MeshBuilder walls;
   constexpr float kWall = 0.2f;
-  const glm::vec3 low(-2.0f, 0.0f, -2.0f), high(2.0f, 2.5f, 2.0f);
+  const glm::vec3 low = centre + glm::vec3(-2.0f, 0.0f, -2.0f), high = centre + glm::vec3(2.0f, 2.5f, 2.0f);
   walls.addBox(low - kWall, {high.x + kWall, low.y, high.z + kWall});  // floor
   walls.addBox({low.x - kWall, high.y, low.z - kWall}, high + kWall);  // ceiling
   walls.addBox({low.x - kWall, low.y, low.z - kWall}, {low.x, high.y, high.z + kWall});    // −x
   walls.addBox({high.x, low.y, low.z - kWall}, {high.x + kWall, high.y, high.z + kWall});  // +x
   walls.addBox({low.x, low.y, low.z - kWall}, {high.x, high.y, low.z});                    // −z
   walls.addBox({low.x, low.y, high.z}, {high.x, high.y, high.z + kWall});                  // +z
+  const auto mesh = uint32_t(scene.meshes.size());
   scene.meshes.push_back(std::move(walls).build("box", 0));
-  scene.instances.push_back({0, glm::mat4(1.0f)});
-  scene.lights.push_back({.name = "lamp", .position = {0.5f, 2.0f, -0.5f}, .intensity = glm::vec3(4.0f)});
-  renderer::Camera camera;
-  camera.position = {0.0f, 1.3f, 1.2f};
-  camera.target = {0.3f, 1.0f, -2.0f};
-  scene.cameras.push_back(camera);
+  scene.instances.push_back({mesh, glm::mat4(1.0f)});
+  scene.lights.push_back({.name = "lamp", .position = centre + glm::vec3(0.5f, 2.0f, -0.5f),
+                          .intensity = glm::vec3(4.0f)});
+}
 
+renderer::Camera cameraInBoxAt(glm::vec3 centre) {
+  renderer::Camera camera;
+  camera.position = centre + glm::vec3(0.0f, 1.3f, 1.2f);
+  camera.target = centre + glm::vec3(0.3f, 1.0f, -2.0f);
+  return camera;
+}
+
+// A renderer for closed boxes: a 16 m voxel volume and probe grid, the capture around the camera, no light's views.
+renderer::Renderer closedBoxRenderer(const renderer::Scene& scene) {
   renderer::RendererSettings settings;
   settings.width = settings.height = 64;
   Settings gi;
@@ -874,33 +878,97 @@ TEST_F(GatherConfidence, aFullyObservedClosedBoxIsConfidentEverywhere) {
   gi.brickPoolCapacity = 2048;
   gi.probeGrid = {16, 8, 16};
   gi.probeBudget = 1024;
+  gi.skyOnlyThroughObservedSpace = true;  // as the renderer runs ssvgi (giSettingsFor): without it every ray is known
   settings.gi = gi;
   settings.extraViews.surroundViewSize = 32;  // its six faces in two frames
   settings.extraViews.lightViewSize = 0;
-  renderer::Renderer renderer(testing::gpuTestDevice(), scene, settings);
+  return renderer::Renderer(testing::gpuTestDevice(), scene, settings);
+}
+
+// The mean confidence over the drawn pixels, and its lowest value.
+struct ConfidenceOverImage {
+  double mean = 0.0;
+  float lowest = 1.0f;
+  uint32_t drawn = 0;
+};
+
+ConfidenceOverImage confidenceOverImage(renderer::Renderer& renderer) {
+  const renderer::FloatImage confidence = renderer.confidence();
+  const renderer::FloatImage depth = renderer.depthBuffer();
+  EXPECT_EQ(confidence.channels, 1u);
+  ConfidenceOverImage result;
+  double sum = 0.0;
+  for (size_t pixel = 0; pixel < confidence.pixels.size(); ++pixel) {
+    const float value = confidence.pixels[pixel];
+    EXPECT_GE(value, 0.0f);
+    EXPECT_LE(value, 1.0f);
+    if (depth.pixels[pixel] <= 0.0f) continue;
+    ++result.drawn;
+    sum += value;
+    result.lowest = std::min(result.lowest, value);
+  }
+  result.mean = result.drawn > 0 ? sum / result.drawn : 0.0;
+  return result;
+}
+
+// The capture around the camera (SPEC §6.3) shows every wall within a few frames: nothing inside the box is
+// unobserved, so every probe ray that stays in it finds something known, while the probes outside the walls know
+// little, and the gather must not lean on them.
+TEST_F(GatherConfidence, aFullyObservedClosedBoxIsConfidentEverywhere) {
+  renderer::Scene scene;
+  scene.name = "closed box";
+  scene.materials.push_back({"white", glm::vec3(0.7f)});
+  addClosedBox(scene, glm::vec3(0.0f));
+  const renderer::Camera camera = cameraInBoxAt(glm::vec3(0.0f));
+  scene.cameras.push_back(camera);
+
+  renderer::Renderer renderer = closedBoxRenderer(scene);
   for (uint32_t frame = 0; frame < 24; ++frame)  // every probe level updated 8 times
     renderer.render(renderer::evaluateAnimation(scene, camera, 0.0f));
 
-  const renderer::FloatImage confidence = renderer.confidence();
-  const renderer::FloatImage depth = renderer.depthBuffer();
-  ASSERT_EQ(confidence.channels, 1u);
-  double sum = 0.0;
-  float lowest = 1.0f;
-  uint32_t drawn = 0;
-  for (size_t pixel = 0; pixel < confidence.pixels.size(); ++pixel) {
-    const float value = confidence.pixels[pixel];
-    ASSERT_GE(value, 0.0f);
-    ASSERT_LE(value, 1.0f);
-    if (depth.pixels[pixel] <= 0.0f) continue;
-    ++drawn;
-    sum += value;
-    lowest = std::min(lowest, value);
+  const ConfidenceOverImage confidence = confidenceOverImage(renderer);
+  ASSERT_EQ(confidence.drawn, 64u * 64u);  // the box fills the view
+  std::printf("closed box: confidence mean %.3f, lowest %.3f\n", confidence.mean, confidence.lowest);
+  RecordProperty("meanConfidence", std::to_string(confidence.mean));
+  EXPECT_GE(confidence.mean, 0.95);
+}
+
+// A teleport to a second box far beyond the voxel volume and every probe level's reach: ssvgi knows nothing there at
+// first, and learns it as the views observe the box and the probes trace it.
+TEST_F(GatherConfidence, afterATeleportItIsLowAtFirstAndRises) {
+  renderer::Scene scene;
+  scene.name = "two closed boxes";
+  scene.materials.push_back({"white", glm::vec3(0.7f)});
+  const glm::vec3 first(0.0f), second(400.0f, 0.0f, 0.0f);
+  addClosedBox(scene, first);
+  addClosedBox(scene, second);
+  scene.cameras.push_back(cameraInBoxAt(first));
+
+  renderer::Renderer renderer = closedBoxRenderer(scene);
+  for (uint32_t frame = 0; frame < 24; ++frame)
+    renderer.render(renderer::evaluateAnimation(scene, cameraInBoxAt(first), 0.0f));
+  const double before = confidenceOverImage(renderer).mean;
+  // The probe levels take turns (one a frame), so the confidence is followed over windows of that many frames.
+  constexpr uint32_t kWindows = 8;
+  std::vector<double> after, windows;
+  for (uint32_t frame = 0; frame < kWindows * shader::kProbeLevels; ++frame) {
+    renderer.render(renderer::evaluateAnimation(scene, cameraInBoxAt(second), 0.0f));
+    after.push_back(confidenceOverImage(renderer).mean);
+    if (after.size() % shader::kProbeLevels == 0)
+      windows.push_back(std::accumulate(after.end() - shader::kProbeLevels, after.end(), 0.0) / shader::kProbeLevels);
   }
-  ASSERT_EQ(drawn, confidence.pixels.size());  // the box fills the view
-  const double mean = sum / drawn;
-  std::printf("closed box: confidence mean %.3f, lowest %.3f\n", mean, lowest);
-  RecordProperty("meanConfidence", std::to_string(mean));
-  EXPECT_GE(mean, 0.95);
+  std::printf("teleport: confidence %.3f before, %.3f on the first frame after; by windows of %u frames:", before,
+              after.front(), shader::kProbeLevels);
+  for (double window : windows) std::printf(" %.3f", window);
+  std::printf("\n");
+  EXPECT_GE(before, 0.95);  // as in the box above
+  // Low at first: the first frame after the teleport has no voxels there yet, nor probes that have traced them.
+  EXPECT_LT(after.front(), 0.5);
+  // Rising: each window no lower than the one before (0.01: the known fractions' 8-bit rounding and dither), and
+  // back to the box's confidence, less the slack of probes still blending out what they knew before they had traced.
+  for (size_t window = 1; window < windows.size(); ++window)
+    EXPECT_GE(windows[window], windows[window - 1] - 0.01) << "window " << window;
+  EXPECT_GE(windows.back(), 0.9);
 }
 
 }  // namespace
