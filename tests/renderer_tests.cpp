@@ -441,6 +441,46 @@ TEST_F(RendererAnalytic, surfacesBeyondTheVoxelVolumeGetTheSkysIrradiance) {
   EXPECT_GT(farBeyond, kWidth * kHeight / 20);
 }
 
+// The same plane under a uniform sky seen from above, inside the voxel volume, as the renderer runs ssvgi: the space
+// above the plane is observed (the camera and the view from above see it), so the probes' rays that meet no voxel see
+// the sky, and those that meet the plane its light a·L. SH2 holds a hemisphere of L over one of a·L exactly along
+// their axis: E = π·L on the plane, whatever a.
+TEST_F(RendererAnalytic, aPlaneUnderAUniformSkySeenFromAboveGetsPiTimesItsRadiance) {
+  Scene scene = planeScene({}, 100.0f);
+  const glm::vec3 sky(0.5f, 1.0f, 2.0f);
+  scene.sky = {renderer::SkyKind::Uniform, sky, 1.0f};
+  scene.sun.enabled = false;
+  const renderer::Camera camera = scene.cameras[0];
+  renderer::Renderer renderer(device(), scene, smallVolumeSettings());
+  const renderer::AnimatedState state = renderer::evaluateAnimation(scene, camera, 0.0f);
+  for (int frame = 0; frame < 48; ++frame) renderer.render(state);
+  const ssvgi::WorldBox volume = renderer.giStats()->voxelVolume;
+  const auto indirect = renderer.indirectIrradiance();
+  const glm::vec3 exact = glm::pi<float>() * sky;
+  glm::dvec3 sum(0.0);
+  double worst = 0.0;
+  uint32_t inside = 0;
+  for (uint32_t y = 0; y < kHeight; ++y) {
+    for (uint32_t x = 0; x < kWidth; ++x) {
+      const glm::vec3 ray = pixelRay(camera, x, y);
+      const glm::vec3 point = camera.position + ray * (-camera.position.y / ray.y);
+      if (!insideBox(point, volume)) continue;
+      ++inside;
+      for (uint32_t c = 0; c < 3; ++c) {
+        const double ratio = channel(indirect, x, y, c) / exact[c];
+        sum[c] += ratio;
+        worst = std::max(worst, std::abs(ratio - 1.0));
+      }
+    }
+  }
+  ASSERT_GT(inside, kWidth * kHeight / 2);
+  const glm::dvec3 mean = sum / double(inside);
+  std::printf("plane under a uniform sky: E / (pi L) %.4f %.4f %.4f on average, %.4f off at worst\n", mean.x, mean.y,
+              mean.z, worst);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(mean[c], 1.0, 0.01) << "channel " << c;
+  EXPECT_LT(worst, 0.01) << "every pixel's E within 1 % of pi L";
+}
+
 // Inside the voxel volume a low confidence means space no view has observed, where unknown is not sky. The hall
 // without the capture around the camera, in its first frames: its roof, lit through openings the camera does not see,
 // is space no view has observed yet, and ssvgi gives the surfaces under it no sky through it (issue 15: with it as sky,
