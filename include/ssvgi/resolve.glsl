@@ -15,16 +15,19 @@
 // A neighbour counts fully on the pixel's tangent plane and not at all this fraction of the pixel's view distance off
 // it: a depth test that tilted surfaces pass and depth edges and creases fail.
 const float kSsvgiResolvePlaneTolerance = 0.02;
-// A neighbour's normal counts as dot^this (half weight at about 24°).
-const float kSsvgiResolveNormalPower = 8.0;
 
 float ssvgiPlaneWeight(vec3 position, vec3 normal, float viewDistance, vec3 neighbourPosition) {
   float planeDistance = abs(dot(neighbourPosition - position, normal));
   return clamp(1.0 - planeDistance / (kSsvgiResolvePlaneTolerance * viewDistance), 0.0, 1.0);
 }
 
+// A neighbour's normal counts as dot^8 (half weight at about 24°), by three squarings: pow is a log and an exponential,
+// which a CPU device (lavapipe) evaluates as two polynomials, and this runs for every tap of every pixel.
 float ssvgiNormalWeight(vec3 normal, vec3 neighbourNormal) {
-  return pow(max(dot(normal, neighbourNormal), 0.0), kSsvgiResolveNormalPower);
+  float weight = max(dot(normal, neighbourNormal), 0.0);
+  weight *= weight;
+  weight *= weight;
+  return weight * weight;
 }
 
 // The frame the results are resolved for, as given to Context::dispatch() (FrameDesc::camera) with its images.
