@@ -61,8 +61,19 @@ struct TileNeighbourhood {
   bool sampled;
 };
 
+// A tile's sample as the taps read it: the position and normal of the pixel it sampled, its light and confidence (a)
+// and its probe blend. Not usable where the tile is outside the image, its sample saw nothing or its gather found no
+// probe.
+struct TileSample {
+  vec3 position;
+  vec3 normal;
+  vec4 irradiance;
+  float probeBlend;
+  bool usable;
+};
+
 // One tile's sample as it bears on a pixel's surface: its light and confidence (a), its geometry weight (0 where the
-// tile is outside the image, its sample saw nothing or its gather found no probe) and its probe blend.
+// sample is not usable) and its probe blend.
 struct TileTap {
   vec4 irradiance;
   float geometry;
@@ -74,7 +85,7 @@ const ivec2 kOuterLatticeOffsets[12] = ivec2[](ivec2(-1, -1), ivec2(0, -1), ivec
                                             ivec2(2, 0), ivec2(-1, 1), ivec2(2, 1), ivec2(-1, 2), ivec2(0, 2),
                                             ivec2(1, 2), ivec2(2, 2));
 
-// What the taps read of the frame's constants, read once for a pixel rather than in its loop over the taps
+// What the taps read of the frame's constants, read once rather than in the loops over the taps
 // (gi/voxels/voxel_access.glsl's VolumeLayout says why).
 struct TapFrame {
   mat4 inverseViewProjection;  // GiFrame
@@ -89,58 +100,140 @@ TapFrame tapFrame() {
                   ivec2(gatherSampleOffset(gather.frameIndex)), gatherTileParity(gather.frameIndex));
 }
 
-TileTap tileTap(Surface surface, ivec2 tile, TapFrame frameOfTaps) {
-  TileTap none = TileTap(vec4(0.0), 0.0, 0.0);
-  if (any(lessThan(tile, ivec2(0))) || any(greaterThanEqual(tile, frameOfTaps.tiles))) return none;
+// The sample of the tile at a point of this frame's lattice (tileAtLatticePoint).
+TileSample tileSampleAt(ivec2 point, TapFrame frameOfTaps) {
+  TileSample result = TileSample(vec3(0.0), vec3(0.0), vec4(0.0), 0.0, false);
+  ivec2 tile = tileAtLatticePoint(point, frameOfTaps.parity);
+  if (any(lessThan(tile, ivec2(0))) || any(greaterThanEqual(tile, frameOfTaps.tiles))) return result;
   // The tile's geometry is that of the pixel it sampled.
   ivec2 samplePixel = min(tile * int(kGatherTileSize) + frameOfTaps.sampleOffset, frameOfTaps.size - 1);
   float sampleDepth = texelFetch(depthBuffer, samplePixel, 0).r;
-  if (sampleDepth <= 0.0) return none;  // the tile's sample saw nothing
+  if (sampleDepth <= 0.0) return result;  // the tile's sample saw nothing
   // No probe lit the sample (a corner whose probes all stand in its walls): its 0 is not light. Taken for light, with
   // the blend of probes that start afresh, it replaced the history of the pixels around it whenever the corner was
   // sampled (docs/QUALITY.md, "A tile without probes").
-  float probeBlend = imageLoad(tileProbeBlend, tile).r;
-  if (probeBlend == kTileFoundNoProbe) return none;
-  vec3 samplePosition =
+  result.probeBlend = imageLoad(tileProbeBlend, tile).r;
+  if (result.probeBlend == kTileFoundNoProbe) return result;
+  result.position =
       reconstructPosition(frameOfTaps.inverseViewProjection, vec2(samplePixel), vec2(frameOfTaps.size), sampleDepth);
-  float geometry = planeWeight(surface, samplePosition) *
-                   normalWeight(surface, normalize(texelFetch(normalBuffer, samplePixel, 0).xyz));
-  return TileTap(geometry > 0.0 ? imageLoad(tileIrradiance, tile) : vec4(0.0), geometry, probeBlend);
+  result.normal = normalize(texelFetch(normalBuffer, samplePixel, 0).xyz);
+  result.irradiance = imageLoad(tileIrradiance, tile);
+  result.usable = true;
+  return result;
 }
 
-TileNeighbourhood tileNeighbourhood(Surface surface, ivec2 pixel) {
-  TapFrame frameOfTaps = tapFrame();
-  vec2 tileCoordinate = vec2(pixel - frameOfTaps.sampleOffset) / float(kGatherTileSize);
-  vec2 latticeCoordinate = sampledLatticeCoordinate(tileCoordinate, frameOfTaps.parity);
-  ivec2 firstPoint = ivec2(floor(latticeCoordinate));
-  TileNeighbourhood result = TileNeighbourhood(vec3(0.0), 0.0, vec3(1e30), vec3(0.0), 0.0, false);
-  vec4 weightedSum = vec4(0.0);  // rgb E, a confidence
-  float totalWeight = 0.0;
-  float sameSurfaceWeight = 0.0;
-  // The bilinear four first (taps 0–3); the twelve around them only where none of the four is on the surface. The
-  // count is not a constant, so that the loop stays a loop: unrolled, lavapipe would run all sixteen taps for every
-  // pixel (it runs both sides of a branch); as a loop it stops once no pixel of a group needs more.
-  int taps = 4;
-  for (int tap = 0; tap < taps; ++tap) {
-    ivec2 point = firstPoint + (tap < 4 ? ivec2(tap & 1, tap >> 1) : kOuterLatticeOffsets[tap - 4]);
-    TileTap tileSample = tileTap(surface, tileAtLatticePoint(point, frameOfTaps.parity), frameOfTaps);
-    vec2 tent = max(vec2(1.0) - abs(vec2(point) - latticeCoordinate), vec2(kOuterTapWeight));
-    float weight = tent.x * tent.y * tileSample.geometry;
-    weightedSum += weight * tileSample.irradiance;
-    totalWeight += weight;
-    if (tap < 4 && tileSample.geometry >= kSameSurfaceWeight) {
-      result.lowest = min(result.lowest, tileSample.irradiance.rgb);
-      result.highest = max(result.highest, tileSample.irradiance.rgb);
-      result.probeBlend += weight * tileSample.probeBlend;
-      sameSurfaceWeight += weight;
-    }
-    if (tap == 3 && totalWeight == 0.0) taps = 16;
+TileTap tileTap(Surface surface, TileSample tileSample) {
+  if (!tileSample.usable) return TileTap(vec4(0.0), 0.0, 0.0);
+  float geometry = planeWeight(surface, tileSample.position) * normalWeight(surface, tileSample.normal);
+  return TileTap(geometry > 0.0 ? tileSample.irradiance : vec4(0.0), geometry, tileSample.probeBlend);
+}
+
+// A pixel's taps as they are summed, and where on the lattice it lies.
+struct PixelTaps {
+  vec2 latticeCoordinate;  // sampledLatticeCoordinate
+  ivec2 firstPoint;        // the first of its bilinear four lattice points
+  vec4 weightedSum;        // rgb E, a confidence
+  float totalWeight;
+  float sameSurfaceWeight;
+  vec3 lowest;
+  vec3 highest;
+  float probeBlend;
+};
+
+PixelTaps pixelTaps(ivec2 pixel, TapFrame frameOfTaps) {
+  vec2 latticeCoordinate = sampledLatticeCoordinate(vec2(pixel - frameOfTaps.sampleOffset) / float(kGatherTileSize),
+                                                    frameOfTaps.parity);
+  return PixelTaps(latticeCoordinate, ivec2(floor(latticeCoordinate)), vec4(0.0), 0.0, 0.0, vec3(1e30), vec3(0.0), 0.0);
+}
+
+// Adds the tap at lattice point `point`; one of the bilinear four that lies on the pixel's surface also widens the
+// range the temporal filter clamps to.
+void addTap(inout PixelTaps taps, Surface surface, ivec2 point, TileSample tileSample, bool bilinear) {
+  TileTap tileTapped = tileTap(surface, tileSample);
+  vec2 tent = max(vec2(1.0) - abs(vec2(point) - taps.latticeCoordinate), vec2(kOuterTapWeight));
+  float weight = tent.x * tent.y * tileTapped.geometry;
+  taps.weightedSum += weight * tileTapped.irradiance;
+  taps.totalWeight += weight;
+  if (bilinear && tileTapped.geometry >= kSameSurfaceWeight) {
+    taps.lowest = min(taps.lowest, tileTapped.irradiance.rgb);
+    taps.highest = max(taps.highest, tileTapped.irradiance.rgb);
+    taps.probeBlend += weight * tileTapped.probeBlend;
+    taps.sameSurfaceWeight += weight;
   }
-  result.sampled = totalWeight > 0.0;
-  result.blended = totalWeight > 0.0 ? weightedSum.rgb / totalWeight : vec3(0.0);
-  result.confidence = totalWeight > 0.0 ? weightedSum.a / totalWeight : 0.0;
-  result.probeBlend = sameSurfaceWeight > 0.0 ? result.probeBlend / sameSurfaceWeight : 1.0;
+}
+
+TileNeighbourhood tileNeighbourhood(PixelTaps taps) {
+  TileNeighbourhood result;
+  result.sampled = taps.totalWeight > 0.0;
+  result.blended = taps.totalWeight > 0.0 ? taps.weightedSum.rgb / taps.totalWeight : vec3(0.0);
+  result.confidence = taps.totalWeight > 0.0 ? taps.weightedSum.a / taps.totalWeight : 0.0;
+  result.lowest = taps.lowest;
+  result.highest = taps.highest;
+  result.probeBlend = taps.sameSurfaceWeight > 0.0 ? taps.probeBlend / taps.sameSurfaceWeight : 1.0;
   return result;
+}
+
+// A pixel's bilinear tap at lattice point `point`, where it is one of the pixel's four.
+void addBilinearTap(inout PixelTaps taps, Surface surface, ivec2 point, TileSample tileSample) {
+  ivec2 offset = point - taps.firstPoint;
+  if (all(greaterThanEqual(offset, ivec2(0))) && all(lessThanEqual(offset, ivec2(1))))
+    addTap(taps, surface, point, tileSample, true);
+}
+
+// The twelve taps around a pixel's four, for a pixel none of whose four is on its surface (a thin object, a
+// silhouette): it borrows from its own surface a tile further away instead of going dark.
+bool needsOuterTaps(PixelTaps taps, bool drawn) { return drawn && taps.totalWeight == 0.0; }
+
+// The tile samples around the four half-resolution pixels of a 2×2 quad, (0, 0), (1, 0), (0, 1) and (1, 1) from the
+// first, whose full-resolution pixel is `firstPixel` (`drawn`: which show a surface). Neighbouring pixels share most
+// of their taps: the quad's full-resolution pixels lie half a tile apart, a quarter of a lattice unit along each
+// lattice axis, so their bilinear fours lie in one 3×3 block of lattice points, each read once — nine reads where the
+// pixels one by one made sixteen. (Four variables, not arrays: lavapipe turns an array indexed in a loop into a
+// chain of branches at every access.)
+void quadTileNeighbourhoods(Surface surface0, Surface surface1, Surface surface2, Surface surface3, bvec4 drawn,
+                            ivec2 firstPixel, TapFrame frameOfTaps, out TileNeighbourhood neighbourhood0,
+                            out TileNeighbourhood neighbourhood1, out TileNeighbourhood neighbourhood2,
+                            out TileNeighbourhood neighbourhood3) {
+  PixelTaps taps0 = pixelTaps(firstPixel, frameOfTaps), taps1 = pixelTaps(firstPixel + ivec2(2, 0), frameOfTaps),
+            taps2 = pixelTaps(firstPixel + ivec2(0, 2), frameOfTaps),
+            taps3 = pixelTaps(firstPixel + ivec2(2, 2), frameOfTaps);
+  // The lattice's u axis grows with x and y, its v axis with x and against y: the block starts at the first point of
+  // pixel (0, 0) along u and at that of pixel (0, 1) along v. Each pixel's four come in the order they are summed in,
+  // u fastest.
+  ivec2 blockOrigin = ivec2(taps0.firstPoint.x, taps2.firstPoint.y);
+  for (int v = 0; v < 3; ++v) {
+    for (int u = 0; u < 3; ++u) {
+      ivec2 point = blockOrigin + ivec2(u, v);
+      TileSample tileSample = tileSampleAt(point, frameOfTaps);
+      addBilinearTap(taps0, surface0, point, tileSample);
+      addBilinearTap(taps1, surface1, point, tileSample);
+      addBilinearTap(taps2, surface2, point, tileSample);
+      addBilinearTap(taps3, surface3, point, tileSample);
+    }
+  }
+  // The outer taps of every pixel that needs them in one loop: lavapipe runs a loop's body at least once, and for as
+  // long as any invocation of a lock-step group is in it.
+  bvec4 outer = bvec4(needsOuterTaps(taps0, drawn.x), needsOuterTaps(taps1, drawn.y), needsOuterTaps(taps2, drawn.z),
+                      needsOuterTaps(taps3, drawn.w));
+  uint outerPixels = uint(outer.x) | (uint(outer.y) << 1u) | (uint(outer.z) << 2u) | (uint(outer.w) << 3u);
+  uint outerTaps = uint(bitCount(outerPixels)) * 12u;
+  for (uint tap = 0u; tap < outerTaps; ++tap) {
+    uint left = outerPixels;
+    for (uint before = tap / 12u; before > 0u; --before) left &= left - 1u;
+    int k = findLSB(left);
+    ivec2 firstPoint =
+        k == 0 ? taps0.firstPoint : (k == 1 ? taps1.firstPoint : (k == 2 ? taps2.firstPoint : taps3.firstPoint));
+    ivec2 point = firstPoint + kOuterLatticeOffsets[tap % 12u];
+    TileSample tileSample = tileSampleAt(point, frameOfTaps);
+    if (k == 0) addTap(taps0, surface0, point, tileSample, false);
+    if (k == 1) addTap(taps1, surface1, point, tileSample, false);
+    if (k == 2) addTap(taps2, surface2, point, tileSample, false);
+    if (k == 3) addTap(taps3, surface3, point, tileSample, false);
+  }
+  neighbourhood0 = tileNeighbourhood(taps0);
+  neighbourhood1 = tileNeighbourhood(taps1);
+  neighbourhood2 = tileNeighbourhood(taps2);
+  neighbourhood3 = tileNeighbourhood(taps3);
 }
 
 #endif

@@ -77,20 +77,45 @@ vec3 filtered(Surface surface, TileNeighbourhood tiles) {
   return mix(kept, tiles.blended, blend);
 }
 
-void main() {
-  ivec2 halfPixel = ivec2(gl_GlobalInvocationID.xy);
+// The quad's pixel `halfPixel` (drawn: it shows a surface, at `depth`).
+void filterPixel(ivec2 halfPixel, bool drawn, float depth, Surface surface, TileNeighbourhood tiles) {
   if (any(greaterThanEqual(halfPixel, ivec2(gather.halfSize)))) return;
-  ivec2 pixel = 2 * halfPixel;
-  float depth = texelFetch(depthBuffer, pixel, 0).r;
-  if (depth <= 0.0) {  // nothing drawn: no light, no depth for the next frame's history test
+  if (!drawn) {  // nothing drawn: no light, no depth for the next frame's history test
     imageStore(outputIrradiance, halfPixel, vec4(0.0));
     imageStore(confidence, halfPixel, vec4(0.0));
     return;
   }
-  Surface surface = currentSurface(pixel, depth);
-  TileNeighbourhood tiles = tileNeighbourhood(surface, pixel);
   // Stored as the nearest half float: a conversion that rounds toward zero would sink the running average.
   vec3 irradiance = nearestHalf(finiteHalf(filtered(surface, tiles)));
   imageStore(outputIrradiance, halfPixel, vec4(irradiance, finiteHalf(depth)));
   imageStore(confidence, halfPixel, vec4(tiles.confidence));
+}
+
+// Where the half-resolution pixel's full-resolution pixel shows a surface, its depth; else 0.
+float drawnDepth(ivec2 halfPixel) {
+  return all(lessThan(halfPixel, ivec2(gather.halfSize))) ? texelFetch(depthBuffer, 2 * halfPixel, 0).r : 0.0;
+}
+
+// The surface at a pixel of the quad. One that shows none, or lies past the image's edge, is never used: it is made
+// at a finite depth, from a pixel inside the image.
+Surface quadSurface(ivec2 halfPixel, float depth) {
+  return currentSurface(min(2 * halfPixel, ivec2(frame.size) - 1), depth > 0.0 ? depth : 1.0);
+}
+
+// An invocation filters a 2×2 quad of half-resolution pixels: they share most of their tile samples
+// (quadTileNeighbourhoods).
+void main() {
+  ivec2 first = 2 * ivec2(gl_GlobalInvocationID.xy);
+  vec4 depths = vec4(drawnDepth(first), drawnDepth(first + ivec2(1, 0)), drawnDepth(first + ivec2(0, 1)),
+                     drawnDepth(first + ivec2(1, 1)));
+  bvec4 drawn = greaterThan(depths, vec4(0.0));
+  Surface surface0 = quadSurface(first, depths.x), surface1 = quadSurface(first + ivec2(1, 0), depths.y),
+          surface2 = quadSurface(first + ivec2(0, 1), depths.z), surface3 = quadSurface(first + ivec2(1, 1), depths.w);
+  TileNeighbourhood tiles0, tiles1, tiles2, tiles3;
+  quadTileNeighbourhoods(surface0, surface1, surface2, surface3, drawn, 2 * first, tapFrame(), tiles0, tiles1, tiles2,
+                         tiles3);
+  filterPixel(first, drawn.x, depths.x, surface0, tiles0);
+  filterPixel(first + ivec2(1, 0), drawn.y, depths.y, surface1, tiles1);
+  filterPixel(first + ivec2(0, 1), drawn.z, depths.z, surface2, tiles2);
+  filterPixel(first + ivec2(1, 1), drawn.w, depths.w, surface3, tiles3);
 }

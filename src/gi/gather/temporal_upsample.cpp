@@ -13,7 +13,8 @@ void TemporalUpsample::record(gpu::CommandList& commands, const GatherInputs& in
                                      .image(shader::kBindGatherHistory, targets.history())
                                      .image(shader::kBindGatherOutput, targets.output())
                                      .image(shader::kBindGatherConfidence, targets.confidence());
-  commands.dispatch(pipeline_, bindings, glm::uvec3(targets.halfSize(), 1));  // one thread per half-resolution pixel
+  // One thread per 2×2 half-resolution pixels.
+  commands.dispatch(pipeline_, bindings, glm::uvec3((targets.halfSize() + 1u) / 2u, 1));
 }
 
 }  // namespace ssvgi::gi
