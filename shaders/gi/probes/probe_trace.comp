@@ -615,9 +615,32 @@ void countProbeWork(TracedWork seeding) {
 }
 
 // The update as the list of its steps; the barriers between them are the workgroup's.
+// Which of the probe's rays each thread traces. A lock-step group of threads (8 on lavapipe) walks for as long as its
+// longest ray: the threads take the rays in order of their direction's height, so that a group's rays go the same way
+// — up to the sky or the roof, sideways, down to the floor — and end at much the same distance. Every per-ray
+// result is kept in the ray's own slot, so the order changes nothing but the time.
+shared float rayHeight[kProbeTraceGroupSize];
+shared uint rayOfThread[kProbeTraceGroupSize];
+
+uint rayInHeightOrder(ListedProbe probe) {
+  uint thread = gl_LocalInvocationID.x;
+  ProbeRay own = chooseRay(probe, thread);
+  rayHeight[thread] = own.traced ? own.direction.y : 2.0;  // rays not traced last
+  barrier();
+  float height = rayHeight[thread];
+  uint rank = 0u;
+  for (uint other = 0u; other < kProbeTraceGroupSize; ++other) {
+    float otherHeight = rayHeight[other];
+    if (otherHeight < height || (otherHeight == height && other < thread)) ++rank;
+  }
+  rayOfThread[rank] = thread;
+  barrier();
+  return rayOfThread[thread];
+}
+
 void main() {
-  uint ray = gl_LocalInvocationID.x;
   ListedProbe probe = readProbe(listedProbes[gl_WorkGroupID.x]);
+  uint ray = rayInHeightOrder(probe);
   ProbeRay chosen = chooseRay(probe, ray);
   if (ray == 0u) {
     holdRadiance(probe);
