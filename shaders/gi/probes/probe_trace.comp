@@ -614,7 +614,6 @@ void countProbeWork(TracedWork seeding) {
   atomicAdd(work.probeTraceSeedReads, seeding.reads);
 }
 
-// The update as the list of its steps; the barriers between them are the workgroup's.
 // Which of the probe's rays each thread traces. A lock-step group of threads (8 on lavapipe) walks for as long as its
 // longest ray: the threads take the rays in order of their direction's height, so that a group's rays go the same way
 // — up to the sky or the roof, sideways, down to the floor — and end at much the same distance. Every per-ray
@@ -638,6 +637,7 @@ uint rayInHeightOrder(ListedProbe probe) {
   return rayOfThread[thread];
 }
 
+// The update as the list of its steps; the barriers between them are the workgroup's.
 void main() {
   ListedProbe probe = readProbe(listedProbes[gl_WorkGroupID.x]);
   uint ray = rayInHeightOrder(probe);
