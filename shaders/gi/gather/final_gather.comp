@@ -18,9 +18,17 @@ layout(binding = kBindGatherNormal) uniform sampler2D normalBuffer;
 layout(binding = kBindGatherTileIrradiance, rgba16f) writeonly uniform image2D tileIrradiance;
 layout(binding = kBindGatherTileProbeBlend, r8) writeonly uniform image2D tileProbeBlend;
 
+// The workgroup's threads in 4×2 blocks: a lock-step group of 8 (lavapipe's) gathers tiles that lie close together,
+// whose probes agree or disagree alike, rather than a row 16 tiles long; it traces for as long as its busiest tile.
+uvec2 threadInBlocks() {
+  uint index = gl_LocalInvocationIndex;
+  uvec2 local = uvec2((index & 3u) | (((index >> 3u) & 1u) << 2u), ((index >> 2u) & 1u) | ((index >> 4u) << 1u));
+  return gl_WorkGroupID.xy * gl_WorkGroupSize.xy + local;
+}
+
 void main() {
   uint frameIndex = gather.frameIndex;
-  uvec2 tile = gatherTileOfThread(gl_GlobalInvocationID.xy, frameIndex);
+  uvec2 tile = gatherTileOfThread(threadInBlocks(), frameIndex);
   if (any(greaterThanEqual(tile, gather.tiles))) return;
   ivec2 pixel = ivec2(min(tile * kGatherTileSize + gatherSampleOffset(frameIndex), frame.size - 1u));
   float depth = texelFetch(depthBuffer, pixel, 0).r;
