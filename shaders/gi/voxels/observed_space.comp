@@ -213,8 +213,10 @@ void main() {
   int stepCount = 0;
   for (;;) {
     bool atCellToLookAt = false;
+    bool cellObserved = true;
     for (; stepCount < maxSteps; ++stepCount) {
-      atCellToLookAt = all(equal(walk.cell, lastCell)) || !brickCellObserved(walk.cell, layoutOfVolume);
+      cellObserved = brickCellObserved(walk.cell, layoutOfVolume);
+      atCellToLookAt = !cellObserved || all(equal(walk.cell, lastCell));
       if (atCellToLookAt) break;
       ++crossedCells;
       if (!stepToNextCell(walk)) break;
@@ -225,8 +227,7 @@ void main() {
       if (surfaceHeldBeyond(walk.cell, surface, walk.stepDirection)) markObserved(walk.cell, layoutOfVolume);
       break;
     }
-    if (!brickCellObserved(walk.cell, layoutOfVolume) &&
-        (!kOrthographic || seesThroughCell(walk.cell, size, footprint)))
+    if (!cellObserved && (!kOrthographic || seesThroughCell(walk.cell, size, footprint)))
       markObserved(walk.cell, layoutOfVolume);
     ++crossedCells;
     if (atLastCell || !stepToNextCell(walk)) break;
