@@ -12,6 +12,9 @@ SSVGI_SHARED_BEGIN
 
 SSVGI_CONSTANT(uint, kBrickSizeVoxels, 4u);   // a brick is 4×4×4 voxels
 SSVGI_CONSTANT(uint, kVoxelsPerBrick, 64u);
+// SceneVoxelization takes a brick's voxels by blocks of 2×2×2 (level 1 of the hierarchy below), eight threads a brick,
+// kInjectionBricksPerGroup bricks a workgroup.
+SSVGI_CONSTANT(uint, kInjectionBricksPerGroup, 8u);
 SSVGI_CONSTANT(uint, kInvalidBrick, 0xffffffffu);  // brickLookup: no brick in this cell
 SSVGI_CONSTANT(uint, kAllocatingBrick, 0xfffffffeu);  // brickLookup: a thread is allocating this cell right now
 // Occupancy hierarchy (SPEC §4.4): level 0 = voxel (the brick's 64-bit mask), 1 = 2×2×2 voxels (derived from the
@@ -47,12 +50,13 @@ SSVGI_CONSTANT(uint, kBindInjectionAlbedo, kBindFirstPassSlot + 3u);  // its alb
 SSVGI_CONSTANT(uint, kBindInjectionBricks, kBindFirstPassSlot + 4u);  // IndirectList of the bricks to inject
 SSVGI_CONSTANT(uint, kBindInjectionIrradiance, kBindFirstPassSlot + 5u);  // ssvgi's last output (sampled; read for
                                                                           // kViewIsLitWithOutput)
+// The Hi-Z levels HiZBuild wrote (float[]), read by BrickCulling and SceneVoxelization (gi/voxels/hiz_occlusion.glsl).
+SSVGI_CONSTANT(uint, kBindHiZ, kBindFirstPassSlot + 6u);
 // HiZBuild's, BrickAllocate's and BrickCulling's own slots.
 SSVGI_CONSTANT(uint, kBindHiZDepth, kBindFirstPassSlot);                // the camera's depth (sampled)
 SSVGI_CONSTANT(uint, kBindHiZPyramid, kBindFirstPassSlot + 1u);         // float[]: the Hi-Z levels HiZBuild writes
 SSVGI_CONSTANT(uint, kBindAllocationDepth, kBindFirstPassSlot);         // the camera's depth (sampled)
 SSVGI_CONSTANT(uint, kBindAllocationNormal, kBindFirstPassSlot + 1u);   // its world normal (sampled)
-SSVGI_CONSTANT(uint, kBindCullingHiZ, kBindFirstPassSlot);              // float[]: the Hi-Z levels
 SSVGI_CONSTANT(uint, kBindCullingVisibleBricks, kBindFirstPassSlot + 1u);  // IndirectList of the bricks in view
 
 // Per-frame description of the volume (uniform buffer).

@@ -20,8 +20,8 @@ struct WorkCounters {
   // observed (a read each, and an atomic where the cell was not yet).
   uint observedSpaceRays;
   uint observedSpaceCells;
-  // SceneVoxelization of the camera's lit frame: a thread per voxel of every brick BrickCulling listed, and of those
-  // the voxels whose random point lies in the view, which read its texels.
+  // SceneVoxelization of the camera's lit frame: the voxels of the blocks it injected (those of the listed bricks that
+  // its Hi-Z test kept), and of those the voxels whose random point lies in the view, which read its texels.
   uint injectionVoxels;
   uint injectionVoxelsInView;
   // The same for the extra views (timed as "ssvgi: ExtraViews").

@@ -12,12 +12,13 @@
 // A brick left empty for emptyFramesToRelease injections returns to the pool the same frame.
 #include "gi/gi_frame.glsl"
 #include "gi/voxels/brick_pool.glsl"
+#include "gi/voxels/hiz_occlusion.glsl"
 #include "gi/voxels/voxel_access.glsl"
 #include "gi/work_counting.glsl"
 #include "shared/sampling.h"
 #include "shared/ray_box.h"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = 8 * kInjectionBricksPerGroup) in;
 // Whether the view is a reflective shadow map (kViewIsReflectiveShadowMap; SceneVoxelization::record picks the
 // pipeline): a pipeline of its own, since lavapipe would run litShareOfPlane's lattice for every voxel of every view,
 // taken or not.
@@ -259,49 +260,31 @@ LitShare litShareOfPlane(vec3 firstPoint, Voxel voxel, vec3 voxelMin, vec2 litSi
   return share;
 }
 
-shared uint occupancyLow;
-shared uint occupancyHigh;
-shared uint observedLow;
-shared uint observedHigh;
-shared uint voxelsInView;  // on a frame that counts its work: the brick's voxels whose point lies in the view
+// Per brick of the workgroup: its blocks to inject, what they leave occupied and observed, and (on a frame that counts
+// its work) its voxels whose point lies in the view.
+shared uint injectedBlocks[kInjectionBricksPerGroup];
+shared uint occupancyLow[kInjectionBricksPerGroup];
+shared uint occupancyHigh[kInjectionBricksPerGroup];
+shared uint observedLow[kInjectionBricksPerGroup];
+shared uint observedHigh[kInjectionBricksPerGroup];
+shared uint voxelsInView[kInjectionBricksPerGroup];
 
-// The brick's work (shared/work_counters.h), by thread 0 once its voxels are done: the camera's lit frame's, or an
-// extra view's.
-void countBrickWork() {
-  if ((frame.viewKind & kViewIsExtra) == 0u) {
-    atomicAdd(work.injectionVoxels, kVoxelsPerBrick);
-    atomicAdd(work.injectionVoxelsInView, voxelsInView);
-  } else {
-    atomicAdd(work.extraViewInjectionVoxels, kVoxelsPerBrick);
-    atomicAdd(work.extraViewInjectionVoxelsInView, voxelsInView);
-  }
-}
+uint brickSlot() { return gl_LocalInvocationID.x / 8u; }
 
-void main() {
-  litViewProjection = frame.litViewProjection;
-  litInverseViewProjection = frame.litInverseViewProjection;
-  voxelSize = volume.voxelSize;
-  viewpoint = volumeViewpoint();
-  uint brick = visibleBricks[gl_WorkGroupID.x];
-  uint voxelIndex = gl_LocalInvocationID.x;
-  uvec3 voxelInBrick = uvec3(voxelIndex & 3u, (voxelIndex >> 2u) & 3u, voxelIndex >> 4u);
-  ivec3 worldBrick = bricks[brick].coordinate;
+// What injecting a voxel left: whether it is occupied, and whether the view observed it empty now.
+struct InjectedVoxel {
+  bool occupied;
+  bool observedNow;
+};
+
+// SPEC §4.3 for one voxel (the three outcomes above); it writes the voxel where its point lies in the view.
+InjectedVoxel injectVoxel(uint brick, ivec3 worldBrick, uvec3 voxelInBrick, uvec2 heldObserved) {
+  uint voxelIndex = voxelInBrick.x + 4u * voxelInBrick.y + 16u * voxelInBrick.z;
   ivec3 worldVoxel = worldBrick * int(kBrickSizeVoxels) + ivec3(voxelInBrick);
   uint bit = voxelBit(voxelInBrick);
   bool occupied = voxelOccupied(brick, voxelInBrick);
-  bool wasObserved = (((bit < 32u ? bricks[brick].observed.x : bricks[brick].observed.y) >> (bit & 31u)) & 1u) != 0u;
+  bool wasObserved = (((bit < 32u ? heldObserved.x : heldObserved.y) >> (bit & 31u)) & 1u) != 0u;
   Voxel voxel = voxels[brick * kVoxelsPerBrick + voxelIndex];
-  Brick heldBrick = bricks[brick];
-
-  if (voxelIndex == 0u) {
-    occupancyLow = 0u;
-    occupancyHigh = 0u;
-    observedLow = 0u;
-    observedHigh = 0u;
-    voxelsInView = 0u;
-  }
-  barrier();
-
   vec3 voxelMin = vec3(worldVoxel) * voxelSize;
   vec3 samplePoint =
       voxelMin + hashToUnitCube(uvec3(ivec3(worldVoxel)) ^ uvec3(0u, 0u, frame.frameIndex * 0x9e3779b9u)) * voxelSize;
@@ -314,7 +297,7 @@ void main() {
   bool seenThrough = false;
   bool observedNow = false;
   if (projected.inView) {
-    if (countsWork()) atomicAdd(voxelsInView, 1u);
+    if (countsWork()) atomicAdd(voxelsInView[brickSlot()], 1u);
     ViewSample seen = viewSampleAt(ivec2(pixel), litSize);
     // "Clearly in front" along the view's ray (perspective or orthographic): by more than half a voxel, so that depth
     // quantisation and a surface point just outside this voxel do not count against it — and in front of the nearest
@@ -412,35 +395,112 @@ void main() {
     voxels[brick * kVoxelsPerBrick + voxelIndex] = occupied ? voxel : Voxel(0u, 0u, 0u, 0u);
   }
 
-  if (occupied) {
-    if (bit < 32u) atomicOr(occupancyLow, 1u << bit);
-    else atomicOr(occupancyHigh, 1u << (bit - 32u));
+  return InjectedVoxel(occupied, observedNow);
+}
+
+// A brick's eight threads take its voxels by blocks of 2×2×2, thread t the voxel t of each block: the block's
+// coordinate (bit 0 x, 1 y, 2 z) and the thread's within it.
+uvec3 blockVoxel(uint block, uint thread) {
+  return 2u * uvec3(block & 1u, (block >> 1u) & 1u, block >> 2u) + uvec3(thread & 1u, (thread >> 1u) & 1u, thread >> 2u);
+}
+
+// The bits of a brick's 64-bit voxel mask (x + 4y + 16z) that the blocks of `blocks` (a bit per block) hold.
+uvec2 voxelMaskOfBlocks(uint blocks) {
+  uvec2 mask = uvec2(0u);
+  for (uint block = 0u; block < 8u; ++block) {
+    uint ofBlock = ((blocks >> block) & 1u) * (0x330033u << (2u * (block & 1u) + 8u * ((block >> 1u) & 1u)));
+    if ((block >> 2u) == 0u) mask.x |= ofBlock;
+    else mask.y |= ofBlock;
   }
-  // Observed (SPEC §6.4, voxel_interface.h): a voxel seen holding a surface or seen through. An empty voxel the seen
-  // surface's plane cuts is neither: it may hold that surface where the view did not look (a hole in a wall).
-  if (occupied || observedNow) {
-    if (bit < 32u) atomicOr(observedLow, 1u << bit);
-    else atomicOr(observedHigh, 1u << (bit - 32u));
+  return mask;
+}
+
+// Whether the view may change a block's voxels (hiddenFromInjection). Not for a reflective shadow map, which writes
+// the voxels in its light's shadow, behind what it shows. The camera's Hi-Z is the current frame's depth, its lit
+// frame the one before: as for BrickCulling's bricks, a block hidden now and seen then waits a frame.
+bool blockMayChange(ivec3 worldBrick, uint block, uvec2 heldOccupancy) {
+  if (kReflectiveShadowMap) return true;
+  bool holdsOccupied = any(notEqual(heldOccupancy & voxelMaskOfBlocks(1u << block), uvec2(0u)));
+  vec3 lo = (vec3(worldBrick * int(kBrickSizeVoxels)) + vec3(blockVoxel(block, 0u))) * voxelSize;
+  return !hiddenFromInjection(lo, lo + 2.0 * voxelSize, holdsOccupied, voxelSize);
+}
+
+// The brick's work (shared/work_counters.h), by its first thread once its voxels are done: the camera's lit frame's,
+// or an extra view's.
+void countBrickWork(uint injectedVoxels) {
+  if ((frame.viewKind & kViewIsExtra) == 0u) {
+    atomicAdd(work.injectionVoxels, injectedVoxels);
+    atomicAdd(work.injectionVoxelsInView, voxelsInView[brickSlot()]);
+  } else {
+    atomicAdd(work.extraViewInjectionVoxels, injectedVoxels);
+    atomicAdd(work.extraViewInjectionVoxelsInView, voxelsInView[brickSlot()]);
+  }
+}
+
+// Eight threads a brick, each testing one of its blocks and then injecting its voxel of every block that may change:
+// on a CPU (lavapipe) or a GPU's lock-step threads alike, the work follows the blocks a view can change, not the
+// brick's 64 voxels.
+void main() {
+  litViewProjection = frame.litViewProjection;
+  litInverseViewProjection = frame.litInverseViewProjection;
+  voxelSize = volume.voxelSize;
+  viewpoint = volumeViewpoint();
+  uint slot = brickSlot();
+  uint thread = gl_LocalInvocationID.x % 8u;
+  uint listIndex = gl_WorkGroupID.x * kInjectionBricksPerGroup + slot;
+  bool listed = listIndex < visible.count;
+  uint brick = listed ? visibleBricks[listIndex] : 0u;
+  Brick heldBrick = bricks[brick];
+  ivec3 worldBrick = heldBrick.coordinate;
+
+  if (thread == 0u) {
+    injectedBlocks[slot] = 0u;
+    occupancyLow[slot] = 0u;
+    occupancyHigh[slot] = 0u;
+    observedLow[slot] = 0u;
+    observedHigh[slot] = 0u;
+    voxelsInView[slot] = 0u;
   }
   barrier();
+  if (listed && blockMayChange(worldBrick, thread, heldBrick.occupancy)) atomicOr(injectedBlocks[slot], 1u << thread);
+  barrier();
 
-  if (voxelIndex == 0u) {
-    if (countsWork()) countBrickWork();
-    uvec2 mask = uvec2(occupancyLow, occupancyHigh);
+  uint blocks = injectedBlocks[slot];
+  uvec2 occupiedBits = uvec2(0u), observedBits = uvec2(0u);
+  for (uint remaining = blocks; remaining != 0u; remaining &= remaining - 1u) {
+    uvec3 voxelInBrick = blockVoxel(uint(findLSB(remaining)), thread);
+    InjectedVoxel injected = injectVoxel(brick, worldBrick, voxelInBrick, heldBrick.observed);
+    uint bit = voxelBit(voxelInBrick);
+    uvec2 voxelMask = bit < 32u ? uvec2(1u << bit, 0u) : uvec2(0u, 1u << (bit - 32u));
+    if (injected.occupied) occupiedBits |= voxelMask;
+    // Observed (SPEC §6.4, voxel_interface.h): a voxel seen holding a surface or seen through. An empty voxel the seen
+    // surface's plane cuts is neither: it may hold that surface where the view did not look (a hole in a wall).
+    if (injected.occupied || injected.observedNow) observedBits |= voxelMask;
+  }
+  atomicOr(occupancyLow[slot], occupiedBits.x);
+  atomicOr(occupancyHigh[slot], occupiedBits.y);
+  atomicOr(observedLow[slot], observedBits.x);
+  atomicOr(observedHigh[slot], observedBits.y);
+  barrier();
+
+  if (listed && thread == 0u) {
+    if (countsWork()) countBrickWork(8u * uint(bitCount(blocks)));
+    // The blocks not injected keep their voxels as they were.
+    uvec2 mask = (heldBrick.occupancy & ~voxelMaskOfBlocks(blocks)) | uvec2(occupancyLow[slot], occupancyHigh[slot]);
     bool empty = mask == uvec2(0u);
     uint emptyInjections = empty ? heldBrick.emptyInjections + 1u : 0u;
     uint cell = brickCellIndex(worldBrick, volumeDimensions());
     // BuildOctree's brick level records whether a brick's mask is empty: only a change of that needs the cell listed,
     // and once a frame is enough (BuildOctree runs after every view's injection).
     uint listedStamp = frame.frameIndex + 1u;
-    bool listed = empty != (heldBrick.occupancy == uvec2(0u)) && heldBrick.changeListedStamp != listedStamp;
+    bool cellListed = empty != (heldBrick.occupancy == uvec2(0u)) && heldBrick.changeListedStamp != listedStamp;
     bricks[brick].occupancy = mask;
-    bricks[brick].observed = heldBrick.observed | uvec2(observedLow, observedHigh);
+    bricks[brick].observed = heldBrick.observed | uvec2(observedLow[slot], observedHigh[slot]);
     bricks[brick].emptyInjections = emptyInjections;
-    if (listed) bricks[brick].changeListedStamp = listedStamp;
+    if (cellListed) bricks[brick].changeListedStamp = listedStamp;
     if (emptyInjections >= volume.emptyFramesToRelease) {
       releaseBrick(brick, cell);
-    } else if (listed) {
+    } else if (cellListed) {
       markCellChanged(cell);
     }
   }

@@ -8,7 +8,10 @@ BrickCulling::BrickCulling(gpu::Device& device) : pipeline_(device, shaders::bri
 void BrickCulling::record(gpu::CommandList& commands, const VoxelScene& scene, const VoxelFrameInputs& inputs) {
   auto scope = commands.scope("ssvgi: BrickCulling");
   commands.dispatch(pipeline_,
-                    scene.bindings().buffer(shader::kBindGiFrame, inputs.frame).buffer(shader::kBindCullingHiZ, inputs.hiz).buffer(shader::kBindCullingVisibleBricks, inputs.visibleBricks),
+                    scene.bindings()
+                        .buffer(shader::kBindGiFrame, inputs.frame)
+                        .buffer(shader::kBindHiZ, inputs.hiz)
+                        .buffer(shader::kBindCullingVisibleBricks, inputs.visibleBricks),
                     {scene.settings().brickPoolCapacity, 1, 1});
 }
 

@@ -19,7 +19,8 @@ void SceneVoxelization::record(gpu::CommandList& commands, const VoxelScene& sce
                                 .externalSampled(shader::kBindInjectionNormal, lit.normal, inputs.pointSampler)
                                 .externalSampled(shader::kBindInjectionAlbedo, lit.albedo, inputs.pointSampler)
                                 .sampled(shader::kBindInjectionIrradiance, *lit.lastOutput, inputs.pointSampler)
-                                .buffer(shader::kBindInjectionBricks, inputs.visibleBricks),
+                                .buffer(shader::kBindInjectionBricks, inputs.visibleBricks)
+                                .buffer(shader::kBindHiZ, inputs.hiz),
                             inputs.visibleBricks, 0);
 }
 
