@@ -173,15 +173,27 @@ ivec2 aroundTexel(ivec2 firstTexel, int corner, vec2 litSize) {
   return clamp(firstTexel + ivec2(corner & 1, corner >> 1), ivec2(0), ivec2(litSize) - 1);
 }
 
-// Whether one of the 2×2 texels from `firstTexel` shows a surface inside the voxel.
-bool surfaceAround(ivec2 firstTexel, vec2 litSize, vec3 voxelMin) {
-  for (int corner = 0; corner < 4; ++corner) {
-    ViewSample around = viewSampleAt(aroundTexel(firstTexel, corner, litSize), litSize);
-    if (around.depth > 0.0 && all(greaterThanEqual(around.held, voxelMin)) &&
-        all(lessThan(around.held, voxelMin + voxelSize)))
-      return true;
-  }
-  return false;
+// The depths of the 2×2 texels from `firstTexel` (corner 0–3 in x, y order), read once for the tests below.
+vec4 depthsAround(ivec2 firstTexel, vec2 litSize) {
+  return vec4(texelFetch(litDepth, aroundTexel(firstTexel, 0, litSize), 0).r,
+              texelFetch(litDepth, aroundTexel(firstTexel, 1, litSize), 0).r,
+              texelFetch(litDepth, aroundTexel(firstTexel, 2, litSize), 0).r,
+              texelFetch(litDepth, aroundTexel(firstTexel, 3, litSize), 0).r);
+}
+
+// Whether a texel, whose depth is `depth`, shows a surface inside the voxel (the point it holds, heldSurfacePoint).
+bool showsSurfaceInside(ivec2 texel, float depth, vec2 litSize, vec3 voxelMin) {
+  vec3 surface = reconstructPosition(litInverseViewProjection, vec2(texel), litSize, depth);
+  vec3 held = heldSurfacePoint(surface, normalize(texelFetch(litNormal, texel, 0).xyz), viewpoint, voxelSize);
+  return depth > 0.0 && all(greaterThanEqual(held, voxelMin)) && all(lessThan(held, voxelMin + voxelSize));
+}
+
+// Whether one of the 2×2 texels from `firstTexel` (their depths `depths`) shows a surface inside the voxel.
+bool surfaceAround(ivec2 firstTexel, vec4 depths, vec2 litSize, vec3 voxelMin) {
+  return showsSurfaceInside(aroundTexel(firstTexel, 0, litSize), depths.x, litSize, voxelMin) ||
+         showsSurfaceInside(aroundTexel(firstTexel, 1, litSize), depths.y, litSize, voxelMin) ||
+         showsSurfaceInside(aroundTexel(firstTexel, 2, litSize), depths.z, litSize, voxelMin) ||
+         showsSurfaceInside(aroundTexel(firstTexel, 3, litSize), depths.w, litSize, voxelMin);
 }
 
 // A reflective shadow map (kViewIsReflectiveShadowMap) looks at an occupied voxel where its surface is: the random
@@ -305,10 +317,10 @@ InjectedVoxel injectVoxel(uint brick, ivec3 worldBrick, uvec3 voxelInBrick, uvec
     // opening, a silhouette) a texel whose centre sees past the edge does not clear the edge's own voxels. Coarse views
     // (the sun's, a capture's) have texels as wide as a voxel: a skylight's rim was cleared every few frames.
     float clearMargin = voxelSize * 0.5;
-    float nearestDepth = 0.0;  // reversed-Z: the largest is the nearest; 0 where all four see nothing
     ivec2 firstTexel = ivec2(floor(pixel - 0.5));
-    for (int corner = 0; corner < 4; ++corner)
-      nearestDepth = max(nearestDepth, texelFetch(litDepth, aroundTexel(firstTexel, corner, litSize), 0).r);
+    vec4 aroundDepths = depthsAround(firstTexel, litSize);
+    // reversed-Z: the largest is the nearest; 0 where all four see nothing
+    float nearestDepth = max(max(aroundDepths.x, aroundDepths.y), max(aroundDepths.z, aroundDepths.w));
     vec3 nearestSurface = reconstructPosition(litInverseViewProjection, pixel - 0.5, litSize, nearestDepth);
     vec3 viewDirection = viewRayDirection(litInverseViewProjection, projected.ndc);
     bool inFront = dot(nearestSurface - samplePoint, viewDirection) > clearMargin;
@@ -385,7 +397,7 @@ InjectedVoxel injectVoxel(uint brick, ivec3 worldBrick, uvec3 voxelInBrick, uvec
     // cheap tests come first.
     observedNow = !wasObserved && !holdsSurface && !refreshesColour && !cutBySurfacePlane &&
                   sightCrossesVoxel(seen, voxelMin, litSize, clearMargin) &&
-                  !surfaceAround(firstTexel, litSize, voxelMin);
+                  !surfaceAround(firstTexel, aroundDepths, litSize, voxelMin);
     if (occupied && seenThrough) {
       uint lastHit = min(voxelSeenThroughCount(voxel) + 1u, kVoxelMaxLastHit);
       voxel.surfaceAndLastHit =
