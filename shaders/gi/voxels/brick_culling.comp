@@ -23,7 +23,8 @@ void main() {
   vec3 lo = vec3(bricks[brick].coordinate) * volume.brickSize;
   vec3 hi = lo + vec3(volume.brickSize);
   bool holdsOccupied = bricks[brick].occupancy != uvec2(0u);
-  if (!boxInFrustum(lo, hi, frame.frustumPlanes) || hiddenFromInjection(lo, hi, holdsOccupied, volume.voxelSize)) return;
+  if (!boxInFrustum(lo, hi, frame.frustumPlanes)) return;
+  if (hiddenFromInjection(lo, hi, holdsOccupied, volume.voxelSize)) return;
   uint slot = atomicAdd(visible.count, 1u);
   if (slot % kInjectionBricksPerGroup == 0u) atomicAdd(visible.groupCountX, 1u);
   visibleBricks[slot] = brick;

@@ -413,7 +413,8 @@ InjectedVoxel injectVoxel(uint brick, ivec3 worldBrick, uvec3 voxelInBrick, uvec
 // A brick's eight threads take its voxels by blocks of 2×2×2, thread t the voxel t of each block: the block's
 // coordinate (bit 0 x, 1 y, 2 z) and the thread's within it.
 uvec3 blockVoxel(uint block, uint thread) {
-  return 2u * uvec3(block & 1u, (block >> 1u) & 1u, block >> 2u) + uvec3(thread & 1u, (thread >> 1u) & 1u, thread >> 2u);
+  uvec3 blockCoordinate = uvec3(block & 1u, (block >> 1u) & 1u, block >> 2u);
+  return 2u * blockCoordinate + uvec3(thread & 1u, (thread >> 1u) & 1u, thread >> 2u);
 }
 
 // The bits of a brick's 64-bit voxel mask (x + 4y + 16z) that the blocks of `blocks` (a bit per block) hold.
