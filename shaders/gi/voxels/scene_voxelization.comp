@@ -291,9 +291,9 @@ struct InjectedVoxel {
 
 // SPEC §4.3 for one voxel (the three outcomes above); it writes the voxel where its point lies in the view.
 InjectedVoxel injectVoxel(uint brick, ivec3 worldBrick, uvec3 voxelInBrick, uvec2 heldObserved) {
-  uint voxelIndex = voxelInBrick.x + 4u * voxelInBrick.y + 16u * voxelInBrick.z;
-  ivec3 worldVoxel = worldBrick * int(kBrickSizeVoxels) + ivec3(voxelInBrick);
   uint bit = voxelBit(voxelInBrick);
+  uint voxelIndex = bit;  // a voxel's slot in its brick is its bit in the brick's masks
+  ivec3 worldVoxel = worldBrick * int(kBrickSizeVoxels) + ivec3(voxelInBrick);
   bool occupied = voxelOccupied(brick, voxelInBrick);
   bool wasObserved = (((bit < 32u ? heldObserved.x : heldObserved.y) >> (bit & 31u)) & 1u) != 0u;
   Voxel voxel = voxels[brick * kVoxelsPerBrick + voxelIndex];
