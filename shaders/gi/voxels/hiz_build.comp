@@ -1,7 +1,8 @@
 #version 450
 // HiZBuild: the farthest depth (min reversed-Z) of each 2×2 block, level by level, into one buffer (SPEC §4, step 1).
-// Level 0 is half the depth's resolution. A buffer rather than a mipmapped image: BrickCulling picks the level per
-// brick, and a buffer needs no descriptor arrays or min/max samplers, which mobile GPUs may lack (SPEC §2).
+// Level 0 is half the depth's resolution. A buffer rather than a mipmapped image: BrickCulling and SceneVoxelization
+// pick the level per box (hiz_occlusion.glsl), and a buffer needs no descriptor arrays or min/max samplers, which
+// mobile GPUs may lack (SPEC §2).
 #include "gi/gi_frame.glsl"
 #include "shared/voxel_interface.h"
 
