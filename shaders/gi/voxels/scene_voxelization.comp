@@ -290,12 +290,13 @@ struct InjectedVoxel {
 };
 
 // SPEC §4.3 for one voxel (the three outcomes above); it writes the voxel where its point lies in the view.
-InjectedVoxel injectVoxel(uint brick, ivec3 worldBrick, uvec3 voxelInBrick, uvec2 heldObserved) {
+// `held`: the brick as it was before this injection.
+InjectedVoxel injectVoxel(uint brick, Brick held, uvec3 voxelInBrick) {
   uint bit = voxelBit(voxelInBrick);
   uint voxelIndex = bit;  // a voxel's slot in its brick is its bit in the brick's masks
-  ivec3 worldVoxel = worldBrick * int(kBrickSizeVoxels) + ivec3(voxelInBrick);
-  bool occupied = voxelOccupied(brick, voxelInBrick);
-  bool wasObserved = (((bit < 32u ? heldObserved.x : heldObserved.y) >> (bit & 31u)) & 1u) != 0u;
+  ivec3 worldVoxel = held.coordinate * int(kBrickSizeVoxels) + ivec3(voxelInBrick);
+  bool occupied = maskHasVoxel(held.occupancy, bit);
+  bool wasObserved = maskHasVoxel(held.observed, bit);
   Voxel voxel = voxels[brick * kVoxelsPerBrick + voxelIndex];
   vec3 voxelMin = vec3(worldVoxel) * voxelSize;
   vec3 samplePoint =
@@ -410,21 +411,23 @@ InjectedVoxel injectVoxel(uint brick, ivec3 worldBrick, uvec3 voxelInBrick, uvec
   return InjectedVoxel(occupied, observedNow);
 }
 
-// A brick's eight threads take its voxels by blocks of 2×2×2, thread t the voxel t of each block: the block's
-// coordinate (bit 0 x, 1 y, 2 z) and the thread's within it.
-uvec3 blockVoxel(uint block, uint thread) {
-  uvec3 blockCoordinate = uvec3(block & 1u, (block >> 1u) & 1u, block >> 2u);
-  return 2u * blockCoordinate + uvec3(thread & 1u, (thread >> 1u) & 1u, thread >> 2u);
+// The corner of a 2×2×2 cube numbered 0–7: bit 0 x, 1 y, 2 z.
+uvec3 octant(uint index) { return uvec3(index & 1u, (index >> 1u) & 1u, index >> 2u); }
+
+// A brick's eight threads take its voxels by blocks of 2×2×2, thread t the voxel t of each block.
+uvec3 blockVoxel(uint block, uint thread) { return 2u * octant(block) + octant(thread); }
+
+// The bits of a brick's 64-bit voxel mask that a block holds.
+uvec2 voxelMaskOfBlock(uint block) {
+  uint bits = blockBitsInWord(octant(block));
+  return octant(block).z == 0u ? uvec2(bits, 0u) : uvec2(0u, bits);
 }
 
-// The bits of a brick's 64-bit voxel mask (x + 4y + 16z) that the blocks of `blocks` (a bit per block) hold.
+// The same for the blocks of `blocks` (a bit per block).
 uvec2 voxelMaskOfBlocks(uint blocks) {
   uvec2 mask = uvec2(0u);
-  for (uint block = 0u; block < 8u; ++block) {
-    uint ofBlock = ((blocks >> block) & 1u) * (0x330033u << (2u * (block & 1u) + 8u * ((block >> 1u) & 1u)));
-    if ((block >> 2u) == 0u) mask.x |= ofBlock;
-    else mask.y |= ofBlock;
-  }
+  for (uint block = 0u; block < 8u; ++block)
+    if (((blocks >> block) & 1u) != 0u) mask |= voxelMaskOfBlock(block);
   return mask;
 }
 
@@ -433,7 +436,7 @@ uvec2 voxelMaskOfBlocks(uint blocks) {
 // frame the one before: as for BrickCulling's bricks, a block hidden now and seen then waits a frame.
 bool blockMayChange(ivec3 worldBrick, uint block, uvec2 heldOccupancy) {
   if (kReflectiveShadowMap) return true;
-  bool holdsOccupied = any(notEqual(heldOccupancy & voxelMaskOfBlocks(1u << block), uvec2(0u)));
+  bool holdsOccupied = any(notEqual(heldOccupancy & voxelMaskOfBlock(block), uvec2(0u)));
   vec3 lo = (vec3(worldBrick * int(kBrickSizeVoxels)) + vec3(blockVoxel(block, 0u))) * voxelSize;
   return !hiddenFromInjection(lo, lo + 2.0 * voxelSize, holdsOccupied, voxelSize);
 }
@@ -482,7 +485,7 @@ void main() {
   uvec2 occupiedBits = uvec2(0u), observedBits = uvec2(0u);
   for (uint remaining = blocks; remaining != 0u; remaining &= remaining - 1u) {
     uvec3 voxelInBrick = blockVoxel(uint(findLSB(remaining)), thread);
-    InjectedVoxel injected = injectVoxel(brick, worldBrick, voxelInBrick, heldBrick.observed);
+    InjectedVoxel injected = injectVoxel(brick, heldBrick, voxelInBrick);
     uint bit = voxelBit(voxelInBrick);
     uvec2 voxelMask = bit < 32u ? uvec2(1u << bit, 0u) : uvec2(0u, 1u << (bit - 32u));
     if (injected.occupied) occupiedBits |= voxelMask;

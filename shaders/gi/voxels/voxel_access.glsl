@@ -96,11 +96,13 @@ uint nthOccupiedVoxel(uint brick, uint n) {
   return n < uint(bitCount(mask.y)) ? 32u + nthSetBit(mask.y, n) : kVoxelsPerBrick;
 }
 
-bool voxelOccupied(uint brick, uvec3 voxelInBrick) {
-  uint bit = voxelBit(voxelInBrick);
-  uint word = bit < 32u ? bricks[brick].occupancy.x : bricks[brick].occupancy.y;
-  return (word & (1u << (bit & 31u))) != 0u;
-}
+// Whether a brick's 64-bit voxel mask (occupancy, observed) has the voxel of bit `bit` (voxelBit).
+bool maskHasVoxel(uvec2 mask, uint bit) { return (((bit < 32u ? mask.x : mask.y) >> (bit & 31u)) & 1u) != 0u; }
+
+// The bits of a block of 2×2×2 voxels (level 1 of the hierarchy; `block` in 0–1 on each axis) in its word of a brick's
+// mask, the low word for block.z = 0, the high one for 1: bits 0, 1, 4, 5, 16, 17, 20, 21 (x + 4y + 16z) above the
+// block's first, which is 2·x + 8·y.
+uint blockBitsInWord(uvec3 block) { return 0x00330033u << (2u * block.x + 8u * block.y); }
 
 // Where the bit of a toroidal grid level (2 = brick, 3 = 2×2×2 bricks, 4 = 4×4×4 bricks; only those) for the cell of
 // that level with toroidal index `cellIndex` lies: x, the word in occupancyGrid; y, the bit's mask in it.

@@ -191,17 +191,12 @@ void loadBrick(inout CachedBrick cached, VoxelWalk walk, bool watchesVoxels, ino
 
 ivec3 voxelInBrick(ivec3 voxel) { return voxel & ((1 << kBrickLevel) - 1); }
 
-bool voxelBitSet(uvec2 mask, ivec3 voxelInBrick) {
-  uint bit = voxelBit(uvec3(voxelInBrick));
-  return (((bit < 32u ? mask.x : mask.y) >> (bit & 31u)) & 1u) != 0u;
-}
+bool voxelBitSet(uvec2 mask, ivec3 voxelInBrick) { return maskHasVoxel(mask, voxelBit(uvec3(voxelInBrick))); }
 
-// Level 1 from the mask: any of the 2×2×2 voxels. Their bits (x + 4y + 16z) are 0, 1, 4, 5, 16, 17, 20, 21 above the
-// block's first, which is 2·bx + 8·by in the low word (bz = 0) or the high word (bz = 1).
+// Level 1 from the mask: any of the 2×2×2 voxels (blockBitsInWord).
 bool blockOccupied(uvec2 mask, ivec3 voxelInBrick) {
-  ivec3 block = voxelInBrick >> 1;
-  uint word = block.z == 0 ? mask.x : mask.y;
-  return (word & (0x00330033u << uint(2 * block.x + 8 * block.y))) != 0u;
+  uvec3 block = uvec3(voxelInBrick >> 1);
+  return ((block.z == 0u ? mask.x : mask.y) & blockBitsInWord(block)) != 0u;
 }
 
 // The grid word last read at each grid level (2, 3, 4 in x, y, z; 5 or 6 in w, which hold few words): one word holds
