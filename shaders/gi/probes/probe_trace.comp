@@ -617,13 +617,16 @@ void countProbeWork(TracedWork seeding) {
 // Which of the probe's rays each thread traces. A lock-step group of threads (8 on lavapipe) walks for as long as its
 // longest ray: the threads take the rays in order of their direction's height, so that a group's rays go the same way
 // — up to the sky or the roof, sideways, down to the floor — and end at much the same distance. Every per-ray
-// result is kept in the ray's own slot, so the order changes nothing but the time.
+// result is kept in the ray's own slot, so the order changes nothing but the time. Each thread chooses the ray of its
+// own index, and hands it on to the thread that traces it (`chosen`).
 shared float rayHeight[kProbeTraceGroupSize];
 shared uint rayOfThread[kProbeTraceGroupSize];
+shared ProbeRay chosenRays[kProbeTraceGroupSize];
 
-uint rayInHeightOrder(ListedProbe probe) {
+uint rayInHeightOrder(ListedProbe probe, out ProbeRay chosen) {
   uint thread = gl_LocalInvocationID.x;
   ProbeRay own = chooseRay(probe, thread);
+  chosenRays[thread] = own;
   rayHeight[thread] = own.traced ? own.direction.y : 2.0;  // rays not traced last
   barrier();
   float height = rayHeight[thread];
@@ -634,14 +637,16 @@ uint rayInHeightOrder(ListedProbe probe) {
   }
   rayOfThread[rank] = thread;
   barrier();
-  return rayOfThread[thread];
+  uint ray = rayOfThread[thread];
+  chosen = chosenRays[ray];
+  return ray;
 }
 
 // The update as the list of its steps; the barriers between them are the workgroup's.
 void main() {
   ListedProbe probe = readProbe(listedProbes[gl_WorkGroupID.x]);
-  uint ray = rayInHeightOrder(probe);
-  ProbeRay chosen = chooseRay(probe, ray);
+  ProbeRay chosen;
+  uint ray = rayInHeightOrder(probe, chosen);
   if (ray == 0u) {
     holdRadiance(probe);
     rayCount = 0u;
