@@ -19,6 +19,8 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -38,6 +40,7 @@ struct TestBox {
   glm::vec3 min;
   glm::vec3 max;
   glm::vec3 radiance;
+  glm::mat3 orientation{1.0f};  // turned by this about its centre (its columns: its axes in the world)
 };
 
 // What one pixel of a host frame shows.
@@ -52,38 +55,46 @@ struct PixelSurface {
 // surface each pixel shows).
 struct HostFrame {
   HostFrame(gpu::OwnedDevice& device, const glm::mat4& viewMatrix, const glm::mat4& projection,
-            const std::vector<TestBox>& boxes)
-      : depth(device, {"test depth", VK_FORMAT_R32_SFLOAT, kSize, kSize, 1, 1, VK_IMAGE_USAGE_SAMPLED_BIT}),
-        color(device, {"test colour", VK_FORMAT_R32G32B32A32_SFLOAT, kSize, kSize, 1, 1, VK_IMAGE_USAGE_SAMPLED_BIT}),
-        normal(device, {"test normal", VK_FORMAT_R32G32B32A32_SFLOAT, kSize, kSize, 1, 1, VK_IMAGE_USAGE_SAMPLED_BIT}),
+            const std::vector<TestBox>& boxes, uint32_t size = kSize)
+      : depth(device, {"test depth", VK_FORMAT_R32_SFLOAT, size, size, 1, 1, VK_IMAGE_USAGE_SAMPLED_BIT}),
+        color(device, {"test colour", VK_FORMAT_R32G32B32A32_SFLOAT, size, size, 1, 1, VK_IMAGE_USAGE_SAMPLED_BIT}),
+        normal(device, {"test normal", VK_FORMAT_R32G32B32A32_SFLOAT, size, size, 1, 1, VK_IMAGE_USAGE_SAMPLED_BIT}),
         viewProjection(projection * viewMatrix),
-        surfaces(kSize * kSize) {
+        surfaces(size * size) {
     const glm::mat4 inverse = glm::inverse(viewProjection);
     const auto unproject = [&](glm::vec2 ndc, float depthValue) {
       const glm::vec4 world = inverse * glm::vec4(ndc, depthValue, 1.0f);
       return glm::vec3(world) / world.w;
     };
-    std::vector<float> depths(kSize * kSize, 0.0f), colors(kSize * kSize * 4, 0.0f), normals(kSize * kSize * 4, 0.0f);
-    for (uint32_t y = 0; y < kSize; ++y) {
-      for (uint32_t x = 0; x < kSize; ++x) {
+    std::vector<float> depths(size * size, 0.0f), colors(size * size * 4, 0.0f), normals(size * size * 4, 0.0f);
+    for (uint32_t y = 0; y < size; ++y) {
+      for (uint32_t x = 0; x < size; ++x) {
         // The pixel's ray from the near plane (NDC depth 1), towards greater depth.
-        const glm::vec2 ndc((float(x) + 0.5f) / kSize * 2.0f - 1.0f, 1.0f - (float(y) + 0.5f) / kSize * 2.0f);
+        const glm::vec2 ndc((float(x) + 0.5f) / float(size) * 2.0f - 1.0f,
+                            1.0f - (float(y) + 0.5f) / float(size) * 2.0f);
         const glm::vec3 origin = unproject(ndc, 1.0f);
         const glm::vec3 direction = glm::normalize(unproject(ndc, 0.5f) - origin);
-        const size_t i = y * kSize + x;
+        const size_t i = y * size + x;
         float nearest = 1e30f;
         for (const TestBox& box : boxes) {
+          // In the box's own frame, where it is axis-aligned (the ray as it is where the box is not turned).
+          const bool turned = box.orientation != glm::mat3(1.0f);
+          const glm::vec3 centre = 0.5f * (box.min + box.max);
+          const glm::mat3 toBox = glm::transpose(box.orientation);
+          const glm::vec3 boxOrigin = turned ? centre + toBox * (origin - centre) : origin;
+          const glm::vec3 boxDirection = turned ? toBox * direction : direction;
           glm::vec3 enterNormal(0.0f);
           float enter = 0.0f, exit = 1e30f;
           for (int axis = 0; axis < 3; ++axis) {
-            float t0 = (box.min[axis] - origin[axis]) / direction[axis];
-            float t1 = (box.max[axis] - origin[axis]) / direction[axis];
+            float t0 = (box.min[axis] - boxOrigin[axis]) / boxDirection[axis];
+            float t1 = (box.max[axis] - boxOrigin[axis]) / boxDirection[axis];
             glm::vec3 axisNormal(0.0f);
             axisNormal[axis] = -1.0f;
             if (t0 > t1) std::swap(t0, t1), axisNormal[axis] = 1.0f;
             if (t0 > enter) enter = t0, enterNormal = axisNormal;
             exit = std::min(exit, t1);
           }
+          enterNormal = box.orientation * enterNormal;
           if (enter < exit && enter > 0.0f && enter < nearest) {
             nearest = enter;
             const glm::vec3 hit = origin + enter * direction;
@@ -106,11 +117,12 @@ struct HostFrame {
     std::copy(matrix, matrix + 16, view.viewProjection.begin());
     const glm::vec3 eye = glm::inverse(viewMatrix)[3];
     view.position = {eye.x, eye.y, eye.z};
-    view.width = view.height = kSize;
+    view.width = view.height = size;
   }
-  HostFrame(gpu::OwnedDevice& device, const renderer::Camera& camera, const std::vector<TestBox>& boxes)
+  HostFrame(gpu::OwnedDevice& device, const renderer::Camera& camera, const std::vector<TestBox>& boxes,
+            uint32_t size = kSize)
       : HostFrame(device, renderer::viewMatrix(camera),
-                  renderer::reversedZInfiniteProjection(camera.verticalFov, 1.0f, camera.nearPlane), boxes) {}
+                  renderer::reversedZInfiniteProjection(camera.verticalFov, 1.0f, camera.nearPlane), boxes, size) {}
 
   gpu::Image depth;
   gpu::Image color;
@@ -163,8 +175,9 @@ struct GpuState {
 
 class VoxelScene : public testing::GpuTest {
  protected:
-  void create(const Settings& settings) {
-    const ContextDesc desc = testing::gpuTestContextDesc(settings, kSize);
+  void create(const Settings& settings, uint32_t maxExtraViewSize = kSize) {
+    ContextDesc desc = testing::gpuTestContextDesc(settings, kSize);
+    desc.maxExtraViewSize = maxExtraViewSize;
     auto result = Context::create(desc);
     ASSERT_TRUE(result.ok()) << result.error().message;
     context_ = std::move(result.value());
@@ -776,6 +789,114 @@ TEST_F(VoxelScene, anOrthographicViewInjectsExactlyTheVoxelsItsRulesGive) {
   EXPECT_GE(oracle.occupied().size(), boxVoxels) << "voxels in front of the near plane were cleared";
   injectFrames(floorOnly, 2 * settings.invalidFramesToClear);
   expectOracle("the box taken away");
+}
+
+// What the voxel scene holds in each live brick, by its world brick coordinate (its slot in the pool set aside).
+struct HeldBrick {
+  uint64_t occupancy;  // a bit per voxel (bit = x + 4y + 16z)
+  uint64_t observed;
+  std::array<shader::Voxel, shader::kVoxelsPerBrick> voxels;
+};
+
+std::map<testing::VoxelCoordinate, HeldBrick> heldBricks(const GpuState& state) {
+  std::map<testing::VoxelCoordinate, HeldBrick> held;
+  for (uint32_t b = 0; b < state.pool.bumpCount; ++b) {
+    const shader::Brick& brick = state.bricks[b];
+    if (brick.live == 0u) continue;
+    HeldBrick& entry = held[{brick.coordinate.x, brick.coordinate.y, brick.coordinate.z}];
+    entry.occupancy = uint64_t(brick.occupancy.y) << 32 | brick.occupancy.x;
+    entry.observed = uint64_t(brick.observed.y) << 32 | brick.observed.x;
+    std::copy_n(state.voxels.begin() + b * shader::kVoxelsPerBrick, shader::kVoxelsPerBrick, entry.voxels.begin());
+  }
+  return held;
+}
+
+TEST_F(VoxelScene, occlusionCullingLeavesOutOnlyWhatInjectingWouldNotChange) {
+  // Two walls off the voxel grid on the floor, the far one turned about the vertical, and between them a pillar and a
+  // box tilted off it. A still camera (its lit frame is its current one) looks at the near wall from askew and sees
+  // little behind it; two extra views see in between: a perspective one from the open side, low, and an orthographic
+  // one from above askew. The injection leaves out the bricks and the blocks of 2×2×2 voxels that lie behind what each
+  // view drew (Settings::occlusionCulling), which must change nothing: after the same frames with the culling on and
+  // off — the box there, then every surface in another colour, then the box taken away, so that its voxels are seen
+  // through and cleared — every live brick holds the same voxels, bit for bit, and the same observed voxels. A block
+  // or brick tested at the wrong place (a block at twice its offset, the blocks in mirrored order) or against the wrong
+  // depth leaves out a voxel a view would have filled, cleared or observed. And the culling must leave out work.
+  constexpr uint32_t kExtraViewSize = 256;  // texels narrower than voxels: a tight Hi-Z
+  const glm::mat3 turnedAboutY(glm::rotate(glm::mat4(1.0f), glm::radians(35.0f), glm::vec3(0.0f, 1.0f, 0.0f)));
+  const glm::mat3 tilted(glm::rotate(glm::mat4(1.0f), glm::radians(25.0f), glm::vec3(0.3f, 0.0f, 1.0f)));
+  const std::vector<TestBox> withBox = {
+      kFloor,
+      {{-1.43f, 0.1f, 0.93f}, {2.11f, 1.57f, 1.17f}, {0.5f, 0.375f, 0.25f}},                   // the near wall
+      {{-1.43f, 0.1f, -1.93f}, {2.11f, 1.83f, -1.71f}, {0.25f, 0.5f, 0.375f}, turnedAboutY},  // the far wall
+      {{0.37f, 0.1f, -0.77f}, {1.29f, 0.93f, 0.11f}, {0.125f, 0.5f, 0.25f}, tilted},          // the box
+      {{-0.63f, 0.1f, -0.71f}, {-0.39f, 1.33f, -0.47f}, {0.25f, 0.25f, 0.5f}},                // the pillar
+  };
+  std::vector<TestBox> recoloured = withBox;  // the light changes
+  for (TestBox& box : recoloured) box.radiance = glm::vec3(box.radiance.z, 2.0f * box.radiance.x, box.radiance.y);
+  const std::vector<TestBox> withoutBox = {recoloured[0], recoloured[1], recoloured[2], recoloured[4]};
+  renderer::Camera camera;
+  camera.position = {1.9f, 1.3f, 3.6f};
+  camera.target = {0.1f, 0.6f, 0.0f};
+  camera.verticalFov = glm::radians(50.0f);
+  camera.nearPlane = 0.1f;
+  renderer::Camera side = camera;
+  side.position = {-3.1f, 0.7f, -0.2f};
+  side.target = {1.0f, 0.4f, -0.5f};
+  const glm::vec3 centre(0.3f, 0.4f, -0.4f);
+  const glm::mat4 above = glm::lookAtRH(centre + 8.0f * glm::normalize(glm::vec3(-0.7f, 1.3f, 0.5f)), centre,
+                                        glm::vec3(0.0f, 1.0f, 0.0f));
+  const glm::mat4 orthographic = renderer::reversedZOrthographicProjection(-3.0f, 3.0f, -3.0f, 3.0f, 1.0f, 16.0f);
+  struct Views {
+    HostFrame camera, side, above;
+  };
+  const auto viewsOf = [&](const std::vector<TestBox>& boxes) {
+    return Views{{device(), camera, boxes},
+                 {device(), side, boxes, kExtraViewSize},
+                 {device(), above, orthographic, boxes, kExtraViewSize}};
+  };
+  const std::array<Views, 3> scenes = {viewsOf(withBox), viewsOf(recoloured), viewsOf(withoutBox)};
+
+  const auto run = [&](bool occlusionCulling) {
+    Settings settings = smallSettings();
+    settings.occlusionCulling = occlusionCulling;
+    create(settings, kExtraViewSize);
+    frameIndex_ = 0;
+    uint64_t injectedVoxels = 0;
+    for (const Views& views : scenes)
+      for (uint32_t frame = 0; frame < 3 * settings.invalidFramesToClear; ++frame) {
+        countWork_ = true;
+        dispatch(views.camera, &views.camera, {extraView(views.side), extraView(views.above)});
+        const Stats stats = context_->stats();
+        injectedVoxels += stats.work.sceneVoxelization.voxels + stats.work.extraViewVoxelization.voxels;
+      }
+    countWork_ = false;
+    return std::pair(heldBricks(readState()), injectedVoxels);
+  };
+  const auto [culled, culledWork] = run(true);
+  const auto [whole, wholeWork] = run(false);
+
+  uint32_t occupied = 0, differing = 0;
+  for (const auto& [coordinate, brick] : whole) {
+    const auto [x, y, z] = coordinate;
+    const auto found = culled.find(coordinate);
+    if (found == culled.end()) {
+      ADD_FAILURE() << "brick " << x << "," << y << "," << z << " is live only without the culling";
+      continue;
+    }
+    occupied += uint32_t(std::popcount(brick.occupancy));
+    EXPECT_EQ(found->second.occupancy, brick.occupancy) << "brick " << x << "," << y << "," << z;
+    EXPECT_EQ(found->second.observed, brick.observed) << "brick " << x << "," << y << "," << z;
+    for (uint32_t v = 0; v < shader::kVoxelsPerBrick; ++v)
+      if (std::memcmp(&found->second.voxels[v], &brick.voxels[v], sizeof(shader::Voxel)) != 0 && differing++ < 8)
+        ADD_FAILURE() << "brick " << x << "," << y << "," << z << " voxel " << v << " differs";
+  }
+  EXPECT_EQ(culled.size(), whole.size()) << "live bricks";
+  EXPECT_EQ(differing, 0u) << "voxels that differ";
+  EXPECT_GT(occupied, 400u) << "too few voxels to test";
+  EXPECT_LT(culledWork, wholeWork * 9 / 10) << "the culling left out too little to test";
+  std::printf("%u occupied voxels in %zu live bricks the same; %llu voxels injected with the culling, %llu without\n",
+              occupied, whole.size(), static_cast<unsigned long long>(culledWork),
+              static_cast<unsigned long long>(wholeWork));
 }
 
 // The share of a floor voxel's top face (y = 0.1) that a view's texels show lit: the texel each point projects to

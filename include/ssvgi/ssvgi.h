@@ -61,6 +61,12 @@ struct Settings {
   uint32_t invalidFramesToClear = 8;                  // frames a voxel may be seen through before it is cleared, ≤ 63
   uint32_t emptyFramesToRelease = 8;                  // frames a brick may stay empty before it returns to the pool
   uint32_t allocationPixelStride = 2;                 // BrickAllocate reads every Nth pixel in X and Y
+  // The injection leaves out the bricks, and the blocks of 2×2×2 voxels, that lie wholly behind what a view drew over
+  // them (its Hi-Z pyramid, SPEC §4.2), where injecting could change none of their voxels. Off, every brick in a view's
+  // frustum is injected whole: the same voxels from the extra views, and from the camera's lit frame a frame sooner
+  // where a brick hidden now was seen in it; a check of the culling and a debugging aid, at the injection's full cost
+  // (docs/PERFORMANCE.md, "SceneVoxelization by blocks").
+  bool occlusionCulling = true;
   // The probe radiance cache (SPEC §4.5): three levels of probeGrid probes around the camera, level l spaced
   // probeSpacing · 2^l; one level updated per frame.
   std::array<uint32_t, 3> probeGrid{48, 24, 48};  // probes per level (X, Y, Z); each a multiple of 4, at most 4096

@@ -44,7 +44,7 @@ struct GiFrame {
   uint allocationPixelStride;      // BrickAllocate reads every Nth pixel in X and Y
   uint hizLevelCount;
   uint viewKind;                   // kViewIs… bits
-  uint unused;
+  uint occlusionCulling;           // 1: the injection leaves out what lies behind the Hi-Z (Settings::occlusionCulling)
   vec4 frustumPlanes[6];           // current camera, world space, normals pointing inwards: dot(n, p) + w >= 0 inside
   HiZLevel hizLevels[kMaxHiZLevels];
 };

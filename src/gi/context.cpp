@@ -421,6 +421,7 @@ class ContextImplementation final : public Context {
     frame.allocationPixelStride = desc_.settings.allocationPixelStride;
     frame.hizLevelCount = hizLevels;
     frame.viewKind = kind;
+    frame.occlusionCulling = desc_.settings.occlusionCulling ? 1u : 0u;
     frustumPlanes(frame.viewProjection, frame.frustumPlanes);
     return frame;
   }
@@ -441,7 +442,8 @@ class ContextImplementation final : public Context {
   void buildVoxelsFrom(gpu::CommandList& commands, const VoxelView& view) {
     const gi::VoxelFrameInputs inputs{view.constants, pointSampler_.handle(), view.depth, view.normal,
                                       hiz_, visibleBricks_};
-    hizBuild_.record(commands, inputs, view.frame, view.hizLevels);
+    if (desc_.settings.occlusionCulling)  // nothing else reads the Hi-Z
+      hizBuild_.record(commands, inputs, view.frame, view.hizLevels);
     brickAllocate_.record(commands, scene_, inputs, view.frame.size, desc_.settings.allocationPixelStride,
                           view.countsHeights);
     if (desc_.settings.skyOnlyThroughObservedSpace)  // nothing else reads it

@@ -53,6 +53,7 @@ std::span<const SettingInfo> settingInfos() {
       {"invalidFramesToClear", &Settings::invalidFramesToClear, 1.0, double(shader::kVoxelMaxLastHit)},
       {"emptyFramesToRelease", &Settings::emptyFramesToRelease, 1.0},
       {"allocationPixelStride", &Settings::allocationPixelStride, 1.0},
+      {"occlusionCulling", &Settings::occlusionCulling},
       {"probeGrid", &Settings::probeGrid, double(shader::kProbeBlockSize), 1024.0 * shader::kProbeBlockSize, false,
        shader::kProbeBlockSize},
       {"probeSpacing", &Settings::probeSpacing, 0.0, kUnlimited, true},
