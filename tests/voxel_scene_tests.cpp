@@ -142,13 +142,19 @@ struct HostFrame {
   }
 };
 
-renderer::Camera lookingDown(glm::vec3 position, float fovDegrees = 30.0f) {
+// A camera at `position` looking at `target`, its near plane 0.1 m away.
+renderer::Camera looking(glm::vec3 position, glm::vec3 target, float fovDegrees) {
   renderer::Camera camera;
   camera.position = position;
-  camera.target = position - glm::vec3(0.0f, 1.0f, 0.0f);
-  camera.up = {0.0f, 0.0f, -1.0f};
+  camera.target = target;
   camera.verticalFov = glm::radians(fovDegrees);
   camera.nearPlane = 0.1f;
+  return camera;
+}
+
+renderer::Camera lookingDown(glm::vec3 position, float fovDegrees = 30.0f) {
+  renderer::Camera camera = looking(position, position - glm::vec3(0.0f, 1.0f, 0.0f), fovDegrees);
+  camera.up = {0.0f, 0.0f, -1.0f};
   return camera;
 }
 
@@ -320,14 +326,7 @@ TEST_F(VoxelScene, aFloorOnAVoxelBoundaryIsHeldByTheLayerBelowIt) {
 
 // 0.5 m above kFloor's top, looking 5.7° down: the floor 1.5 m to 4 m ahead (voxels x 0..3, z −16..−6, 44 in all)
 // is seen at 6° to 21°.
-renderer::Camera grazingFloorCamera() {
-  renderer::Camera camera;
-  camera.position = {0.5f, 0.6f, 0.5f};
-  camera.target = {0.5f, 0.1f, -4.5f};
-  camera.verticalFov = glm::radians(30.0f);
-  camera.nearPlane = 0.1f;
-  return camera;
-}
+renderer::Camera grazingFloorCamera() { return looking({0.5f, 0.6f, 0.5f}, {0.5f, 0.1f, -4.5f}, 30.0f); }
 
 TEST_F(VoxelScene, aFloorSeenAtAGrazingAngleKeepsEveryVoxelOfIt) {
   // The camera 0.5 m above the floor, looking 5.7° down: the floor's voxels ahead are seen at 6° to 21°. Most random
@@ -834,14 +833,8 @@ TEST_F(VoxelScene, occlusionCullingLeavesOutOnlyWhatInjectingWouldNotChange) {
   std::vector<TestBox> recoloured = withBox;  // the light changes
   for (TestBox& box : recoloured) box.radiance = glm::vec3(box.radiance.z, 2.0f * box.radiance.x, box.radiance.y);
   const std::vector<TestBox> withoutBox = {recoloured[0], recoloured[1], recoloured[2], recoloured[4]};
-  renderer::Camera camera;
-  camera.position = {1.9f, 1.3f, 3.6f};
-  camera.target = {0.1f, 0.6f, 0.0f};
-  camera.verticalFov = glm::radians(50.0f);
-  camera.nearPlane = 0.1f;
-  renderer::Camera side = camera;
-  side.position = {-3.1f, 0.7f, -0.2f};
-  side.target = {1.0f, 0.4f, -0.5f};
+  const renderer::Camera camera = looking({1.9f, 1.3f, 3.6f}, {0.1f, 0.6f, 0.0f}, 50.0f);
+  const renderer::Camera side = looking({-3.1f, 0.7f, -0.2f}, {1.0f, 0.4f, -0.5f}, 50.0f);
   const glm::vec3 centre(0.3f, 0.4f, -0.4f);
   const glm::mat4 above = glm::lookAtRH(centre + 8.0f * glm::normalize(glm::vec3(-0.7f, 1.3f, 0.5f)), centre,
                                         glm::vec3(0.0f, 1.0f, 0.0f));
@@ -1197,14 +1190,8 @@ TEST_F(VoxelScene, aWallOneVoxelThickTurnedRoundByAViewFromInsideTakesThatViewsL
   ASSERT_LT(volumeViewpoint(*context_).x, 1.0f) << "the inner face must look towards the volume's middle";
   const glm::vec3 wallMin(1.0f, 0.0f, -1.0f), wallMax(1.25f, 2.0f, 2.0f);
   const glm::vec3 outerLight(2.0f), innerLight(0.125f);
-  renderer::Camera outside;
-  outside.position = {4.0f, 1.0f, 0.5f};
-  outside.target = {0.0f, 1.0f, 0.5f};
-  outside.verticalFov = glm::radians(60.0f);
-  outside.nearPlane = 0.1f;
-  renderer::Camera inside = outside;
-  inside.position = {-2.0f, 1.0f, 0.5f};
-  inside.target = {4.0f, 1.0f, 0.5f};
+  const renderer::Camera outside = looking({4.0f, 1.0f, 0.5f}, {0.0f, 1.0f, 0.5f}, 60.0f);
+  const renderer::Camera inside = looking({-2.0f, 1.0f, 0.5f}, {4.0f, 1.0f, 0.5f}, 60.0f);
   const HostFrame fromOutside(device(), outside, {{wallMin, wallMax, outerLight}});
   const HostFrame fromInside(device(), inside, {{wallMin, wallMax, innerLight}});
   for (uint32_t injection = 0; injection < 8; ++injection) dispatch(sky, nullptr, {extraView(fromOutside)});
