@@ -1239,7 +1239,7 @@ TEST_F(VoxelScene, badExtraViewsAreRefusedWithTheFieldNamed) {
   ExtraView tooLarge = extraView(frame);
   tooLarge.camera.width = kSize + 1;
   const Error large = dispatchWith({tooLarge});
-  EXPECT_NE(large.message.find("FrameDesc::extraViews[0].camera: 65×64 exceeds ContextDesc::maxExtraViewSize"),
+  EXPECT_NE(large.message.find("FrameDesc::extraViews[0].camera: 65×64 exceeds ContextDesc::maxExtraViewSize (64×64)"),
             std::string::npos)
       << large.message;
   EXPECT_FALSE(dispatchWith({extraView(frame)})) << "a valid extra view";

@@ -166,7 +166,8 @@ Error validateView(const View& view, const std::string& name, uint32_t maxWidth,
                    const char* limit) {
   if (view.width == 0 || view.height == 0) return invalid(name + ": width and height must be positive");
   if (view.width > maxWidth || view.height > maxHeight)
-    return invalid(name + ": " + std::to_string(view.width) + "×" + std::to_string(view.height) + " exceeds " + limit);
+    return invalid(name + ": " + std::to_string(view.width) + "×" + std::to_string(view.height) + " exceeds " + limit +
+                   " (" + std::to_string(maxWidth) + "×" + std::to_string(maxHeight) + ")");
   return validateViewGeometry(view, name);
 }
 
