@@ -969,6 +969,47 @@ TEST_F(VoxelScene, aReflectiveShadowMapTakesTheLightOfTheFloorItsLightNoLongerRe
   }
 }
 
+TEST_F(VoxelScene, aFloorASunsReflectiveShadowMapLitLosesItsLightWhenARoofHighAboveThenHidesItWhole) {
+  // The previous test's sun over the lit floor; then a roof 2.4 m above the floor covers all the view shows, so that
+  // the floor's bricks lie wholly behind it — far past the margins of the Hi-Z culling (Settings::occlusionCulling, on).
+  // A reflective shadow map writes its light's shadow into the occupied voxels behind what it shows, so the culling
+  // must not leave those out: every floor voxel of a 4 m square under the roof loses its direct light (0.75 kept per
+  // injection: 0.001 after 24). Left out, they kept all of it.
+  const glm::vec3 centre(0.5f, 0.1f, 0.5f);
+  const glm::vec3 towardsSun = glm::normalize(glm::vec3(0.5f, 1.0f, 0.0f));
+  const glm::mat4 view = glm::lookAtRH(centre + 8.0f * towardsSun, centre, glm::vec3(0.0f, 0.0f, -1.0f));
+  const glm::mat4 projection = renderer::reversedZOrthographicProjection(-3.0f, 3.0f, -3.0f, 3.0f, 1.0f, 16.0f);
+  const TestBox roof{{-8.0f, 2.5f, -8.0f}, {8.0f, 2.6f, 8.0f}, {0.2f, 0.2f, 0.2f}};
+  const TestBox floorAlbedo{kFloor.min, kFloor.max, glm::vec3(0.5f)};
+  const TestBox roofAlbedo{roof.min, roof.max, glm::vec3(0.5f)};
+  const HostFrame lit(device(), view, projection, {kFloor});
+  const HostFrame litAlbedo(device(), view, projection, {floorAlbedo});
+  const HostFrame roofed(device(), view, projection, {kFloor, roof});
+  const HostFrame roofedAlbedo(device(), view, projection, {floorAlbedo, roofAlbedo});
+  const HostFrame sky(device(), lookingUp({0.5f, 1.0f, 0.5f}), {});
+  create(smallSettings());
+  ExtraView beforeRoof = extraView(lit, &litAlbedo), underRoof = extraView(roofed, &roofedAlbedo);
+  beforeRoof.isReflectiveShadowMap = underRoof.isReflectiveShadowMap = true;
+  for (uint32_t frame = 0; frame < 24; ++frame) dispatch(sky, nullptr, {beforeRoof});
+  const auto before = occupiedVoxels(readState());
+  for (uint32_t frame = 0; frame < 24; ++frame) dispatch(sky, nullptr, {underRoof});
+  const auto after = occupiedVoxels(readState());
+  float litBefore = 1.0f, keptAfter = 0.0f;
+  for (int z = -8; z < 8; ++z)
+    for (int x = -8; x < 8; ++x) {
+      const auto voxelBefore = before.find({x, 0, z}), voxelAfter = after.find({x, 0, z});
+      ASSERT_NE(voxelBefore, before.end()) << "floor voxel " << x << ",0," << z << " missing";
+      ASSERT_NE(voxelAfter, after.end()) << "floor voxel " << x << ",0," << z << " gone";
+      const float fullLight = kFloor.radiance.y;
+      litBefore = std::min(litBefore, shader::unpackR11G11B10F(voxelBefore->second.directRadiance).y / fullLight);
+      keptAfter = std::max(keptAfter, shader::unpackR11G11B10F(voxelAfter->second.directRadiance).y / fullLight);
+    }
+  std::printf("the floor's direct light: at least %.3f of the sun's before the roof, at most %.3f under it\n",
+              litBefore, keptAfter);
+  EXPECT_GT(litBefore, 0.98f);
+  EXPECT_LT(keptAfter, 0.02f);
+}
+
 // The grazing view of the floor, to be given as an extra view while the camera looks straight up into an empty sky, so
 // that what the voxels hold comes from that view alone.
 struct GrazedFloor {

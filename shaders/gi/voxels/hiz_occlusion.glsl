@@ -46,10 +46,13 @@ bool occludedByHiZ(vec3 lo, vec3 hi, float pixelMargin) {
 // outside the voxel, so nothing is stored, seen through or observed. Grown by a hair where the box holds no occupied
 // voxel (twice heldSurfacePoint's offset: a surface on the box's face, seen head-on, lies at exactly the depth of its
 // nearest corner), by a voxel more where it holds one, which takes the colour of a surface up to a voxel away
-// (showsSurfaceAt); and by a pixel around its rectangle, for the 2×2 texels nearest a point. Never, with the
-// culling off (GiFrame::occlusionCulling).
+// (showsSurfaceAt); and by a pixel around its rectangle, for the 2×2 texels nearest a point. A reflective shadow map
+// writes its light's shadow into the occupied voxels behind what it shows (SceneVoxelization's litShareOfPlane): for
+// it, only a box holding no occupied voxel can be left out — else a floor the sun lit, then a roof high above it hid
+// whole, kept its sunlight. Never, with the culling off (GiFrame::occlusionCulling).
 bool hiddenFromInjection(vec3 lo, vec3 hi, bool holdsOccupied, float voxelSize) {
   if (frame.occlusionCulling == 0u) return false;
+  if (holdsOccupied && (frame.viewKind & kViewIsReflectiveShadowMap) != 0u) return false;
   vec3 margin = vec3(voxelSize * (holdsOccupied ? 1.02 : 0.02));
   return occludedByHiZ(lo - margin, hi + margin, 1.0);
 }

@@ -431,11 +431,9 @@ uvec2 voxelMaskOfBlocks(uint blocks) {
   return mask;
 }
 
-// Whether the view may change a block's voxels (hiddenFromInjection). Not for a reflective shadow map, which writes
-// the voxels in its light's shadow, behind what it shows. The camera's Hi-Z is the current frame's depth, its lit
-// frame the one before: as for BrickCulling's bricks, a block hidden now and seen then waits a frame.
+// Whether the view may change a block's voxels (hiddenFromInjection). The camera's Hi-Z is the current frame's depth,
+// its lit frame the one before: as for BrickCulling's bricks, a block hidden now and seen then waits a frame.
 bool blockMayChange(ivec3 worldBrick, uint block, uvec2 heldOccupancy) {
-  if (kReflectiveShadowMap) return true;
   bool holdsOccupied = any(notEqual(heldOccupancy & voxelMaskOfBlock(block), uvec2(0u)));
   vec3 lo = (vec3(worldBrick * int(kBrickSizeVoxels)) + vec3(blockVoxel(block, 0u))) * voxelSize;
   return !hiddenFromInjection(lo, lo + 2.0 * voxelSize, holdsOccupied, voxelSize);
