@@ -910,6 +910,35 @@ float litShareAsTexelsShowIt(const HostFrame& view, int x, int z) {
   return float(lit) / float(kPoints * kPoints);
 }
 
+// The sun's view of a scene of boxes on the floor, 63° above the horizon towards +x (orthographic, 6 m across), with
+// what a reflective shadow map of it needs: its colour (the boxes' light) and its albedo (0.5 everywhere).
+struct SunsView {
+  SunsView(gpu::OwnedDevice& device, const std::vector<TestBox>& boxes)
+      : lit(device, view(), projection(), boxes), albedo(device, view(), projection(), greyAlbedo(boxes)) {}
+
+  static glm::mat4 view() {
+    const glm::vec3 centre(0.5f, 0.1f, 0.5f);
+    const glm::vec3 towardsSun = glm::normalize(glm::vec3(0.5f, 1.0f, 0.0f));
+    return glm::lookAtRH(centre + 8.0f * towardsSun, centre, glm::vec3(0.0f, 0.0f, -1.0f));
+  }
+  static glm::mat4 projection() {
+    return renderer::reversedZOrthographicProjection(-3.0f, 3.0f, -3.0f, 3.0f, 1.0f, 16.0f);
+  }
+  static std::vector<TestBox> greyAlbedo(std::vector<TestBox> boxes) {
+    for (TestBox& box : boxes) box.radiance = glm::vec3(0.5f);
+    return boxes;
+  }
+
+  ExtraView given(bool isReflectiveShadowMap) const {
+    ExtraView extra = extraView(lit, &albedo);
+    extra.isReflectiveShadowMap = isReflectiveShadowMap;
+    return extra;
+  }
+
+  HostFrame lit;
+  HostFrame albedo;
+};
+
 TEST_F(VoxelScene, aReflectiveShadowMapTakesTheLightOfTheFloorItsLightNoLongerReachesAndOfThePartItsShadowCovers) {
   // A sun's reflective shadow map (orthographic, the sun 63° above the horizon towards +x) over a lit floor, the only
   // extra view, while the camera looks up at an empty sky. Then a slab appears 0.9 m above the floor, its shadow on the
@@ -921,29 +950,18 @@ TEST_F(VoxelScene, aReflectiveShadowMapTakesTheLightOfTheFloorItsLightNoLongerRe
   // edge crosses holds an average of lit and dark samples, whose noise over 8 rows is ±0.07 voxel: ±0.25 is three and
   // a half times that. Without the flag, what the view cannot see is unknown to it, and a row keeps all 8 voxels'
   // worth.
-  const glm::vec3 centre(0.5f, 0.1f, 0.5f);
-  const glm::vec3 towardsSun = glm::normalize(glm::vec3(0.5f, 1.0f, 0.0f));
-  const glm::mat4 view = glm::lookAtRH(centre + 8.0f * towardsSun, centre, glm::vec3(0.0f, 0.0f, -1.0f));
-  const glm::mat4 projection = renderer::reversedZOrthographicProjection(-3.0f, 3.0f, -3.0f, 3.0f, 1.0f, 16.0f);
   const TestBox slab{{-3.0f, 1.0f, -3.0f}, {0.575f, 1.1f, 3.0f}, {0.2f, 0.2f, 0.2f}};
-  const TestBox albedo{kFloor.min, kFloor.max, glm::vec3(0.5f)};
-  const TestBox slabAlbedo{slab.min, slab.max, glm::vec3(0.5f)};
-  const HostFrame lit(device(), view, projection, {kFloor});
-  const HostFrame litAlbedo(device(), view, projection, {albedo});
-  const HostFrame shaded(device(), view, projection, {kFloor, slab});
-  const HostFrame shadedAlbedo(device(), view, projection, {albedo, slabAlbedo});
+  const SunsView lit(device(), {kFloor}), shaded(device(), {kFloor, slab});
   const HostFrame sky(device(), lookingUp({0.5f, 1.0f, 0.5f}), {});
   float litArea = 0.0f;  // per row, in voxels
   for (int z = -4; z < 4; ++z)
-    for (int x = -4; x < 4; ++x) litArea += litShareAsTexelsShowIt(shaded, x, z) / 8.0f;
+    for (int x = -4; x < 4; ++x) litArea += litShareAsTexelsShowIt(shaded.lit, x, z) / 8.0f;
 
   for (const bool isReflectiveShadowMap : {true, false}) {
     SCOPED_TRACE(isReflectiveShadowMap ? "a reflective shadow map" : "a view that does not say it is one");
     create(smallSettings());
-    ExtraView beforeSlab = extraView(lit, &litAlbedo), withSlab = extraView(shaded, &shadedAlbedo);
-    beforeSlab.isReflectiveShadowMap = withSlab.isReflectiveShadowMap = isReflectiveShadowMap;
-    for (uint32_t frame = 0; frame < 24; ++frame) dispatch(sky, nullptr, {beforeSlab});
-    for (uint32_t frame = 0; frame < 24; ++frame) dispatch(sky, nullptr, {withSlab});
+    for (uint32_t frame = 0; frame < 24; ++frame) dispatch(sky, nullptr, {lit.given(isReflectiveShadowMap)});
+    for (uint32_t frame = 0; frame < 24; ++frame) dispatch(sky, nullptr, {shaded.given(isReflectiveShadowMap)});
     const auto occupied = occupiedVoxels(readState());
     float rowDirect = 0.0f, shadowedDirect = 0.0f, litDirect = 0.0f;
     for (int z = -4; z < 4; ++z)
@@ -975,24 +993,13 @@ TEST_F(VoxelScene, aFloorASunsReflectiveShadowMapLitLosesItsLightWhenARoofHighAb
   // A reflective shadow map writes its light's shadow into the occupied voxels behind what it shows, so the culling
   // must not leave those out: every floor voxel of a 4 m square under the roof loses its direct light (0.75 kept per
   // injection: 0.001 after 24). Left out, they kept all of it.
-  const glm::vec3 centre(0.5f, 0.1f, 0.5f);
-  const glm::vec3 towardsSun = glm::normalize(glm::vec3(0.5f, 1.0f, 0.0f));
-  const glm::mat4 view = glm::lookAtRH(centre + 8.0f * towardsSun, centre, glm::vec3(0.0f, 0.0f, -1.0f));
-  const glm::mat4 projection = renderer::reversedZOrthographicProjection(-3.0f, 3.0f, -3.0f, 3.0f, 1.0f, 16.0f);
   const TestBox roof{{-8.0f, 2.5f, -8.0f}, {8.0f, 2.6f, 8.0f}, {0.2f, 0.2f, 0.2f}};
-  const TestBox floorAlbedo{kFloor.min, kFloor.max, glm::vec3(0.5f)};
-  const TestBox roofAlbedo{roof.min, roof.max, glm::vec3(0.5f)};
-  const HostFrame lit(device(), view, projection, {kFloor});
-  const HostFrame litAlbedo(device(), view, projection, {floorAlbedo});
-  const HostFrame roofed(device(), view, projection, {kFloor, roof});
-  const HostFrame roofedAlbedo(device(), view, projection, {floorAlbedo, roofAlbedo});
+  const SunsView lit(device(), {kFloor}), roofed(device(), {kFloor, roof});
   const HostFrame sky(device(), lookingUp({0.5f, 1.0f, 0.5f}), {});
   create(smallSettings());
-  ExtraView beforeRoof = extraView(lit, &litAlbedo), underRoof = extraView(roofed, &roofedAlbedo);
-  beforeRoof.isReflectiveShadowMap = underRoof.isReflectiveShadowMap = true;
-  for (uint32_t frame = 0; frame < 24; ++frame) dispatch(sky, nullptr, {beforeRoof});
+  for (uint32_t frame = 0; frame < 24; ++frame) dispatch(sky, nullptr, {lit.given(true)});
   const auto before = occupiedVoxels(readState());
-  for (uint32_t frame = 0; frame < 24; ++frame) dispatch(sky, nullptr, {underRoof});
+  for (uint32_t frame = 0; frame < 24; ++frame) dispatch(sky, nullptr, {roofed.given(true)});
   const auto after = occupiedVoxels(readState());
   float litBefore = 1.0f, keptAfter = 0.0f;
   for (int z = -8; z < 8; ++z)
