@@ -790,6 +790,12 @@ TEST_F(VoxelScene, anOrthographicViewInjectsExactlyTheVoxelsItsRulesGive) {
   expectOracle("the box taken away");
 }
 
+// The albedo of a scene of boxes for a view lit by direct light only: 0.5 everywhere.
+std::vector<TestBox> greyAlbedo(std::vector<TestBox> boxes) {
+  for (TestBox& box : boxes) box.radiance = glm::vec3(0.5f);
+  return boxes;
+}
+
 // What the voxel scene holds in each live brick, by its world brick coordinate (its slot in the pool set aside).
 struct HeldBrick {
   uint64_t occupancy;  // a bit per voxel (bit = x + 4y + 16z)
@@ -814,11 +820,13 @@ TEST_F(VoxelScene, occlusionCullingLeavesOutOnlyWhatInjectingWouldNotChange) {
   // Two walls off the voxel grid on the floor, the far one turned about the vertical, and between them a pillar and a
   // box tilted off it. A still camera (its lit frame is its current one) looks at the near wall from askew and sees
   // little behind it; two extra views see in between: a perspective one from the open side, low, and an orthographic
-  // one from above askew. The injection leaves out the bricks and the blocks of 2×2×2 voxels that lie behind what each
-  // view drew (Settings::occlusionCulling), which must change nothing: after the same frames with the culling on and
+  // reflective shadow map from above askew (the sun's, which writes its shadow into the occupied voxels behind what it
+  // shows). The injection leaves out the bricks and the blocks of 2×2×2 voxels that lie behind what each view drew
+  // (Settings::occlusionCulling; of the sun's, only those holding no occupied voxel, a rule this scene would pass
+  // without and the roof test below needs), which must change nothing: after the same frames with the culling on and
   // off — the box there, then every surface in another colour, then the box taken away, so that its voxels are seen
-  // through and cleared — every live brick holds the same voxels, bit for bit, and the same observed voxels. A block
-  // or brick tested at the wrong place (a block at twice its offset, the blocks in mirrored order) or against the wrong
+  // through and cleared — every live brick holds the same voxels, bit for bit, and the same observed voxels. A block or
+  // brick tested at the wrong place (a block at twice its offset, the blocks in mirrored order) or against the wrong
   // depth leaves out a voxel a view would have filled, cleared or observed. And the culling must leave out work.
   constexpr uint32_t kExtraViewSize = 256;  // texels narrower than voxels: a tight Hi-Z
   const glm::mat3 turnedAboutY(glm::rotate(glm::mat4(1.0f), glm::radians(35.0f), glm::vec3(0.0f, 1.0f, 0.0f)));
@@ -840,12 +848,13 @@ TEST_F(VoxelScene, occlusionCullingLeavesOutOnlyWhatInjectingWouldNotChange) {
                                         glm::vec3(0.0f, 1.0f, 0.0f));
   const glm::mat4 orthographic = renderer::reversedZOrthographicProjection(-3.0f, 3.0f, -3.0f, 3.0f, 1.0f, 16.0f);
   struct Views {
-    HostFrame camera, side, above;
+    HostFrame camera, side, above, aboveAlbedo;
   };
   const auto viewsOf = [&](const std::vector<TestBox>& boxes) {
     return Views{{device(), camera, boxes},
                  {device(), side, boxes, kExtraViewSize},
-                 {device(), above, orthographic, boxes, kExtraViewSize}};
+                 {device(), above, orthographic, boxes, kExtraViewSize},
+                 {device(), above, orthographic, greyAlbedo(boxes), kExtraViewSize}};
   };
   const std::array<Views, 3> scenes = {viewsOf(withBox), viewsOf(recoloured), viewsOf(withoutBox)};
 
@@ -858,7 +867,9 @@ TEST_F(VoxelScene, occlusionCullingLeavesOutOnlyWhatInjectingWouldNotChange) {
     for (const Views& views : scenes)
       for (uint32_t frame = 0; frame < 3 * settings.invalidFramesToClear; ++frame) {
         countWork_ = true;
-        dispatch(views.camera, &views.camera, {extraView(views.side), extraView(views.above)});
+        ExtraView sun = extraView(views.above, &views.aboveAlbedo);
+        sun.isReflectiveShadowMap = true;
+        dispatch(views.camera, &views.camera, {extraView(views.side), sun});
         const Stats stats = context_->stats();
         injectedVoxels += stats.work.sceneVoxelization.voxels + stats.work.extraViewVoxelization.voxels;
       }
@@ -911,7 +922,7 @@ float litShareAsTexelsShowIt(const HostFrame& view, int x, int z) {
 }
 
 // The sun's view of a scene of boxes on the floor, 63° above the horizon towards +x (orthographic, 6 m across), with
-// what a reflective shadow map of it needs: its colour (the boxes' light) and its albedo (0.5 everywhere).
+// what a reflective shadow map of it needs: its colour (the boxes' light) and its albedo (greyAlbedo).
 struct SunsView {
   SunsView(gpu::OwnedDevice& device, const std::vector<TestBox>& boxes)
       : lit(device, view(), projection(), boxes), albedo(device, view(), projection(), greyAlbedo(boxes)) {}
@@ -924,11 +935,6 @@ struct SunsView {
   static glm::mat4 projection() {
     return renderer::reversedZOrthographicProjection(-3.0f, 3.0f, -3.0f, 3.0f, 1.0f, 16.0f);
   }
-  static std::vector<TestBox> greyAlbedo(std::vector<TestBox> boxes) {
-    for (TestBox& box : boxes) box.radiance = glm::vec3(0.5f);
-    return boxes;
-  }
-
   ExtraView given(bool isReflectiveShadowMap) const {
     ExtraView extra = extraView(lit, &albedo);
     extra.isReflectiveShadowMap = isReflectiveShadowMap;
