@@ -63,9 +63,10 @@ struct Settings {
   uint32_t allocationPixelStride = 2;                 // BrickAllocate reads every Nth pixel in X and Y
   // The injection leaves out the bricks, and the blocks of 2×2×2 voxels, that lie wholly behind what a view drew over
   // them (its Hi-Z pyramid, SPEC §4.2), where injecting could change none of their voxels. Off, every brick in a view's
-  // frustum is injected whole: the same voxels from the extra views, and from the camera's lit frame a frame sooner
-  // where a brick hidden now was seen in it; a check of the culling and a debugging aid, at the injection's full cost
-  // (docs/PERFORMANCE.md, "SceneVoxelization by blocks").
+  // frustum is injected whole: the same voxels, but from the camera's lit frame a frame sooner where a brick hidden now
+  // was seen in it, and an empty brick hidden from a view counts that view's injections towards its release
+  // (emptyFramesToRelease); a check of the culling and a debugging aid, at the injection's full cost
+  // (docs/PERFORMANCE.md, "What the occlusion culling saves").
   bool occlusionCulling = true;
   // The probe radiance cache (SPEC §4.5): three levels of probeGrid probes around the camera, level l spaced
   // probeSpacing · 2^l; one level updated per frame.
