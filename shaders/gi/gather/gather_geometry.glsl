@@ -24,12 +24,6 @@ Surface surfaceAt(mat4 inverseViewProjection, vec3 cameraPosition, ivec2 pixel, 
   return Surface(position, normal, distance(position, cameraPosition));
 }
 
-// The surface at a pixel of this frame (depth > 0: something was drawn there).
-Surface currentSurface(ivec2 pixel, float depth) {
-  return surfaceAt(frame.inverseViewProjection, frame.cameraPosition, pixel, vec2(frame.size), depth,
-                   normalize(texelFetch(normalBuffer, pixel, 0).xyz));
-}
-
 // How much a neighbour belongs to the pixel's surface, as the host's resolve weighs it (ssvgi/resolve.glsl): a
 // neighbour across a depth edge or a crease lies far off the pixel's tangent plane, one on the same tilted floor does
 // not.
@@ -85,19 +79,28 @@ const ivec2 kOuterLatticeOffsets[12] = ivec2[](ivec2(-1, -1), ivec2(0, -1), ivec
                                             ivec2(2, 0), ivec2(-1, 1), ivec2(2, 1), ivec2(-1, 2), ivec2(0, 2),
                                             ivec2(1, 2), ivec2(2, 2));
 
-// What the taps read of the frame's constants, read once rather than in the loops over the taps
-// (gi/voxels/voxel_access.glsl's VolumeLayout says why).
+// What the pixels and their taps read of the frame's constants, read once for an invocation rather than by each of
+// its pixels or in the loops over their taps (gi/voxels/voxel_access.glsl's VolumeLayout says why).
 struct TapFrame {
   mat4 inverseViewProjection;  // GiFrame
+  vec3 cameraPosition;
   ivec2 size;
-  ivec2 tiles;                 // GatherConstants
+  ivec2 halfSize;              // GatherConstants
+  ivec2 tiles;
   ivec2 sampleOffset;          // the pixel each tile sampled this frame, in its tile
   uint parity;                 // which half of the tiles FinalGather sampled this frame (gatherTileParity)
 };
 
 TapFrame tapFrame() {
-  return TapFrame(frame.inverseViewProjection, ivec2(frame.size), ivec2(gather.tiles),
-                  ivec2(gatherSampleOffset(gather.frameIndex)), gatherTileParity(gather.frameIndex));
+  return TapFrame(frame.inverseViewProjection, frame.cameraPosition, ivec2(frame.size), ivec2(gather.halfSize),
+                  ivec2(gather.tiles), ivec2(gatherSampleOffset(gather.frameIndex)),
+                  gatherTileParity(gather.frameIndex));
+}
+
+// The surface at a pixel of this frame (depth > 0: something was drawn there).
+Surface currentSurface(TapFrame frameOfTaps, ivec2 pixel, float depth) {
+  return surfaceAt(frameOfTaps.inverseViewProjection, frameOfTaps.cameraPosition, pixel, vec2(frameOfTaps.size),
+                   depth, normalize(texelFetch(normalBuffer, pixel, 0).xyz));
 }
 
 // The sample of the tile at a point of this frame's lattice (tileAtLatticePoint).

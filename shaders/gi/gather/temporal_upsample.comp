@@ -33,27 +33,37 @@ layout(binding = kBindGatherHistory, rgba16f) readonly uniform image2D history;
 layout(binding = kBindGatherOutput, rgba16f) writeonly uniform image2D outputIrradiance;
 layout(binding = kBindGatherConfidence, r8) writeonly uniform image2D confidence;
 
+// What the history test reads of the frame's constants beside TapFrame, read once for the quad rather than by each of
+// its pixels.
+struct HistoryFrame {
+  bool usable;           // GatherConstants::historyUsable
+  mat4 viewProjection;   // the last dispatch's camera
+  mat4 inverseViewProjection;
+};
+
+HistoryFrame historyFrame() {
+  return HistoryFrame(gather.historyUsable != 0u, gather.historyViewProjection, gather.historyInverseViewProjection);
+}
+
 // The history at the surface point, bilinear over the taps whose stored surface lies on the pixel's tangent plane
 // (a depth test; a crease fails it as a normal test would). a = 0: no usable history.
-vec4 reprojectHistory(Surface surface, vec2 size) {
-  vec4 clip = gather.historyViewProjection * vec4(surface.position, 1.0);
+vec4 reprojectHistory(Surface surface, HistoryFrame last, TapFrame current) {
+  vec4 clip = last.viewProjection * vec4(surface.position, 1.0);
   if (clip.w <= 0.0) return vec4(0.0);
   // Half-resolution texel h holds full-resolution pixel 2h, centred at 2h + 0.5.
-  vec2 texelCoordinate = (ssvgiNdcToPixel(clip.xy / clip.w, size) - 0.5) / 2.0;
+  vec2 texelCoordinate = (ssvgiNdcToPixel(clip.xy / clip.w, vec2(current.size)) - 0.5) / 2.0;
   ivec2 firstTexel = ivec2(floor(texelCoordinate));
   vec2 fraction = texelCoordinate - vec2(firstTexel);
   vec3 sum = vec3(0.0);
   float totalWeight = 0.0;
-  // Read once, not in the loop (gi/voxels/voxel_access.glsl's VolumeLayout says why).
-  ivec2 halfSize = ivec2(gather.halfSize);
-  mat4 historyInverseViewProjection = gather.historyInverseViewProjection;
   for (int corner = 0; corner < 4; ++corner) {
     ivec2 offset = ivec2(corner & 1, corner >> 1);
     ivec2 texel = firstTexel + offset;
-    if (any(lessThan(texel, ivec2(0))) || any(greaterThanEqual(texel, halfSize))) continue;
+    if (any(lessThan(texel, ivec2(0))) || any(greaterThanEqual(texel, current.halfSize))) continue;
     vec4 stored = imageLoad(history, texel);
     if (stored.a <= 0.0) continue;
-    vec3 storedPosition = reconstructPosition(historyInverseViewProjection, vec2(2 * texel), size, stored.a);
+    vec3 storedPosition =
+        reconstructPosition(last.inverseViewProjection, vec2(2 * texel), vec2(current.size), stored.a);
     vec2 bilinear = mix(vec2(1.0) - fraction, fraction, vec2(offset));
     float weight = bilinear.x * bilinear.y * planeWeight(surface, storedPosition);
     sum += weight * stored.rgb;
@@ -63,9 +73,9 @@ vec4 reprojectHistory(Surface surface, vec2 size) {
 }
 
 // The upsampled frame blended into the surface's history, where it has one.
-vec3 filtered(Surface surface, TileNeighbourhood tiles) {
-  if (gather.historyUsable == 0u) return tiles.blended;
-  vec4 reprojected = reprojectHistory(surface, vec2(frame.size));
+vec3 filtered(Surface surface, TileNeighbourhood tiles, HistoryFrame last, TapFrame current) {
+  if (!last.usable) return tiles.blended;
+  vec4 reprojected = reprojectHistory(surface, last, current);
   if (reprojected.a <= 0.0) return tiles.blended;
   vec3 lowest = min(tiles.lowest, tiles.blended), highest = max(tiles.highest, tiles.blended);
   // Where no sample of this frame lies on the surface, the upsampled 0 is not light: the history stays as it is
@@ -78,44 +88,49 @@ vec3 filtered(Surface surface, TileNeighbourhood tiles) {
 }
 
 // The quad's pixel `halfPixel` (drawn: it shows a surface, at `depth`).
-void filterPixel(ivec2 halfPixel, bool drawn, float depth, Surface surface, TileNeighbourhood tiles) {
-  if (any(greaterThanEqual(halfPixel, ivec2(gather.halfSize)))) return;
+void filterPixel(ivec2 halfPixel, bool drawn, float depth, Surface surface, TileNeighbourhood tiles,
+                 HistoryFrame last, TapFrame current) {
+  if (any(greaterThanEqual(halfPixel, current.halfSize))) return;
   if (!drawn) {  // nothing drawn: no light, no depth for the next frame's history test
     imageStore(outputIrradiance, halfPixel, vec4(0.0));
     imageStore(confidence, halfPixel, vec4(0.0));
     return;
   }
   // Stored as the nearest half float: a conversion that rounds toward zero would sink the running average.
-  vec3 irradiance = nearestHalf(finiteHalf(filtered(surface, tiles)));
+  vec3 irradiance = nearestHalf(finiteHalf(filtered(surface, tiles, last, current)));
   imageStore(outputIrradiance, halfPixel, vec4(irradiance, finiteHalf(depth)));
   imageStore(confidence, halfPixel, vec4(tiles.confidence));
 }
 
 // Where the half-resolution pixel's full-resolution pixel shows a surface, its depth; else 0.
-float drawnDepth(ivec2 halfPixel) {
-  return all(lessThan(halfPixel, ivec2(gather.halfSize))) ? texelFetch(depthBuffer, 2 * halfPixel, 0).r : 0.0;
+float drawnDepth(ivec2 halfPixel, TapFrame current) {
+  return all(lessThan(halfPixel, current.halfSize)) ? texelFetch(depthBuffer, 2 * halfPixel, 0).r : 0.0;
 }
 
 // The surface at a pixel of the quad. One that shows none, or lies past the image's edge, is never used: it is made
 // at a finite depth, from a pixel inside the image.
-Surface quadSurface(ivec2 halfPixel, float depth) {
-  return currentSurface(min(2 * halfPixel, ivec2(frame.size) - 1), depth > 0.0 ? depth : 1.0);
+Surface quadSurface(ivec2 halfPixel, float depth, TapFrame current) {
+  return currentSurface(current, min(2 * halfPixel, current.size - 1), depth > 0.0 ? depth : 1.0);
 }
 
 // An invocation filters a 2×2 quad of half-resolution pixels: they share most of their tile samples
 // (quadTileNeighbourhoods).
 void main() {
+  TapFrame current = tapFrame();
+  HistoryFrame last = historyFrame();
   ivec2 first = 2 * ivec2(gl_GlobalInvocationID.xy);
-  vec4 depths = vec4(drawnDepth(first), drawnDepth(first + ivec2(1, 0)), drawnDepth(first + ivec2(0, 1)),
-                     drawnDepth(first + ivec2(1, 1)));
+  vec4 depths = vec4(drawnDepth(first, current), drawnDepth(first + ivec2(1, 0), current),
+                     drawnDepth(first + ivec2(0, 1), current), drawnDepth(first + ivec2(1, 1), current));
   bvec4 drawn = greaterThan(depths, vec4(0.0));
-  Surface surface0 = quadSurface(first, depths.x), surface1 = quadSurface(first + ivec2(1, 0), depths.y),
-          surface2 = quadSurface(first + ivec2(0, 1), depths.z), surface3 = quadSurface(first + ivec2(1, 1), depths.w);
+  Surface surface0 = quadSurface(first, depths.x, current),
+          surface1 = quadSurface(first + ivec2(1, 0), depths.y, current),
+          surface2 = quadSurface(first + ivec2(0, 1), depths.z, current),
+          surface3 = quadSurface(first + ivec2(1, 1), depths.w, current);
   TileNeighbourhood tiles0, tiles1, tiles2, tiles3;
-  quadTileNeighbourhoods(surface0, surface1, surface2, surface3, drawn, 2 * first, tapFrame(), tiles0, tiles1, tiles2,
+  quadTileNeighbourhoods(surface0, surface1, surface2, surface3, drawn, 2 * first, current, tiles0, tiles1, tiles2,
                          tiles3);
-  filterPixel(first, drawn.x, depths.x, surface0, tiles0);
-  filterPixel(first + ivec2(1, 0), drawn.y, depths.y, surface1, tiles1);
-  filterPixel(first + ivec2(0, 1), drawn.z, depths.z, surface2, tiles2);
-  filterPixel(first + ivec2(1, 1), drawn.w, depths.w, surface3, tiles3);
+  filterPixel(first, drawn.x, depths.x, surface0, tiles0, last, current);
+  filterPixel(first + ivec2(1, 0), drawn.y, depths.y, surface1, tiles1, last, current);
+  filterPixel(first + ivec2(0, 1), drawn.z, depths.z, surface2, tiles2, last, current);
+  filterPixel(first + ivec2(1, 1), drawn.w, depths.w, surface3, tiles3, last, current);
 }
