@@ -27,7 +27,8 @@ void main() {
     vec3 normal = dot(hit.normal, direction) < 0.0 ? hit.normal : -direction;
     vec3 position = origin + hit.distance * direction;
     bool watchesObservedSpace = volume.skyOnlyThroughObservedSpace != 0u;
-    colour = vec3(probeLight(position, normal, hashToUnitCube(uvec3(pixel, 0u)).x, watchesObservedSpace).confidence);
+    float noise = hashToUnitCube(uvec3(pixel, 0u)).x;
+    colour = vec3(probeLight(gatherFrame(), position, normal, noise, watchesObservedSpace).confidence);
   }
   imageStore(target, ivec2(pixel), vec4(colour, 1.0));
 }

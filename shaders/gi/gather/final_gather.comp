@@ -39,7 +39,7 @@ void main() {
   }
   vec3 normal = normalize(texelFetch(normalBuffer, pixel, 0).xyz);
   vec3 position = reconstructPosition(frame.inverseViewProjection, vec2(pixel), vec2(frame.size), depth);
-  GatheredLight light = probeLight(position, normal, hashToUnitCube(uvec3(tile, frameIndex)).x,
+  GatheredLight light = probeLight(gatherFrame(), position, normal, hashToUnitCube(uvec3(tile, frameIndex)).x,
                                    volume.skyOnlyThroughObservedSpace != 0u);
   if (countsWork()) {
     atomicAdd(work.gatherTiles, 1u);

@@ -10,20 +10,35 @@
 layout(binding = kBindGatherConstants, std140) readonly buffer GatherConstantsBlock { GatherConstants gather; };
 layout(binding = kBindGatherProbes) readonly buffer Probes { Probe probes[]; };
 
+// What the gather reads of the frame's constants, read once for an invocation rather than for each point it lights,
+// each level it tries or each probe it traces from (gi/voxels/voxel_access.glsl's VolumeLayout says why).
+struct GatherFrame {
+  GatherProbeLevel levels[kProbeLevels];
+  ivec3 probesPerAxis;  // of every level
+  uint probesPerLevel;
+  Sh2Rgb skyRadiance;   // for the sky part of the probes' light (readProbeIrradiance)
+  float ownSurface;     // half a voxel: a voxel this near a point is the point's own surface (probeSeesPoint)
+};
+
+GatherFrame gatherFrame() {
+  return GatherFrame(gather.probeLevels, gather.probesPerAxis, uint(gather.probesPerLevel), gather.skyRadiance,
+                     0.5 * volume.voxelSize);
+}
+
 // How far a point lies inside the cells of a level, in spacings; negative when some of its 8 probes are outside it.
-float insideMargin(uint level, vec3 position) {
-  vec3 probeUnits = position / gather.probeLevels[level].spacing - vec3(gather.probeLevels[level].origin);
-  vec3 margins = min(probeUnits, vec3(gather.probesPerAxis - 1) - probeUnits);
+float insideMargin(GatherFrame constants, uint level, vec3 position) {
+  vec3 probeUnits = position / constants.levels[level].spacing - vec3(constants.levels[level].origin);
+  vec3 margins = min(probeUnits, vec3(constants.probesPerAxis - 1) - probeUnits);
   return min(margins.x, min(margins.y, margins.z));
 }
 
 // The finest level holding the point, or near its boundary — with a probability growing toward it — the next coarser
 // one (the talk's "Probe Volume Interpolation: Noise + Light Gather Temporal Filter"). kProbeLevels: none holds it.
-uint chooseLevel(vec3 position, float noise) {
+uint chooseLevel(GatherFrame constants, vec3 position, float noise) {
   for (uint level = 0u; level < kProbeLevels; ++level) {
-    float margin = insideMargin(level, position);
+    float margin = insideMargin(constants, level, position);
     if (margin < 0.0) continue;
-    bool coarserHoldsIt = level + 1u < kProbeLevels && insideMargin(level + 1u, position) >= 0.0;
+    bool coarserHoldsIt = level + 1u < kProbeLevels && insideMargin(constants, level + 1u, position) >= 0.0;
     if (coarserHoldsIt && noise * kGatherLevelBlendSpacings > margin) continue;
     return level;
   }
@@ -47,8 +62,7 @@ struct CornerProbe {
   float trilinear;  // its trilinear weight; 0 where it is outside the level or knows nothing
 };
 
-// What the gather reads of a level's constants, read once for a point rather than in its loops over the probes
-// (gi/voxels/voxel_access.glsl's VolumeLayout says why).
+// A level's constants as the gather's loops over the probes read them.
 struct GatherLevel {
   ivec3 origin;         // GatherProbeLevel
   float spacing;
@@ -56,9 +70,10 @@ struct GatherLevel {
   uint firstProbe;      // the level's first probe in the probe buffer
 };
 
-GatherLevel gatherLevelConstants(uint level) {
-  GatherProbeLevel constants = gather.probeLevels[level];
-  return GatherLevel(constants.origin, constants.spacing, gather.probesPerAxis, level * uint(gather.probesPerLevel));
+GatherLevel gatherLevelConstants(GatherFrame constants, uint level) {
+  GatherProbeLevel levelConstants = constants.levels[level];
+  return GatherLevel(levelConstants.origin, levelConstants.spacing, constants.probesPerAxis,
+                     level * constants.probesPerLevel);
 }
 
 CornerProbe cornerProbe(GatherLevel level, ivec3 cell, vec3 fraction, int corner) {
@@ -116,10 +131,11 @@ bool probeSeesPoint(vec3 probePosition, vec3 biased, float ownSurface, bool watc
 // Irradiance at a surface point from the 8 probes of a level around it, and their confidence, leaving out a probe with
 // a voxel between it and the point (a voxel trace per probe). Only a pass that does not write the voxels may trace
 // them.
-GatheredLight gatherLevel(uint levelIndex, vec3 position, vec3 normal, bool watchesObservedSpace) {
-  GatherLevel level = gatherLevelConstants(levelIndex);
+GatheredLight gatherLevel(GatherFrame constants, uint levelIndex, vec3 position, vec3 normal,
+                          bool watchesObservedSpace) {
+  GatherLevel level = gatherLevelConstants(constants, levelIndex);
   float spacing = level.spacing;
-  Sh2Rgb skyRadiance = gather.skyRadiance;
+  Sh2Rgb skyRadiance = constants.skyRadiance;
   // "Normal Bias" (the talk): interpolate and test visibility from a point off the surface, so that the probes just
   // behind a wall do not see the point on its front as unoccluded.
   vec3 biased = position + normal * (kGatherNormalBiasSpacings * spacing);
@@ -177,11 +193,11 @@ GatheredLight gatherLevel(uint levelIndex, vec3 position, vec3 normal, bool watc
     uint heaviestBit = 1u << uint(heaviest);
     uint toTrace = agree ? heaviestBit : kept;
     visible = 0u;
-    float ownSurface = 0.5 * volume.voxelSize;
     while (toTrace != 0u) {
       int corner = findLSB(toTrace);
       toTrace &= toTrace - 1u;
-      if (probeSeesPoint(positions[corner], biased, ownSurface, watchesObservedSpace)) visible |= 1u << uint(corner);
+      if (probeSeesPoint(positions[corner], biased, constants.ownSurface, watchesObservedSpace))
+        visible |= 1u << uint(corner);
       if (toTrace == 0u && agree) {  // the heaviest traced: all seen, or none yet and the rest to trace
         agree = false;
         if (visible != 0u)
@@ -211,10 +227,10 @@ GatheredLight gatherLevel(uint levelIndex, vec3 position, vec3 normal, bool watc
 // Irradiance and confidence at a surface point from the finest level that holds it (near a level's boundary, by
 // `noise` in [0, 1), the next coarser one); where a level's probes are stale or untraced, a coarser level (seeded
 // earlier, SPEC §4.5) answers. `watchesObservedSpace`: the visibility tests watch observed space (probeSeesPoint).
-GatheredLight probeLight(vec3 position, vec3 normal, float noise, bool watchesObservedSpace) {
+GatheredLight probeLight(GatherFrame constants, vec3 position, vec3 normal, float noise, bool watchesObservedSpace) {
   GatheredLight light = GatheredLight(vec3(0.0), 0.0, 1.0, false);
-  for (uint level = chooseLevel(position, noise); level < kProbeLevels && !light.found; ++level)
-    light = gatherLevel(level, position, normal, watchesObservedSpace);
+  for (uint level = chooseLevel(constants, position, noise); level < kProbeLevels && !light.found; ++level)
+    light = gatherLevel(constants, level, position, normal, watchesObservedSpace);
   return light;
 }
 
@@ -222,8 +238,8 @@ GatheredLight probeLight(vec3 position, vec3 normal, float noise, bool watchesOb
 // visibility tests take space no view has observed for open: watching it there too slowed the fall of a light switched
 // off below issue 14's target, while what it lets into a sealed room's walls is small (docs/QUALITY.md, "A sealed
 // room").
-vec4 probeIrradiance(vec3 position, vec3 normal, float noise) {
-  GatheredLight light = probeLight(position, normal, noise, kIgnoreObservedSpace);
+vec4 probeIrradiance(GatherFrame constants, vec3 position, vec3 normal, float noise) {
+  GatheredLight light = probeLight(constants, position, normal, noise, kIgnoreObservedSpace);
   return vec4(light.irradiance, light.found ? 1.0 : 0.0);
 }
 

@@ -32,7 +32,7 @@ uint relightPhase(ivec3 coordinate, uint period) {
 }
 
 // Whether the voxel's light was gathered from the probes (the work counted: shared/work_counters.h).
-bool relightVoxel(uint brick, uint occupiedVoxel) {
+bool relightVoxel(GatherFrame constants, float voxelSize, uint brick, uint occupiedVoxel) {
   uint voxelIndex = nthOccupiedVoxel(brick, occupiedVoxel);
   uvec3 voxelInBrick = uvec3(voxelIndex & 3u, (voxelIndex >> 2u) & 3u, voxelIndex >> 4u);
   uint index = brick * kVoxelsPerBrick + voxelIndex;
@@ -43,7 +43,6 @@ bool relightVoxel(uint brick, uint occupiedVoxel) {
   if (voxelExtraViewsSinceLitFrame(voxel) == 0u) return false;
 
   ivec3 worldVoxel = bricks[brick].coordinate * int(kBrickSizeVoxels) + ivec3(voxelInBrick);
-  float voxelSize = volume.voxelSize;
   vec3 normal = voxelNormal(voxel);
   uint planeCode = voxelPlaneCode(voxel);
   float planeOffset = planeCode != 0u ? unpackVoxelPlane(planeCode) : 0.0;
@@ -53,7 +52,7 @@ bool relightVoxel(uint brick, uint occupiedVoxel) {
   float noise = hashToUnitCube(uvec3(worldVoxel)).x;
   // With the gather's visibility trace (this pass writes only radiance, which no trace reads): without it the lit
   // room's probes lit the dark side of `two-rooms`' wall (docs/QUALITY.md, "Voxels follow the light").
-  vec4 irradiance = probeIrradiance(surface, normal, noise);
+  vec4 irradiance = probeIrradiance(constants, surface, normal, noise);
   if (irradiance.a == 0.0) return true;  // no probe knows its surroundings yet: it keeps the light it has
   vec3 direct = unpackR11G11B10F(voxel.directRadiance);
   voxels[index].radiance = packR11G11B10F(direct + unpackVoxelAlbedo(voxel.albedo) * (1.0 / kPi) * irradiance.rgb);
@@ -67,6 +66,9 @@ bool relitThisFrame(uint brick) {
 
 void main() {
   uint end = pool.bumpCount;
+  // Read once, not in the loops (gi/voxels/voxel_access.glsl's VolumeLayout says why).
+  GatherFrame constants = gatherFrame();
+  float voxelSize = volume.voxelSize;
   uint relitVoxels = 0u;
   uint brickOfWorkgroup = gl_LocalInvocationID.x / kRelightVoxelsAtOnce;
   uint firstVoxel = gl_LocalInvocationID.x % kRelightVoxelsAtOnce;
@@ -80,7 +82,7 @@ void main() {
     uvec2 occupancy = bricks[brick].occupancy;
     uint occupied = uint(bitCount(occupancy.x) + bitCount(occupancy.y));
     for (uint voxel = firstVoxel; voxel < occupied; voxel += kRelightVoxelsAtOnce)
-      if (relightVoxel(brick, voxel)) ++relitVoxels;
+      if (relightVoxel(constants, voxelSize, brick, voxel)) ++relitVoxels;
     brick += stride;
   }
   if (countsWork()) {
