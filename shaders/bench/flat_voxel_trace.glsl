@@ -9,7 +9,7 @@
 // Reads each brick's lookup and mask once.
 VoxelHit traceVoxelsFlat(vec3 origin, vec3 direction, float maxDistance, bool watchesObservedSpace) {
   VoxelWalk walk;
-  if (!beginVoxelWalk(origin, direction, maxDistance, walk)) return voxelMiss(maxDistance, 0u);
+  if (!beginVoxelWalk(voxelTraceFrame(), origin, direction, maxDistance, walk)) return voxelMiss(maxDistance, 0u);
   ivec3 size = walk.sizeVoxels;
   vec3 nextCrossing;
   for (int axis = 0; axis < 3; ++axis)

@@ -105,17 +105,27 @@ int coordinateAtCrossing(VoxelWalk walk, int axis, float eventDistance, int even
   return coordinate + (pastIt ? -step : (shortOfIt ? step : 0));
 }
 
+// What a walk reads of the volume's block: read once for an invocation that traces in a loop (the gather's
+// visibility tests), else by each trace (volumeLayout says why).
+struct VoxelTraceFrame {
+  VolumeLayout volumeLayout;
+  float voxelSize;  // VoxelVolume
+  float brickSize;
+};
+
+VoxelTraceFrame voxelTraceFrame() { return VoxelTraceFrame(volumeLayout(), volume.voxelSize, volume.brickSize); }
+
 // Starts a walk at the ray's origin, or where the ray enters the volume when the origin is outside (space outside the
 // volume is empty). False when the ray misses the volume within maxDistance. `direction` must be unit length.
-bool beginVoxelWalk(vec3 origin, vec3 direction, float maxDistance, out VoxelWalk walk) {
-  float voxelSize = volume.voxelSize;
-  precise vec3 relativeOrigin = origin - vec3(volume.originBrick) * volume.brickSize;
+bool beginVoxelWalk(VoxelTraceFrame volumeFrame, vec3 origin, vec3 direction, float maxDistance, out VoxelWalk walk) {
+  float voxelSize = volumeFrame.voxelSize;
+  precise vec3 relativeOrigin = origin - vec3(volumeFrame.volumeLayout.originBrick) * volumeFrame.brickSize;
   walk.origin = relativeOrigin / voxelSize;
   walk.step = ivec3(sign(direction)) * ivec3(greaterThanEqual(abs(direction), vec3(kParallelComponent)));
   walk.voxelsPerMetre = direction / voxelSize;
   walk.metresPerVoxel = voxelSize / mix(direction, vec3(1.0), equal(walk.step, ivec3(0)));
   walk.maxDistance = maxDistance;
-  walk.volumeLayout = volumeLayout();
+  walk.volumeLayout = volumeFrame.volumeLayout;
   walk.sizeVoxels = walk.volumeLayout.dimensions * int(kBrickSizeVoxels);
   ivec3 size = walk.sizeVoxels;
 
@@ -426,10 +436,10 @@ VoxelHit voxelHitAt(VoxelWalk walk, CachedBrick cached, vec3 direction, uint rea
 // occupancy is unknown — it is known (occupied) while the walk is still inside a cell it came down from.
 // A trace that watches observed space looks for unobserved brick cells (cellContents) until it has crossed one, and
 // for unobserved voxels all the way. The walk starts at `startLevel` (below).
-VoxelHit walkOccupancyHierarchy(vec3 origin, vec3 direction, float maxDistance, bool watchesObservedSpace,
-                                int startLevel) {
+VoxelHit walkOccupancyHierarchy(VoxelTraceFrame volumeFrame, vec3 origin, vec3 direction, float maxDistance,
+                                bool watchesObservedSpace, int startLevel) {
   VoxelWalk walk;
-  if (!beginVoxelWalk(origin, direction, maxDistance, walk)) return voxelMiss(maxDistance, 0u);
+  if (!beginVoxelWalk(volumeFrame, origin, direction, maxDistance, walk)) return voxelMiss(maxDistance, 0u);
   CachedBrick cached = noCachedBrick();
   CachedGridWords grid = noCachedGridWords();
   CachedGridWords observed = noCachedGridWords();
@@ -512,14 +522,21 @@ VoxelHit countTrace(VoxelHit hit) {
 
 VoxelHit traceVoxelsHierarchical(vec3 origin, vec3 direction, float maxDistance, bool watchesObservedSpace) {
   return countTrace(
-      walkOccupancyHierarchy(origin, direction, maxDistance, watchesObservedSpace, int(kFirstLocalGridLevel) - 1));
+      walkOccupancyHierarchy(voxelTraceFrame(), origin, direction, maxDistance, watchesObservedSpace,
+                             int(kFirstLocalGridLevel) - 1));
 }
 
 // A trace from a point near surfaces: a probe's ray (ProbePlacement keeps the probes with voxels within their reach),
 // a visibility test between a probe and a point it lights or between two probes. It finds what traceVoxelsHierarchical
 // finds, in fewer steps.
+VoxelHit traceVoxelsNearSurfaces(VoxelTraceFrame volumeFrame, vec3 origin, vec3 direction, float maxDistance,
+                                 bool watchesObservedSpace) {
+  return countTrace(
+      walkOccupancyHierarchy(volumeFrame, origin, direction, maxDistance, watchesObservedSpace, kBrickLevel));
+}
+
 VoxelHit traceVoxelsNearSurfaces(vec3 origin, vec3 direction, float maxDistance, bool watchesObservedSpace) {
-  return countTrace(walkOccupancyHierarchy(origin, direction, maxDistance, watchesObservedSpace, kBrickLevel));
+  return traceVoxelsNearSurfaces(voxelTraceFrame(), origin, direction, maxDistance, watchesObservedSpace);
 }
 
 #endif
