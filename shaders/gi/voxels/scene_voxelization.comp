@@ -34,13 +34,19 @@ layout(binding = kBindInjectionBricks) readonly buffer VisibleBricks {
   uint visibleBricks[];
 };
 
-// The view's matrices and the volume's constants that the helpers below use, read once at the start of main rather
-// than at each use: on lavapipe a read of a buffer is made lane by lane, and litShareOfPlane's lattice, unrolled,
-// would make each read nine times over, taken or not (lavapipe runs both sides of a branch).
+// The view's and the volume's constants that the helpers below use, read once at the start of main rather than at
+// each use: on lavapipe a read of a buffer is made lane by lane, and the loop over a brick's blocks would make each
+// read once a block, and litShareOfPlane's lattice, unrolled, nine times over, taken or not (lavapipe runs both sides
+// of a branch).
 mat4 litViewProjection;
 mat4 litInverseViewProjection;
+vec2 litSize;
+uint viewKind;
+uint frameIndex;
 float voxelSize;
 vec3 viewpoint;
+uint invalidFramesToClear;
+bool countsVoxelWork;
 
 // What a voxel the view writes takes from its pixel: for a view whose colour is all of its light, that light, an extra
 // view's averaged with what the voxel held (kVoxelExtraViewRadianceBlend); for a view lit by direct light only, that
@@ -52,7 +58,7 @@ vec3 viewpoint;
 // of its radiance the probes added (Settings::voxelRelightPeriod), and a new one has none.
 void injectLight(inout Voxel voxel, bool occupied, bool blendsWithHeld, ivec2 texel, float litShare) {
   vec3 colour = texelFetch(litColor, texel, 0).rgb;
-  if ((frame.viewKind & kViewIsDirectOnly) == 0u) {
+  if ((viewKind & kViewIsDirectOnly) == 0u) {
     voxel.radiance = packR11G11B10F(blendsWithHeld ? mix(unpackR11G11B10F(voxel.radiance), colour,
                                                          kVoxelExtraViewRadianceBlend)
                                                    : colour);
@@ -65,7 +71,7 @@ void injectLight(inout Voxel voxel, bool occupied, bool blendsWithHeld, ivec2 te
   bool wasRelit = occupied && (voxel.albedo & kVoxelRelit) != 0u;
   vec3 heldDirect = unpackR11G11B10F(voxel.directRadiance);
   vec3 probesLight = wasRelit ? max(unpackR11G11B10F(voxel.radiance) - heldDirect, vec3(0.0)) : vec3(0.0);
-  if ((frame.viewKind & kViewIsLitWithOutput) != 0u)  // half-resolution texel h holds full-resolution pixel 2h
+  if ((viewKind & kViewIsLitWithOutput) != 0u)  // half-resolution texel h holds full-resolution pixel 2h
     probesLight = albedo * (1.0 / kPi) * texelFetch(lastOutput, texel / 2, 0).rgb;
   if (blendsWithHeld && wasRelit) {
     direct = mix(heldDirect, direct, kVoxelExtraViewRadianceBlend);
@@ -97,7 +103,7 @@ struct ViewSample {
   vec3 held;
 };
 
-ViewSample viewSampleAt(ivec2 texel, vec2 litSize) {
+ViewSample viewSampleAt(ivec2 texel) {
   ViewSample seen = ViewSample(texel, texelFetch(litDepth, texel, 0).r, vec3(0.0), vec3(0.0), vec3(0.0));
   if (seen.depth <= 0.0) return seen;
   seen.surface = reconstructPosition(litInverseViewProjection, vec2(texel), litSize, seen.depth);
@@ -126,7 +132,7 @@ bool showsSurfaceAt(ViewSample seen, vec3 voxelMin) {
 // at all, where the texel shows none). A texel is as wide as a voxel or wider, and its depth says nothing of the space
 // beside that line: a random point of a voxel that projects into the texel may lie off it, hidden behind an edge the
 // line passes (a wall's top under a roof's rim, seen from above past the rim).
-bool sightCrossesVoxel(ViewSample seen, vec3 voxelMin, vec2 litSize, float margin) {
+bool sightCrossesVoxel(ViewSample seen, vec3 voxelMin, float margin) {
   vec2 centre = vec2(seen.texel);
   vec3 nearPoint = reconstructPosition(litInverseViewProjection, centre, litSize, 1.0);
   vec3 direction = viewRayDirection(litInverseViewProjection, ssvgiPixelToNdc(centre, litSize));
@@ -149,7 +155,7 @@ bool holdsSeenSurface(ViewSample seen, vec3 voxelMin, bool occupied, vec3 stored
 // A random texel (new every frame and view) of the voxel's footprint in the view: the bounding rectangle of its
 // corners' projections, clipped to the image. (-1, -1) where the footprint lies off the image or a corner lies behind
 // a perspective view's eye.
-ivec2 footprintTexel(vec3 voxelMin, vec2 litSize, uvec3 worldVoxel) {
+ivec2 footprintTexel(vec3 voxelMin, uvec3 worldVoxel) {
   // The projection is linear in clip space: one product for the minimum corner, the matrix's columns for the edges.
   vec4 minimumClip = litViewProjection * vec4(voxelMin, 1.0);
   mat3x4 edges = mat3x4(litViewProjection[0], litViewProjection[1], litViewProjection[2]) * voxelSize;
@@ -164,36 +170,36 @@ ivec2 footprintTexel(vec3 voxelMin, vec2 litSize, uvec3 worldVoxel) {
   lowest = max(lowest, vec2(0.0));
   highest = min(highest, litSize - 1.0);
   if (any(greaterThan(lowest, highest))) return ivec2(-1);
-  vec2 pick = hashToUnitCube(voxelFootprintSeed(worldVoxel, frame.frameIndex)).xy;
+  vec2 pick = hashToUnitCube(voxelFootprintSeed(worldVoxel, frameIndex)).xy;
   return ivec2(mix(lowest, highest, pick));
 }
 
 // The texel `corner` (0–3) of the 2×2 texels from `firstTexel`, clamped to the image.
-ivec2 aroundTexel(ivec2 firstTexel, int corner, vec2 litSize) {
+ivec2 aroundTexel(ivec2 firstTexel, int corner) {
   return clamp(firstTexel + ivec2(corner & 1, corner >> 1), ivec2(0), ivec2(litSize) - 1);
 }
 
 // The depths of the 2×2 texels from `firstTexel` (corner 0–3 in x, y order), read once for the tests below.
-vec4 depthsAround(ivec2 firstTexel, vec2 litSize) {
-  return vec4(texelFetch(litDepth, aroundTexel(firstTexel, 0, litSize), 0).r,
-              texelFetch(litDepth, aroundTexel(firstTexel, 1, litSize), 0).r,
-              texelFetch(litDepth, aroundTexel(firstTexel, 2, litSize), 0).r,
-              texelFetch(litDepth, aroundTexel(firstTexel, 3, litSize), 0).r);
+vec4 depthsAround(ivec2 firstTexel) {
+  return vec4(texelFetch(litDepth, aroundTexel(firstTexel, 0), 0).r,
+              texelFetch(litDepth, aroundTexel(firstTexel, 1), 0).r,
+              texelFetch(litDepth, aroundTexel(firstTexel, 2), 0).r,
+              texelFetch(litDepth, aroundTexel(firstTexel, 3), 0).r);
 }
 
 // Whether a texel, whose depth is `depth`, shows a surface inside the voxel (the point it holds, heldSurfacePoint).
-bool showsSurfaceInside(ivec2 texel, float depth, vec2 litSize, vec3 voxelMin) {
+bool showsSurfaceInside(ivec2 texel, float depth, vec3 voxelMin) {
   vec3 surface = reconstructPosition(litInverseViewProjection, vec2(texel), litSize, depth);
   vec3 held = heldSurfacePoint(surface, normalize(texelFetch(litNormal, texel, 0).xyz), viewpoint, voxelSize);
   return depth > 0.0 && all(greaterThanEqual(held, voxelMin)) && all(lessThan(held, voxelMin + voxelSize));
 }
 
 // Whether one of the 2×2 texels from `firstTexel` (their depths `depths`) shows a surface inside the voxel.
-bool surfaceAround(ivec2 firstTexel, vec4 depths, vec2 litSize, vec3 voxelMin) {
-  return showsSurfaceInside(aroundTexel(firstTexel, 0, litSize), depths.x, litSize, voxelMin) ||
-         showsSurfaceInside(aroundTexel(firstTexel, 1, litSize), depths.y, litSize, voxelMin) ||
-         showsSurfaceInside(aroundTexel(firstTexel, 2, litSize), depths.z, litSize, voxelMin) ||
-         showsSurfaceInside(aroundTexel(firstTexel, 3, litSize), depths.w, litSize, voxelMin);
+bool surfaceAround(ivec2 firstTexel, vec4 depths, vec3 voxelMin) {
+  return showsSurfaceInside(aroundTexel(firstTexel, 0), depths.x, voxelMin) ||
+         showsSurfaceInside(aroundTexel(firstTexel, 1), depths.y, voxelMin) ||
+         showsSurfaceInside(aroundTexel(firstTexel, 2), depths.z, voxelMin) ||
+         showsSurfaceInside(aroundTexel(firstTexel, 3), depths.w, voxelMin);
 }
 
 // A reflective shadow map (kViewIsReflectiveShadowMap) looks at an occupied voxel where its surface is: the random
@@ -214,7 +220,7 @@ struct ViewPoint {
   bool inView;
 };
 
-ViewPoint projectIntoView(vec3 point, vec2 litSize) {
+ViewPoint projectIntoView(vec3 point) {
   vec4 clip = litViewProjection * vec4(point, 1.0);
   vec3 ndc = clip.xyz / clip.w;
   ViewPoint projected;
@@ -239,7 +245,7 @@ struct LitShare {
   ivec2 litTexel;  // the texel of a lit point, whose colour is the surface's light where it is lit
 };
 
-LitShare litShareOfPlane(vec3 firstPoint, Voxel voxel, vec3 voxelMin, vec2 litSize, float margin) {
+LitShare litShareOfPlane(vec3 firstPoint, Voxel voxel, vec3 voxelMin, float margin) {
   LitShare share = LitShare(0u, 0u, ivec2(0));
   vec3 voxelFacing = voxelNormal(voxel);
   vec3 normal = abs(voxelFacing);
@@ -252,9 +258,9 @@ LitShare litShareOfPlane(vec3 firstPoint, Voxel voxel, vec3 voxelMin, vec2 litSi
       lattice[first] = fract(jitter[first] + float(i) / float(kLitShareLattice));
       lattice[second] = fract(jitter[second] + float(j) / float(kLitShareLattice));
       vec3 point = ontoVoxelPlane(voxelMin + lattice * voxelSize, voxel, voxelMin);
-      ViewPoint projected = projectIntoView(point, litSize);
+      ViewPoint projected = projectIntoView(point);
       if (!projected.inView) continue;
-      ViewSample seen = viewSampleAt(ivec2(projected.pixel), litSize);
+      ViewSample seen = viewSampleAt(ivec2(projected.pixel));
       if (seen.depth <= 0.0) continue;
       // Lit where the texel shows the voxel's own face (as a colour refresh takes it, below). Hidden where it shows a
       // surface well in front of the point, or the back of the voxel's face (the other face of a wall one voxel
@@ -300,18 +306,17 @@ InjectedVoxel injectVoxel(uint brick, Brick held, uvec3 voxelInBrick) {
   Voxel voxel = voxels[brick * kVoxelsPerBrick + voxelIndex];
   vec3 voxelMin = vec3(worldVoxel) * voxelSize;
   vec3 samplePoint =
-      voxelMin + hashToUnitCube(uvec3(ivec3(worldVoxel)) ^ uvec3(0u, 0u, frame.frameIndex * 0x9e3779b9u)) * voxelSize;
+      voxelMin + hashToUnitCube(uvec3(ivec3(worldVoxel)) ^ uvec3(0u, 0u, frameIndex * 0x9e3779b9u)) * voxelSize;
   bool samplesShadow = kReflectiveShadowMap && occupied &&
                        (voxel.albedo & kVoxelRelit) != 0u && voxelPlaneCode(voxel) != 0u;
   if (samplesShadow) samplePoint = ontoVoxelPlane(samplePoint, voxel, voxelMin);
-  vec2 litSize = vec2(frame.litSize);
-  ViewPoint projected = projectIntoView(samplePoint, litSize);
+  ViewPoint projected = projectIntoView(samplePoint);
   vec2 pixel = projected.pixel;
   bool seenThrough = false;
   bool observedNow = false;
   if (projected.inView) {
-    if (countsWork()) atomicAdd(voxelsInView[brickSlot()], 1u);
-    ViewSample seen = viewSampleAt(ivec2(pixel), litSize);
+    if (countsVoxelWork) atomicAdd(voxelsInView[brickSlot()], 1u);
+    ViewSample seen = viewSampleAt(ivec2(pixel));
     // "Clearly in front" along the view's ray (perspective or orthographic): by more than half a voxel, so that depth
     // quantisation and a surface point just outside this voxel do not count against it — and in front of the nearest
     // surface the view shows around the point (the 2×2 texels nearest it), so that at a depth edge (the rim of an
@@ -319,7 +324,7 @@ InjectedVoxel injectVoxel(uint brick, Brick held, uvec3 voxelInBrick) {
     // (the sun's, a capture's) have texels as wide as a voxel: a skylight's rim was cleared every few frames.
     float clearMargin = voxelSize * 0.5;
     ivec2 firstTexel = ivec2(floor(pixel - 0.5));
-    vec4 aroundDepths = depthsAround(firstTexel, litSize);
+    vec4 aroundDepths = depthsAround(firstTexel);
     // reversed-Z: the largest is the nearest; 0 where all four see nothing
     float nearestDepth = max(max(aroundDepths.x, aroundDepths.y), max(aroundDepths.z, aroundDepths.w));
     vec3 nearestSurface = reconstructPosition(litInverseViewProjection, pixel - 0.5, litSize, nearestDepth);
@@ -340,9 +345,9 @@ InjectedVoxel injectVoxel(uint brick, Brick held, uvec3 voxelInBrick) {
     // anywhere in its footprint took the light of neighbouring surfaces into it (cornell's light panel grew; docs/
     // QUALITY.md, "Holes in walls a view grazes, and a wall's two faces").
     if (!holdsSurface && !occupied) {
-      ivec2 footprint = footprintTexel(voxelMin, litSize, uvec3(worldVoxel));
+      ivec2 footprint = footprintTexel(voxelMin, uvec3(worldVoxel));
       if (footprint.x >= 0) {
-        ViewSample second = viewSampleAt(footprint, litSize);
+        ViewSample second = viewSampleAt(footprint);
         if (holdsSeenSurface(second, voxelMin, occupied, storedNormal)) {
           seen = second;
           holdsSurface = true;
@@ -355,14 +360,14 @@ InjectedVoxel injectVoxel(uint brick, Brick held, uvec3 voxelInBrick) {
     bool refreshesColour =
         occupied && showsSurfaceAt(seen, voxelMin) && dot(storedNormal, seen.normal) > kOwnSurfaceFacing;
     // A voxel a reflective shadow map shows in part in its light's shadow takes the lit share of its light, or none.
-    LitShare litShare = samplesShadow ? litShareOfPlane(samplePoint, voxel, voxelMin, litSize, clearMargin)
+    LitShare litShare = samplesShadow ? litShareOfPlane(samplePoint, voxel, voxelMin, clearMargin)
                                       : LitShare(0u, 0u, ivec2(0));
     bool crossesShadow = litShare.shadowed > 0u;
     bool inLightsShadow = crossesShadow && litShare.lit == 0u;
     if (holdsSurface || refreshesColour || crossesShadow) {
       // The lit frame's light stays where it keeps coming (kVoxelExtraViewsBeforeWrite): an extra view counts its
       // visit and writes only once there have been enough since the lit frame last wrote.
-      bool fromCamera = (frame.viewKind & kViewIsExtra) == 0u;
+      bool fromCamera = (viewKind & kViewIsExtra) == 0u;
       uint extraViews = voxelExtraViewsSinceLitFrame(voxel);
       bool writes = fromCamera || !occupied || extraViews >= kVoxelExtraViewsBeforeWrite;
       uint surface = voxelSurface(voxel);
@@ -397,13 +402,13 @@ InjectedVoxel injectVoxel(uint brick, Brick held, uvec3 voxelInBrick) {
     // Once observed, a voxel stays so (the mask is sticky): only one not yet observed is looked at again, and the
     // cheap tests come first.
     observedNow = !wasObserved && !holdsSurface && !refreshesColour && !cutBySurfacePlane &&
-                  sightCrossesVoxel(seen, voxelMin, litSize, clearMargin) &&
-                  !surfaceAround(firstTexel, aroundDepths, litSize, voxelMin);
+                  sightCrossesVoxel(seen, voxelMin, clearMargin) &&
+                  !surfaceAround(firstTexel, aroundDepths, voxelMin);
     if (occupied && seenThrough) {
       uint lastHit = min(voxelSeenThroughCount(voxel) + 1u, kVoxelMaxLastHit);
       voxel.surfaceAndLastHit =
           packVoxelSurfaceAndCounters(voxelSurface(voxel), lastHit, voxelExtraViewsSinceLitFrame(voxel));
-      if (lastHit >= volume.invalidFramesToClear) occupied = false;
+      if (lastHit >= invalidFramesToClear) occupied = false;
     }
     voxels[brick * kVoxelsPerBrick + voxelIndex] = occupied ? voxel : Voxel(0u, 0u, 0u, 0u);
   }
@@ -442,7 +447,7 @@ bool blockMayChange(ivec3 worldBrick, uint block, uvec2 heldOccupancy) {
 // The brick's work (shared/work_counters.h), by its first thread once its voxels are done: the camera's lit frame's,
 // or an extra view's.
 void countBrickWork(uint injectedVoxels) {
-  if ((frame.viewKind & kViewIsExtra) == 0u) {
+  if ((viewKind & kViewIsExtra) == 0u) {
     atomicAdd(work.injectionVoxels, injectedVoxels);
     atomicAdd(work.injectionVoxelsInView, voxelsInView[brickSlot()]);
   } else {
@@ -457,8 +462,13 @@ void countBrickWork(uint injectedVoxels) {
 void main() {
   litViewProjection = frame.litViewProjection;
   litInverseViewProjection = frame.litInverseViewProjection;
+  litSize = vec2(frame.litSize);
+  viewKind = frame.viewKind;
+  frameIndex = frame.frameIndex;
   voxelSize = volume.voxelSize;
   viewpoint = volumeViewpoint();
+  invalidFramesToClear = volume.invalidFramesToClear;
+  countsVoxelWork = countsWork();
   uint slot = brickSlot();
   uint thread = gl_LocalInvocationID.x % 8u;
   uint listIndex = gl_WorkGroupID.x * kInjectionBricksPerGroup + slot;
@@ -498,7 +508,7 @@ void main() {
   barrier();
 
   if (listed && thread == 0u) {
-    if (countsWork()) countBrickWork(8u * uint(bitCount(blocks)));
+    if (countsVoxelWork) countBrickWork(8u * uint(bitCount(blocks)));
     // The blocks not injected keep their voxels as they were.
     uvec2 mask = (heldBrick.occupancy & ~voxelMaskOfBlocks(blocks)) | uvec2(occupancyLow[slot], occupancyHigh[slot]);
     bool empty = mask == uvec2(0u);
@@ -506,7 +516,7 @@ void main() {
     uint cell = brickCellIndex(worldBrick, volumeDimensions());
     // BuildOctree's brick level records whether a brick's mask is empty: only a change of that needs the cell listed,
     // and once a frame is enough (BuildOctree runs after every view's injection).
-    uint listedStamp = frame.frameIndex + 1u;
+    uint listedStamp = frameIndex + 1u;
     bool cellListed = empty != (heldBrick.occupancy == uvec2(0u)) && heldBrick.changeListedStamp != listedStamp;
     bricks[brick].occupancy = mask;
     bricks[brick].observed = heldBrick.observed | uvec2(observedLow[slot], observedHigh[slot]);
