@@ -1650,7 +1650,7 @@ TEST(VoxelSceneApi, everySettingOutsideWhatItsInfoAcceptsIsRefusedWithItsNameAnd
     double below = info.minimumExcluded ? info.minimum : info.minimum - 1.0;
     if (info.zeroTurnsOff && below == 0.0) below = -1.0;  // 0 is accepted as off
     outside.push_back(below);
-    if (info.zeroTurnsOff && info.minimum > 0.0) outside.push_back(info.minimum / 2.0);
+    if ((info.zeroTurnsOff || info.minimum < 1.0) && info.minimum > 0.0) outside.push_back(info.minimum / 2.0);
     if (std::isfinite(info.maximum)) outside.push_back(info.maximum + double(info.multipleOf));
     if (info.multipleOf > 1) outside.push_back(info.minimum + 1.0);
     if (info.powerOfTwo) outside.push_back(3.0);
@@ -1684,6 +1684,26 @@ TEST(VoxelSceneApi, everySettingOutsideWhatItsInfoAcceptsIsRefusedWithItsNameAnd
   }
   std::printf("%u values outside what their settings accept, each refused with the setting named\n", refused);
   EXPECT_GT(refused, 20u);
+}
+
+TEST(VoxelSceneApi, aVoxelVolumeOrProbeLevelWiderThanTheViewsMayStandInIsRefusedWithItsSettingsNamed) {
+  // Each setting is within its own range, but together they make a volume wider than the ±10^6 m that FrameDesc's
+  // views may stand in; at the limit the high tier's 512 voxels across are 3,906.25 m each.
+  ContextDesc desc = testDeviceDesc();
+  desc.settings.voxelSize = 3906.25f;
+  EXPECT_TRUE(Context::create(desc).ok()) << "2,000,000 m across is accepted";
+  desc.settings.voxelSize = 3907.0f;
+  auto result = Context::create(desc);
+  ASSERT_FALSE(result.ok());
+  EXPECT_EQ(result.error().status, Status::InvalidDescription);
+  EXPECT_NE(result.error().message.find("Settings::voxelSize and Settings::volumeBricks"), std::string::npos)
+      << result.error().message;
+  desc.settings = Settings{};
+  desc.settings.probeSpacing = 1.1e4f;  // the coarsest level: 48 probes 4 × 11,000 m apart, 2,112,000 m
+  result = Context::create(desc);
+  ASSERT_FALSE(result.ok());
+  EXPECT_NE(result.error().message.find("Settings::probeSpacing and Settings::probeGrid"), std::string::npos)
+      << result.error().message;
 }
 
 }  // namespace

@@ -253,7 +253,7 @@ void addGiOptions(CLI::App& command, GiOptions& options) {
                      "images included: the brick pool, then the probe grid, then the voxel volume shrink to fit (stats "
                      "show what was chosen); 0: no limit")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(kNonNegativeNumber);
 }
 
 uint64_t memoryBudgetBytes(const GiOptions& options) {

@@ -54,9 +54,10 @@ enum class QualityTier { Low, Medium, High };
 
 // Every knob of the GI, with its default (high tier). Tiers are presets over these (SPEC §4.7).
 struct Settings {
-  float voxelSize = 0.25f;                            // metres; a brick is 4×4×4 voxels
+  float voxelSize = 0.25f;                            // metres, at least 0.001; a brick is 4×4×4 voxels
   std::array<uint32_t, 3> volumeBricks{128, 48, 128};  // the voxel volume around the camera in bricks (X, Y, Z);
-                                                      // each a multiple of 8 (where it stands: Stats::voxelVolume)
+                                                      // each a multiple of 8 (where it stands: Stats::voxelVolume);
+                                                      // at most 2,000,000 m across with voxelSize
   uint32_t brickPoolCapacity = 11776;                 // bricks that can hold voxels at once
   uint32_t invalidFramesToClear = 8;                  // frames a voxel may be seen through before it is cleared, ≤ 63
   uint32_t emptyFramesToRelease = 8;                  // frames a brick may stay empty before it returns to the pool
@@ -71,7 +72,8 @@ struct Settings {
   // The probe radiance cache (SPEC §4.5): three levels of probeGrid probes around the camera, level l spaced
   // probeSpacing · 2^l; one level updated per frame.
   std::array<uint32_t, 3> probeGrid{48, 24, 48};  // probes per level (X, Y, Z); each a multiple of 4, at most 4096
-  float probeSpacing = 1.0f;                      // metres between the probes of level 0
+  float probeSpacing = 1.0f;                      // metres between the probes of level 0, at least 0.001; the
+                                                  // coarsest level at most 2,000,000 m across
   uint32_t probeBudget = 4096;                    // probes traced per frame at most (the talk updates 2000–4000)
   // Blocks of 4×4×4 probes outside the frustum offered to the placement per update, in turn, after those in view,
   // which keep the budget first: voxels off screen are relit from their probes (SPEC §6.1), and a probe nobody

@@ -121,6 +121,19 @@ Error validateSettings(const ContextDesc& desc) {
         return invalid(std::string("Settings::") + info.name + " must be " + acceptedValues(info, isFloat) + " (got " +
                        numberText(value) + ")");
   }
+  // The volumes follow the views, which stand within ±kMaxViewCoordinate: a volume wider than that span would put its
+  // far side (and the views a host makes to cover it, such as a sun's) where floats no longer resolve a voxel.
+  const double worldSpan = 2.0 * double(kMaxViewCoordinate);
+  const auto widest = [](const std::array<uint32_t, 3>& cells) { return double(*std::ranges::max_element(cells)); };
+  const double voxelVolumeSpan = widest(settings.volumeBricks) * shader::kBrickSizeVoxels * settings.voxelSize;
+  if (!(voxelVolumeSpan <= worldSpan))
+    return invalid("Settings::voxelSize and Settings::volumeBricks make the voxel volume " +
+                   numberText(voxelVolumeSpan) + " m across; at most " + numberText(worldSpan) + " m");
+  const double probeVolumeSpan =
+      widest(settings.probeGrid) * settings.probeSpacing * double(1u << (shader::kProbeLevels - 1u));
+  if (!(probeVolumeSpan <= worldSpan))
+    return invalid("Settings::probeSpacing and Settings::probeGrid make the coarsest probe level " +
+                   numberText(probeVolumeSpan) + " m across; at most " + numberText(worldSpan) + " m");
   if (settings.probeReservoirs && settings.raysPerProbe < 2 * shader::kProbeStrata)
     return invalid("Settings::raysPerProbe must be at least 16 with Settings::probeReservoirs (" +
                    std::to_string(shader::kProbeStrata) + " strata, each a new candidate and its reservoir's ray)");

@@ -7,6 +7,7 @@ namespace ssvgi {
 
 namespace {
 constexpr double kUnlimited = std::numeric_limits<double>::infinity();
+constexpr double kSmallestLength = 0.001;  // m
 }  // namespace
 
 // SPEC §4.7: the tiers differ in the voxel range, the probe budget and the rays per probe; the pool shrinks with the
@@ -41,13 +42,15 @@ Settings settingsForTier(QualityTier tier) {
 }
 
 std::span<const SettingInfo> settingInfos() {
-  // Why each range: the volume re-centres in steps of kScrollStepBricks and keeps the camera at a whole step from its
-  // middle (multiples of twice that); the seen-through counter has 6 bits; the CPU culls probes in blocks of 4 and
-  // packs a block coordinate in 10 bits (1024 blocks); a power of two up to the workgroup divides the 1024 directions
-  // into whole slices; m has 8 bits; a reservoir's M has 8 bits and grows by up to 3 candidates past its cap in an
-  // update; a relight period past 64 frames would leave voxels stale for seconds.
+  // Why each range: a voxel or a probe spacing under a millimetre would overflow the 32-bit voxel and probe
+  // coordinates of a view 10^6 m from the origin, the farthest FrameDesc allows (Context::create also refuses volumes
+  // wider than that span); the volume re-centres in steps of kScrollStepBricks and keeps the camera at a whole step
+  // from its middle (multiples of twice that); the seen-through counter has 6 bits; the CPU culls probes in blocks of
+  // 4 and packs a block coordinate in 10 bits (1024 blocks); a power of two up to the workgroup divides the 1024
+  // directions into whole slices; m has 8 bits; a reservoir's M has 8 bits and grows by up to 3 candidates past its cap
+  // in an update; a relight period past 64 frames would leave voxels stale for seconds.
   static const SettingInfo infos[] = {
-      {"voxelSize", &Settings::voxelSize, 0.0, kUnlimited, true},
+      {"voxelSize", &Settings::voxelSize, kSmallestLength},
       {"volumeBricks", &Settings::volumeBricks, 1.0, kUnlimited, false, 2 * uint32_t(shader::kScrollStepBricks)},
       {"brickPoolCapacity", &Settings::brickPoolCapacity, 1.0},
       {"invalidFramesToClear", &Settings::invalidFramesToClear, 1.0, double(shader::kVoxelMaxLastHit)},
@@ -56,7 +59,7 @@ std::span<const SettingInfo> settingInfos() {
       {"occlusionCulling", &Settings::occlusionCulling},
       {"probeGrid", &Settings::probeGrid, double(shader::kProbeBlockSize), 1024.0 * shader::kProbeBlockSize, false,
        shader::kProbeBlockSize},
-      {"probeSpacing", &Settings::probeSpacing, 0.0, kUnlimited, true},
+      {"probeSpacing", &Settings::probeSpacing, kSmallestLength},
       {"probeBudget", &Settings::probeBudget, 1.0},
       {"probeBlocksBeyondView", &Settings::probeBlocksBeyondView},
       {"raysPerProbe", &Settings::raysPerProbe, 1.0, double(shader::kProbeTraceGroupSize), false, 1, true},
