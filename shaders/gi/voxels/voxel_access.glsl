@@ -118,7 +118,8 @@ uvec2 gridBitAddress(uint level, ivec3 worldCell) {
 }
 
 // What a walk through the volume reads of its layout at every step, read from the volume's block once: on lavapipe a
-// read of a buffer is made lane by lane, and one inside a loop again on every pass through it.
+// read of a buffer is made lane by lane, and one inside a loop again on every pass through it, one after a store again
+// after each store (docs/PERFORMANCE.md, "Constants read once where a store or a loop would read them again").
 struct VolumeLayout {
   ivec3 originBrick;       // VoxelVolume::originBrick
   ivec3 dimensions;        // bricks
