@@ -1,7 +1,8 @@
 #version 450
 // BrickAllocate: every brick that holds on-screen surface gets a pool slot (SPEC §4.2). Surface points come from the
 // current depth at one pixel in stride × stride (the offset inside the block moves every frame, so over stride² frames
-// every pixel is visited); the first thread to claim an empty cell allocates it, with a compare-exchange.
+// every pixel is visited), 2×2 of them an invocation; the first to claim an empty cell allocates it, with a
+// compare-exchange.
 // On some of the camera's frames it also counts the surface pixels it read within the volume across by height band
 // (BrickPoolState::surfacePixelsByHeight), above or below it as well as inside: how high VoxelScene::place stands the
 // volume next.
@@ -18,11 +19,21 @@ layout(binding = kBindAllocationNormal) uniform sampler2D normalBuffer;
 // The workgroup's count of each band, added to the pool's once: a global atomic a pixel cost more than the pass.
 shared uint bandPixels[kSurfaceHeightBands];
 
+// The frame's and the volume's constants, read once at the start: each sample pixel's allocation stores (its
+// compare-exchange, the new brick), and a read of them after a store would be made again, lane by lane on lavapipe
+// (docs/PERFORMANCE.md, "Constants read once where a store or a loop would read them again").
+mat4 inverseViewProjection;
+uvec2 frameSize;
+ivec3 originBrick;
+ivec3 dimensions;
+vec3 viewpoint;
+float voxelSize;
+float bricksPerMetre;
+
 // Whether a brick lies within the volume across (x and z): only those, moving the volume up or down may hold.
 bool withinVolumeAcross(ivec3 worldBrick) {
-  ivec3 fromOrigin = worldBrick - volume.originBrick;
-  return fromOrigin.x >= 0 && fromOrigin.z >= 0 && fromOrigin.x < volume.dimensionsBricks.x &&
-         fromOrigin.z < volume.dimensionsBricks.z;
+  ivec3 fromOrigin = worldBrick - originBrick;
+  return fromOrigin.x >= 0 && fromOrigin.z >= 0 && fromOrigin.x < dimensions.x && fromOrigin.z < dimensions.z;
 }
 
 // The band of a brick's height: its scroll step's, counted from the viewpoint's step, which is the middle band.
@@ -32,9 +43,14 @@ uint heightBand(ivec3 worldBrick) {
   return uint(clamp(step - viewpointStep + int(kSurfaceHeightBands / 2u), 0, int(kSurfaceHeightBands) - 1));
 }
 
+bool inVolume(ivec3 worldBrick) {
+  ivec3 fromOrigin = worldBrick - originBrick;
+  return all(greaterThanEqual(fromOrigin, ivec3(0))) && all(lessThan(fromOrigin, dimensions));
+}
+
 void allocate(ivec3 worldBrick) {
-  if (!brickInVolume(worldBrick, volume)) return;
-  uint cell = brickCellIndex(worldBrick, volumeDimensions());
+  if (!inVolume(worldBrick)) return;
+  uint cell = brickCellIndex(worldBrick, dimensions);
   if (brickLookup[cell] != kInvalidBrick) return;  // cheap test first: almost every surface brick already exists
   if (atomicCompSwap(brickLookup[cell], kInvalidBrick, kAllocatingBrick) != kInvalidBrick) return;
 
@@ -51,6 +67,20 @@ void allocate(ivec3 worldBrick) {
   brickLookup[cell] = brick;
 }
 
+// The brick holding the surface a sample pixel shows; false where it shows none (or lies past the image).
+bool surfaceBrick(uvec2 pixel, out ivec3 worldBrick) {
+  worldBrick = ivec3(0);
+  if (any(greaterThanEqual(pixel, frameSize))) return false;
+  float depth = texelFetch(depthBuffer, ivec2(pixel), 0).r;
+  if (depth <= 0.0) return false;  // 0: nothing drawn, infinitely far
+  vec3 position = reconstructPosition(inverseViewProjection, vec2(pixel), vec2(frameSize), depth);
+  vec3 normal = normalize(texelFetch(normalBuffer, ivec2(pixel), 0).xyz);
+  worldBrick = ivec3(floor(heldSurfacePoint(position, normal, viewpoint, voxelSize) * bricksPerMetre));
+  return true;
+}
+
+// An invocation takes 2×2 sample pixels, and allocates each brick they show once (neighbouring samples often show
+// the same).
 void main() {
   uint thread = gl_LocalInvocationIndex;
   if (kCountsHeights) {
@@ -58,26 +88,32 @@ void main() {
       bandPixels[band] = 0u;
     barrier();
   }
-
+  inverseViewProjection = frame.inverseViewProjection;
+  frameSize = frame.size;
+  originBrick = volume.originBrick;
+  dimensions = volumeDimensions();
+  viewpoint = volumeViewpoint();
+  voxelSize = volume.voxelSize;
+  bricksPerMetre = volume.bricksPerMetre;
   uint stride = frame.allocationPixelStride;
   uint offset = frame.frameIndex % (stride * stride);
-  uvec2 pixel = gl_GlobalInvocationID.xy * stride + uvec2(offset % stride, offset / stride);
-  bool surface = false;
-  ivec3 worldBrick = ivec3(0);
-  if (all(lessThan(pixel, frame.size))) {
-    float depth = texelFetch(depthBuffer, ivec2(pixel), 0).r;
-    surface = depth > 0.0;  // 0: nothing drawn, infinitely far
-    if (surface) {
-      vec3 position = reconstructPosition(frame.inverseViewProjection, vec2(pixel), vec2(frame.size), depth);
-      vec3 normal = normalize(texelFetch(normalBuffer, ivec2(pixel), 0).xyz);
-      worldBrick = worldBrickOf(heldSurfacePoint(position, normal));
-    }
-  }
+  uvec2 firstPixel = 2u * gl_GlobalInvocationID.xy * stride + uvec2(offset % stride, offset / stride);
+  ivec3 bricks0, bricks1, bricks2, bricks3;
+  bool surface0 = surfaceBrick(firstPixel, bricks0);
+  bool surface1 = surfaceBrick(firstPixel + uvec2(stride, 0u), bricks1);
+  bool surface2 = surfaceBrick(firstPixel + uvec2(0u, stride), bricks2);
+  bool surface3 = surfaceBrick(firstPixel + uvec2(stride), bricks3);
   if (kCountsHeights) {
-    if (surface && withinVolumeAcross(worldBrick)) atomicAdd(bandPixels[heightBand(worldBrick)], 1u);
+    if (surface0 && withinVolumeAcross(bricks0)) atomicAdd(bandPixels[heightBand(bricks0)], 1u);
+    if (surface1 && withinVolumeAcross(bricks1)) atomicAdd(bandPixels[heightBand(bricks1)], 1u);
+    if (surface2 && withinVolumeAcross(bricks2)) atomicAdd(bandPixels[heightBand(bricks2)], 1u);
+    if (surface3 && withinVolumeAcross(bricks3)) atomicAdd(bandPixels[heightBand(bricks3)], 1u);
     barrier();
     for (uint band = thread; band < kSurfaceHeightBands; band += gl_WorkGroupSize.x * gl_WorkGroupSize.y)
       if (bandPixels[band] > 0u) atomicAdd(pool.surfacePixelsByHeight[band], bandPixels[band]);
   }
-  if (surface) allocate(worldBrick);
+  if (surface0) allocate(bricks0);
+  if (surface1 && bricks1 != bricks0) allocate(bricks1);
+  if (surface2 && bricks2 != bricks0 && bricks2 != bricks1) allocate(bricks2);
+  if (surface3 && bricks3 != bricks0 && bricks3 != bricks1 && bricks3 != bricks2) allocate(bricks3);
 }

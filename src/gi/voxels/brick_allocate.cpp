@@ -10,7 +10,8 @@ BrickAllocate::BrickAllocate(gpu::Device& device)
 void BrickAllocate::record(gpu::CommandList& commands, const VoxelScene& scene, const VoxelFrameInputs& inputs,
                            glm::uvec2 depthSize, uint32_t pixelStride, bool countsHeights) {
   auto scope = commands.scope("ssvgi: BrickAllocate");
-  const glm::uvec2 threads = (depthSize + pixelStride - 1u) / pixelStride;
+  const glm::uvec2 samples = (depthSize + pixelStride - 1u) / pixelStride;
+  const glm::uvec2 threads = (samples + 1u) / 2u;  // 2×2 sample pixels an invocation
   commands.dispatch(countsHeights ? allocatingAndCountingHeights_ : allocating_,
                     scene.bindings()
                         .buffer(shader::kBindGiFrame, inputs.frame)
