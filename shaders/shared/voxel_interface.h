@@ -311,9 +311,13 @@ SSVGI_INLINE uint brickCellIndex(ivec3 worldBrick, ivec3 dimensions) {
   return linearCellIndex(wrapCoordinate(worldBrick, dimensions), dimensions);
 }
 
+SSVGI_INLINE bool brickInVolume(ivec3 worldBrick, ivec3 originBrick, ivec3 dimensionsBricks) {
+  ivec3 local = worldBrick - originBrick;
+  return all(greaterThanEqual(local, ivec3(0))) && all(lessThan(local, dimensionsBricks));
+}
+
 SSVGI_INLINE bool brickInVolume(ivec3 worldBrick, VoxelVolume volume) {
-  ivec3 local = worldBrick - ivec3(volume.originBrick);
-  return all(greaterThanEqual(local, ivec3(0))) && all(lessThan(local, ivec3(volume.dimensionsBricks)));
+  return brickInVolume(worldBrick, ivec3(volume.originBrick), ivec3(volume.dimensionsBricks));
 }
 
 SSVGI_INLINE uint voxelBit(uvec3 voxelInBrick) { return voxelInBrick.x + 4u * voxelInBrick.y + 16u * voxelInBrick.z; }

@@ -43,13 +43,8 @@ uint heightBand(ivec3 worldBrick) {
   return uint(clamp(step - viewpointStep + int(kSurfaceHeightBands / 2u), 0, int(kSurfaceHeightBands) - 1));
 }
 
-bool inVolume(ivec3 worldBrick) {
-  ivec3 fromOrigin = worldBrick - originBrick;
-  return all(greaterThanEqual(fromOrigin, ivec3(0))) && all(lessThan(fromOrigin, dimensions));
-}
-
 void allocate(ivec3 worldBrick) {
-  if (!inVolume(worldBrick)) return;
+  if (!brickInVolume(worldBrick, originBrick, dimensions)) return;
   uint cell = brickCellIndex(worldBrick, dimensions);
   if (brickLookup[cell] != kInvalidBrick) return;  // cheap test first: almost every surface brick already exists
   if (atomicCompSwap(brickLookup[cell], kInvalidBrick, kAllocatingBrick) != kInvalidBrick) return;
@@ -75,7 +70,7 @@ bool surfaceBrick(uvec2 pixel, out ivec3 worldBrick) {
   if (depth <= 0.0) return false;  // 0: nothing drawn, infinitely far
   vec3 position = reconstructPosition(inverseViewProjection, vec2(pixel), vec2(frameSize), depth);
   vec3 normal = normalize(texelFetch(normalBuffer, ivec2(pixel), 0).xyz);
-  worldBrick = ivec3(floor(heldSurfacePoint(position, normal, viewpoint, voxelSize) * bricksPerMetre));
+  worldBrick = worldBrickOf(heldSurfacePoint(position, normal, viewpoint, voxelSize), bricksPerMetre);
   return true;
 }
 

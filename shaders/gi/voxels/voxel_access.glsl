@@ -43,7 +43,8 @@ ivec3 worldBrickOfCell(uint cell) {
 }
 
 // The world brick containing a world position.
-ivec3 worldBrickOf(vec3 position) { return ivec3(floor(position * volume.bricksPerMetre)); }
+ivec3 worldBrickOf(vec3 position, float bricksPerMetre) { return ivec3(floor(position * bricksPerMetre)); }
+ivec3 worldBrickOf(vec3 position) { return worldBrickOf(position, volume.bricksPerMetre); }
 
 // The corner of the scroll step under the camera, which the volume is placed around: its middle, unless the volume
 // stands higher or lower to hold more of what the camera sees (VoxelVolume::verticalShiftBricks).
