@@ -17,13 +17,12 @@ struct GatherFrame {
   ivec3 probesPerAxis;    // of every level
   uint probesPerLevel;
   Sh2Rgb skyRadiance;     // for the sky part of the probes' light (readProbeIrradiance)
-  float ownSurface;       // half a voxel: a voxel this near a point is the point's own surface (probeSeesPoint)
-  VoxelTraceFrame trace;  // for the visibility tests
+  VoxelTraceFrame trace;  // for the visibility tests, and the voxel size
 };
 
 GatherFrame gatherFrame() {
   return GatherFrame(gather.probeLevels, gather.probesPerAxis, uint(gather.probesPerLevel), gather.skyRadiance,
-                     0.5 * volume.voxelSize, voxelTraceFrame());
+                     voxelTraceFrame());
 }
 
 // How far a point lies inside the cells of a level, in spacings; negative when some of its 8 probes are outside it.
@@ -114,7 +113,7 @@ float cornerWeight(CornerProbe probe, float spacing, vec3 position, vec3 normal,
 // Beyond the talk's weights, which it says only ease leaks: a probe with a voxel between it and the point does not light
 // it. The SH2 distance is far too coarse to see a wall a probe stands a few centimetres behind (the virtual offset may
 // put it on either side), and through a closed door the lit room's probes would light the dark one (`ssvgi scenario
-// leak`). A voxel within GatherFrame::ownSurface (half a voxel) of the biased point is the point's own surface. With
+// leak`). A voxel within half a voxel of the biased point is the point's own surface. With
 // `watchesObservedSpace` (FinalGather's, where the probes' rays watch observed space, SPEC §6.4) space between them
 // that no view has observed stops it too, and a hole in a wall's voxels that no view has seen through stops it as the
 // wall would (voxel_trace.glsl). Unknown is not open air either: the walls of a sealed room have holes at first, and a
@@ -126,7 +125,7 @@ bool probeSeesPoint(GatherFrame constants, vec3 probePosition, vec3 biased, bool
   VoxelHit blocker = traceVoxelsNearSurfaces(constants.trace, probePosition, fromProbe / pointDistance, pointDistance,
                                              watchesObservedSpace);
   float reached = min(blocker.unobservedDistance, blocker.distance);
-  return !(blocker.hit || blocker.unobserved) || reached >= pointDistance - constants.ownSurface;
+  return !(blocker.hit || blocker.unobserved) || reached >= pointDistance - 0.5 * constants.trace.voxelSize;
 }
 
 // Irradiance at a surface point from the 8 probes of a level around it, and their confidence, leaving out a probe with

@@ -32,7 +32,7 @@ uint relightPhase(ivec3 coordinate, uint period) {
 }
 
 // Whether the voxel's light was gathered from the probes (the work counted: shared/work_counters.h).
-bool relightVoxel(GatherFrame constants, float voxelSize, uint brick, uint occupiedVoxel) {
+bool relightVoxel(GatherFrame constants, uint brick, uint occupiedVoxel) {
   uint voxelIndex = nthOccupiedVoxel(brick, occupiedVoxel);
   uvec3 voxelInBrick = uvec3(voxelIndex & 3u, (voxelIndex >> 2u) & 3u, voxelIndex >> 4u);
   uint index = brick * kVoxelsPerBrick + voxelIndex;
@@ -43,6 +43,7 @@ bool relightVoxel(GatherFrame constants, float voxelSize, uint brick, uint occup
   if (voxelExtraViewsSinceLitFrame(voxel) == 0u) return false;
 
   ivec3 worldVoxel = bricks[brick].coordinate * int(kBrickSizeVoxels) + ivec3(voxelInBrick);
+  float voxelSize = constants.trace.voxelSize;
   vec3 normal = voxelNormal(voxel);
   uint planeCode = voxelPlaneCode(voxel);
   float planeOffset = planeCode != 0u ? unpackVoxelPlane(planeCode) : 0.0;
@@ -68,7 +69,6 @@ void main() {
   uint end = pool.bumpCount;
   // Read once, not in the loops (gi/voxels/voxel_access.glsl's VolumeLayout says why).
   GatherFrame constants = gatherFrame();
-  float voxelSize = volume.voxelSize;
   uint relitVoxels = 0u;
   uint brickOfWorkgroup = gl_LocalInvocationID.x / kRelightVoxelsAtOnce;
   uint firstVoxel = gl_LocalInvocationID.x % kRelightVoxelsAtOnce;
@@ -82,7 +82,7 @@ void main() {
     uvec2 occupancy = bricks[brick].occupancy;
     uint occupied = uint(bitCount(occupancy.x) + bitCount(occupancy.y));
     for (uint voxel = firstVoxel; voxel < occupied; voxel += kRelightVoxelsAtOnce)
-      if (relightVoxel(constants, voxelSize, brick, voxel)) ++relitVoxels;
+      if (relightVoxel(constants, brick, voxel)) ++relitVoxels;
     brick += stride;
   }
   if (countsWork()) {
