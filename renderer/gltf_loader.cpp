@@ -682,11 +682,13 @@ class GltfConverter {
     } else {
       const tinygltf::Mesh& mesh = model_.meshes[static_cast<size_t>(gltfMesh)];
       for (size_t i = 0; i < mesh.primitives.size(); ++i) {
-        // Points, lines, strips and fans are not drawn.
-        if (mesh.primitives[i].mode != TINYGLTF_MODE_TRIANGLES) continue;
+        // Points and lines are not drawn.
+        if (!drawsTriangles(mesh.primitives[i].mode)) continue;
         const std::string name = mesh.primitives.size() > 1 ? mesh.name + "#" + std::to_string(i) : mesh.name;
         const std::string where = "meshes[" + std::to_string(gltfMesh) + "].primitives[" + std::to_string(i) + "]";
-        meshes.push_back(addMesh(convertPrimitive(mesh.primitives[i], name, where)));
+        Mesh converted = convertPrimitive(mesh.primitives[i], name, where);
+        // A strip or a fan of fewer than three corners has no triangle.
+        if (!converted.indices.empty()) meshes.push_back(addMesh(std::move(converted)));
       }
     }
     return meshCache_.emplace(key, std::move(meshes)).first->second;
@@ -754,7 +756,9 @@ class GltfConverter {
       mesh.indices.resize(vertexCount);
       for (size_t v = 0; v < vertexCount; ++v) mesh.indices[v] = static_cast<uint32_t>(v);
     }
-    if (mesh.indices.size() % 3 != 0) {
+    if (primitive.mode != TINYGLTF_MODE_TRIANGLES) {
+      mesh.indices = triangleList(mesh.indices, primitive.mode);
+    } else if (mesh.indices.size() % 3 != 0) {
       fail(path_, where + " has " + std::to_string(mesh.indices.size()) + " triangle corners, not a multiple of 3");
     }
     if (normals.empty()) {
@@ -763,6 +767,25 @@ class GltfConverter {
       giveFaceNormals(mesh, lacksNormal);
     }
     return mesh;
+  }
+
+  static bool drawsTriangles(int mode) {
+    return mode == TINYGLTF_MODE_TRIANGLES || mode == TINYGLTF_MODE_TRIANGLE_STRIP ||
+           mode == TINYGLTF_MODE_TRIANGLE_FAN;
+  }
+
+  // The triangles of a strip or a fan as a list (glTF 2.0, 3.7.2.1): triangle i of a strip is (v_i, v_{i+1+i%2},
+  // v_{i+2-i%2}) — every other one turned so that all keep the strip's winding — and of a fan (v_{i+1}, v_{i+2}, v_0).
+  static std::vector<uint32_t> triangleList(const std::vector<uint32_t>& corners, int mode) {
+    std::vector<uint32_t> triangles;
+    for (size_t i = 0; i + 2 < corners.size(); ++i) {
+      if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+        triangles.insert(triangles.end(), {corners[i], corners[i + 1 + i % 2], corners[i + 2 - i % 2]});
+      } else {
+        triangles.insert(triangles.end(), {corners[i + 1], corners[i + 2], corners[0]});
+      }
+    }
+    return triangles;
   }
 
   // glTF: "When normals are not specified, client implementations MUST calculate flat normals." Each triangle gets its

@@ -199,6 +199,38 @@ TEST_F(GltfFiles, givesFlatNormalsWhenTheFileHasNone) {
   expectNear(mesh.vertices[mesh.indices[1]].position, {1.0f, 0.0f, 0.0f});
 }
 
+TEST_F(GltfFiles, stripsAndFansBecomeTrianglesWithTheirWinding) {
+  // The unit square at z = 0 as corners (0,0), (1,0), (0,1), (1,1): a strip in that order, a fan from (0,0) by the
+  // indices 0, 1, 3, 2, and the strip again without indices. Counter-clockwise seen from +Z, each triangle of them:
+  // the flat normals (the file has none) come out +Z where the winding is kept, −Z where a triangle is turned.
+  std::string bytes;
+  append<float>(bytes, {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0});
+  append<uint16_t>(bytes, {0, 1, 2, 3, 0, 1, 3, 2});
+  const std::string document =
+      R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "mode": 5},
+                               {"attributes": {"POSITION": 0}, "indices": 2, "mode": 6},
+                               {"attributes": {"POSITION": 0}, "mode": 5}]}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+                  {"bufferView": 1, "componentType": 5123, "count": 4, "type": "SCALAR"},
+                  {"bufferView": 1, "byteOffset": 8, "componentType": 5123, "count": 4, "type": "SCALAR"}],
+    "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 16}],
+    "buffers": [{"byteLength": 64, "uri": ")" + dataUri(bytes) + "\"}]}";
+  const Scene scene = loadGltf(write("strips.gltf", document));
+  ASSERT_EQ(scene.meshes.size(), 3u);
+  for (const Mesh& mesh : scene.meshes) {
+    ASSERT_EQ(mesh.indices.size(), 6u) << mesh.name;
+    float area = 0.0f;
+    for (size_t i = 0; i < mesh.indices.size(); i += 3) {
+      const glm::vec3 a = mesh.vertices[mesh.indices[i]].position, b = mesh.vertices[mesh.indices[i + 1]].position,
+                      c = mesh.vertices[mesh.indices[i + 2]].position;
+      area += 0.5f * glm::cross(b - a, c - a).z;  // signed: negative for a turned triangle
+      expectNear(mesh.vertices[mesh.indices[i]].normal, {0.0f, 0.0f, 1.0f});
+    }
+    EXPECT_NEAR(area, 1.0f, kTolerance) << mesh.name << ": the two triangles cover the square once";
+  }
+}
+
 TEST_F(GltfFiles, mirroredInstanceGetsReversedWindingSoFrontFacesStayFront) {
   const std::string nodes = R"([{"children": [1, 2]}, {"mesh": 0}, {"scale": [-1, 1, 1], "mesh": 0}])";
   const Scene scene = loadGltf(write("mirror.gltf", triangleDocument(nodes, dataUri(triangleBuffer()))));
