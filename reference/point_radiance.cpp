@@ -24,7 +24,7 @@ PointRadianceTracer::PointRadianceTracer(gpu::OwnedDevice& device, const rendere
     : device_(device),
       settings_(settings),
       descriptors_(device),
-      pipeline_(device, shaders::point_radiance_comp),
+      pipeline_(device, shaders::point_radiance_comp, sceneTracingConstants(scene)),
       // The view size only sets the camera's frame constants, which no ray from a point uses.
       scene_(device, scene, state, 1, 1, 1.0f),
       pacer_(settings.secondsPerDispatch),

@@ -35,6 +35,7 @@ SceneTriangles flattenScene(const renderer::Scene& scene, const renderer::Animat
       throw gpu::GpuError("scene '" + scene.name + "': mesh '" + mesh.name + "' has no material " +
                           std::to_string(mesh.material));
     const float materialBits = std::bit_cast<float>(mesh.material);
+    const uint32_t cutsOut = scene.materials[mesh.material].alphaCutoff > 0.0f ? 1u : 0u;
     for (size_t first = 0; first + 2 < mesh.indices.size(); first += 3) {
       const renderer::Vertex& a = mesh.vertices.at(mesh.indices[first]);
       const renderer::Vertex& b = mesh.vertices.at(mesh.indices[first + 1]);
@@ -42,7 +43,7 @@ SceneTriangles flattenScene(const renderer::Scene& scene, const renderer::Animat
       const glm::vec3 worldA(model * glm::vec4(a.position, 1.0f));
       const glm::vec3 worldB(model * glm::vec4(b.position, 1.0f));
       const glm::vec3 worldC(model * glm::vec4(c.position, 1.0f));
-      flat.triangles.push_back({glm::vec4(worldA, 0.0f), glm::vec4(worldB - worldA, 0.0f), glm::vec4(worldC - worldA, 0.0f)});
+      flat.triangles.push_back({worldA, cutsOut, worldB - worldA, 0u, worldC - worldA, 0u});
       flat.shading.push_back({glm::vec4(normalMatrix * a.normal, a.uv.x), glm::vec4(normalMatrix * b.normal, b.uv.x),
                               glm::vec4(normalMatrix * c.normal, c.uv.x),
                               glm::vec4(a.uv.y, b.uv.y, c.uv.y, materialBits)});
@@ -144,6 +145,12 @@ std::vector<shader::GpuLight> lightsOf(const renderer::Scene& scene) {
 }
 
 }  // namespace
+
+gpu::SpecializationConstants sceneTracingConstants(const renderer::Scene& scene) {
+  const bool cutsOut = std::any_of(scene.materials.begin(), scene.materials.end(),
+                                   [](const renderer::Material& material) { return material.alphaCutoff > 0.0f; });
+  return {cutsOut ? 1u : 0u};
+}
 
 TracedScene::TracedScene(gpu::OwnedDevice& device, const renderer::Scene& scene, const renderer::AnimatedState& state,
                          uint32_t width, uint32_t height, float exposure)

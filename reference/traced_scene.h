@@ -3,6 +3,7 @@
 // materials and textures, the delta lights, the table of emissive triangles and the frame constants (sun, sky, camera). Every pass of the reference
 // (PrimaryHits, PathTrace, PointRadiance) traces it through shaders/reference/scene_tracing.glsl.
 #include "gpu/command_list.h"
+#include "gpu/pipelines.h"
 #include "gpu/resources.h"
 #include "gpu_host/owned_device.h"
 #include "scene.h"
@@ -27,6 +28,10 @@ class DispatchPacer {
   double secondsPerDispatch_;
   uint32_t unitsPerDispatch_ = 1;
 };
+
+// The specialization constants of a pass that traces `scene` (scene_tracing.glsl's kSceneCutsOut): a scene none of whose
+// materials cuts its surfaces out traces without looking.
+gpu::SpecializationConstants sceneTracingConstants(const renderer::Scene& scene);
 
 class TracedScene {
  public:

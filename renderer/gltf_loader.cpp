@@ -156,6 +156,7 @@ constexpr double kPi = 3.141592653589793;
 constexpr Interval kFloat{-FLT_MAX, FLT_MAX, "a finite float"};
 constexpr Interval kPositive{kAboveZero, FLT_MAX, "a finite float above 0"};
 constexpr Interval kUnitInterval{0.0, 1.0, "in [0, 1]"};
+constexpr Interval kAlphaCutoff{0.0, FLT_MAX, "a finite float of at least 0"};
 constexpr Interval kEmissiveStrength{0.0, 65504.0, "in [0, 65504] (the largest half float)"};
 constexpr Interval kLightIntensity{0.0, 1e5, "in [0, 1e+05]"};
 constexpr Interval kLightRange{1e-3, FLT_MAX, "a finite float of at least 0.001 m"};
@@ -268,6 +269,8 @@ class DocumentCheck {
 
   void checkMaterial(const Json& material, const std::string& where) const {
     string(material, "name", where);
+    string(material, "alphaMode", where);
+    number(material, "alphaCutoff", where, kAlphaCutoff);
     numbers(material, "emissiveFactor", where, 3, kUnitInterval);
     if (const Json* pbr = object(material, "pbrMetallicRoughness", where)) {
       const std::string at = memberPath(where, "pbrMetallicRoughness");
@@ -939,6 +942,21 @@ class GltfConverter {
     return indices;
   }
 
+  // Material::alphaCutoff of a glTF material: for MASK, where baseColorFactor's alpha × the texture's is below
+  // alphaCutoff — the texture's alpha below alphaCutoff over the factor's (kCutsOutEverywhere where no alpha passes).
+  // BLEND is drawn opaque: the renderer has no transparency.
+  float alphaCutoff(const tinygltf::Material& source, const std::string& where) const {
+    constexpr float kCutsOutEverywhere = 2.0f;  // above any alpha
+    if (source.alphaMode == "OPAQUE" || source.alphaMode == "BLEND") return 0.0f;
+    if (source.alphaMode != "MASK")
+      fail(path_, where + ".alphaMode '" + source.alphaMode + "' is not OPAQUE, MASK or BLEND");
+    const std::vector<double>& factor = source.pbrMetallicRoughness.baseColorFactor;
+    const double factorAlpha = factor.size() == 4 ? factor[3] : 1.0;
+    if (source.alphaCutoff <= 0.0) return 0.0f;
+    if (factorAlpha * kCutsOutEverywhere <= source.alphaCutoff) return kCutsOutEverywhere;
+    return static_cast<float>(source.alphaCutoff / factorAlpha);
+  }
+
   void convertMaterials() {
     for (size_t i = 0; i < model_.materials.size(); ++i) {
       const tinygltf::Material& source = model_.materials[i];
@@ -955,6 +973,7 @@ class GltfConverter {
         strength = static_cast<float>(extension->second.Get("emissiveStrength").GetNumberAsDouble());
       }
       material.emission = rgbOr(source.emissiveFactor, glm::vec3(0.0f)) * strength;
+      material.alphaCutoff = alphaCutoff(source, where);
       scene_.materials.push_back(std::move(material));
     }
   }

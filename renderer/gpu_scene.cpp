@@ -34,10 +34,10 @@ gpu::Image makeTexture(gpu::OwnedDevice& device, const std::string& name, uint32
 
 shader::GpuMaterial toGpuMaterial(const Material& material, size_t textureCount) {
   const uint32_t texture = material.baseColorTexture < textureCount ? material.baseColorTexture : kNoTexture;
-  float textureBits = 0.0f;
-  std::memcpy(&textureBits, &texture, sizeof(float));
-  return shader::GpuMaterial{.baseColorAndTexture = glm::vec4(material.baseColor, textureBits),
-                             .emission = glm::vec4(material.emission, 0.0f)};
+  return shader::GpuMaterial{.baseColor = material.baseColor,
+                             .baseColorTexture = texture,
+                             .emission = material.emission,
+                             .alphaCutoff = material.alphaCutoff};
 }
 
 GpuScene::GpuScene(gpu::OwnedDevice& device, const Scene& scene)
@@ -70,7 +70,8 @@ GpuScene::GpuScene(gpu::OwnedDevice& device, const Scene& scene)
   for (uint32_t i = 0; i < scene.instances.size(); ++i) {
     const Mesh& mesh = scene.meshes.at(scene.instances[i].mesh);
     draws_.push_back({i, mesh.material, meshFirstIndex[scene.instances[i].mesh],
-                      static_cast<uint32_t>(mesh.indices.size()), meshVertexOffset[scene.instances[i].mesh]});
+                      static_cast<uint32_t>(mesh.indices.size()), meshVertexOffset[scene.instances[i].mesh],
+                      scene.materials.at(mesh.material).alphaCutoff > 0.0f});
   }
 
   vertices_ = gpu::Buffer(device, "scene vertices", vertices.size() * sizeof(Vertex), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);

@@ -18,6 +18,7 @@ struct Draw {
   uint32_t firstIndex;
   uint32_t indexCount;
   int32_t vertexOffset;
+  bool cutsOut;  // its material's texture cuts the surface out in places (Material::alphaCutoff)
 };
 
 // The scene's geometry, materials and textures on the GPU, plus the per-frame instance transforms.

@@ -34,6 +34,9 @@ struct Material {
   glm::vec3 baseColor{1.0f};       // linear
   uint32_t baseColorTexture = kNoTexture;
   glm::vec3 emission{0.0f};        // emitted radiance, W/(sr·m²): emissiveFactor × emissive_strength (× texture: not used)
+  // Where the texture's alpha is below this, there is no surface (foliage, fences): glTF's MASK, its alphaCutoff over
+  // the base colour's alpha factor. 0: opaque, everywhere.
+  float alphaCutoff = 0.0f;
 };
 
 // A triangle mesh in its own object space, one material.

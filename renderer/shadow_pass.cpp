@@ -15,11 +15,14 @@ namespace {
 
 constexpr float kLocalNear = 0.02f;  // metres; local shadow frusta start this close to the light
 
-gpu::GraphicsPipelineDesc shadowPipelineDesc() {
+// `cutsOut`: with the fragment shader that leaves out where the material's texture cuts the surface out.
+gpu::GraphicsPipelineDesc shadowPipelineDesc(bool cutsOut) {
   gpu::GraphicsPipelineDesc desc;
   desc.vertexShader = &shaders::shadow_vert;
+  desc.fragmentShader = cutsOut ? &shaders::shadow_frag : nullptr;
   desc.vertexStride = sizeof(Vertex);
-  desc.vertexAttributes = {{0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(Vertex, position)}};
+  desc.vertexAttributes = {{0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(Vertex, position)},
+                           {1, VK_FORMAT_R32G32_SFLOAT, offsetof(Vertex, uv)}};
   desc.depthFormat = VK_FORMAT_D32_SFLOAT;
   desc.depthCompare = VK_COMPARE_OP_LESS_OR_EQUAL;  // shadow maps use standard [0,1] depth
   desc.cullMode = VK_CULL_MODE_NONE;                // thin and open geometry must cast from both sides
@@ -58,7 +61,8 @@ float floatBits(uint32_t value) {
 ShadowPass::ShadowPass(gpu::Device& device, const ShadowSettings& settings)
     : device_(device),
       settings_(settings),
-      pipeline_(device, shadowPipelineDesc()),
+      pipeline_(device, shadowPipelineDesc(false)),
+      cutOutPipeline_(device, shadowPipelineDesc(true)),
       compareSampler_(device, compareSamplerInfo(), "shadow compare sampler"),
       sunMap_(shadowImage(device, "sun shadow map", 1, 1, false)),
       localMaps_(shadowImage(device, "local shadow maps", 1, 1, true)),
@@ -142,6 +146,9 @@ void ShadowPass::record(gpu::HostCommandList& commands, const GpuScene& scene) {
   commands.use(views_, gpu::Usage::GraphicsRead);
   commands.use(scene.vertices(), gpu::Usage::VertexInput);
   commands.use(scene.indices(), gpu::Usage::VertexInput);
+  commands.use(scene.materials(), gpu::Usage::GraphicsRead);
+  for (const Draw& draw : scene.draws())
+    if (draw.cutsOut) commands.use(scene.baseColorTexture(draw.material), gpu::Usage::FragmentSampled);
   const gpu::Bindings bindings = gpu::Bindings()
                                      .buffer(shader::kBindDrawInstances, scene.instances())
                                      .buffer(shader::kBindDrawShadowViews, views_);
@@ -150,17 +157,29 @@ void ShadowPass::record(gpu::HostCommandList& commands, const GpuScene& scene) {
     VkClearValue clear{};
     clear.depthStencil.depth = 1.0f;
     commands.beginRendering({}, {&target, layer, clear});
-    commands.bindGraphics(pipeline_, bindings);
+    const VkDeviceSize offset = 0;
+    const VkBuffer vertexBuffer = scene.vertices().handle();
     // Slope-scaled bias against acne on surfaces at grazing angles to the light; the lighting shader adds a normal
     // offset for the rest.
     vkCmdSetDepthBias(commands.handle(), 1.0f, 0.0f, 1.5f);
-    const VkDeviceSize offset = 0;
-    const VkBuffer vertexBuffer = scene.vertices().handle();
     vkCmdBindVertexBuffers(commands.handle(), 0, 1, &vertexBuffer, &offset);
     vkCmdBindIndexBuffer(commands.handle(), scene.indices().handle(), 0, VK_INDEX_TYPE_UINT32);
+    commands.bindGraphics(pipeline_, bindings);
     for (const Draw& draw : scene.draws()) {
+      if (draw.cutsOut) continue;
       const shader::DrawPush push{draw.instance, draw.material, view, 0};
       commands.pushConstants(pipeline_.layout(), &push, sizeof(push));
+      vkCmdDrawIndexed(commands.handle(), draw.indexCount, 1, draw.firstIndex, draw.vertexOffset, 0);
+    }
+    // Then the draws whose material cuts the surface out, each with its texture.
+    for (const Draw& draw : scene.draws()) {
+      if (!draw.cutsOut) continue;
+      gpu::Bindings withTexture = bindings;
+      withTexture.buffer(shader::kBindDrawMaterials, scene.materials())
+          .sampled(shader::kBindDrawBaseColor, scene.baseColorTexture(draw.material), scene.textureSampler());
+      commands.bindGraphics(cutOutPipeline_, withTexture);
+      const shader::DrawPush push{draw.instance, draw.material, view, 0};
+      commands.pushConstants(cutOutPipeline_.layout(), &push, sizeof(push));
       vkCmdDrawIndexed(commands.handle(), draw.indexCount, 1, draw.firstIndex, draw.vertexOffset, 0);
     }
     commands.endRendering();

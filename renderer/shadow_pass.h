@@ -32,6 +32,7 @@ class ShadowPass {
   gpu::Device& device_;
   ShadowSettings settings_;
   gpu::GraphicsPipeline pipeline_;
+  gpu::GraphicsPipeline cutOutPipeline_;  // for the draws whose material cuts the surface out (Draw::cutsOut)
   gpu::Sampler compareSampler_;
   gpu::Image sunMap_;
   gpu::Image localMaps_;

@@ -17,7 +17,7 @@ using shader::BvhNode;
 using shader::TraceTriangle;
 
 TraceTriangle makeTriangle(glm::vec3 a, glm::vec3 b, glm::vec3 c) {
-  return {glm::vec4(a, 0.0f), glm::vec4(b - a, 0.0f), glm::vec4(c - a, 0.0f)};
+  return {a, 0u, b - a, 0u, c - a, 0u};
 }
 
 // Small triangles of random size and orientation scattered through a 20 m cube.

@@ -231,6 +231,35 @@ TEST_F(GltfFiles, stripsAndFansBecomeTrianglesWithTheirWinding) {
   }
 }
 
+TEST_F(GltfFiles, maskedMaterialsCutOutWhereTheTexturesAlphaFallsBelowTheCutoffOverTheFactorsAlpha) {
+  // glTF's MASK: no surface where baseColorFactor's alpha × the texture's is below alphaCutoff (0.5 unless given), so
+  // the texture's alpha is compared with alphaCutoff / the factor's alpha. OPAQUE and BLEND (no transparency here) cut
+  // nothing; a factor whose alpha no texture can lift to the cutoff cuts everything out (anything above 1).
+  const std::string materials = R"(, "materials": [
+      {"alphaMode": "MASK", "alphaCutoff": 0.25, "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 0.5]}},
+      {"alphaMode": "MASK"},
+      {"alphaMode": "BLEND", "alphaCutoff": 0.7},
+      {"alphaCutoff": 0.7},
+      {"alphaMode": "MASK", "alphaCutoff": 0.6, "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 0.25]}},
+      {"alphaMode": "MASK", "alphaCutoff": 0}])";
+  const std::string document = triangleDocument(R"([{"mesh": 0}])", dataUri(triangleBuffer()), materials);
+  const Scene scene = loadGltf(write("masked.gltf", document));
+  ASSERT_EQ(scene.materials.size(), 7u);  // and glTF's default material, for the triangle, which names none
+  EXPECT_FLOAT_EQ(scene.materials[0].alphaCutoff, 0.5f);
+  EXPECT_FLOAT_EQ(scene.materials[1].alphaCutoff, 0.5f);
+  EXPECT_EQ(scene.materials[2].alphaCutoff, 0.0f);
+  EXPECT_EQ(scene.materials[3].alphaCutoff, 0.0f);
+  EXPECT_GT(scene.materials[4].alphaCutoff, 1.0f);
+  EXPECT_EQ(scene.materials[5].alphaCutoff, 0.0f);
+  EXPECT_EQ(scene.materials[6].alphaCutoff, 0.0f);
+
+  const std::string unknownMode = replaced(document, R"("alphaMode": "BLEND")", R"("alphaMode": "CUTOUT")");
+  const std::string message = loadError(write("unknown-mode.gltf", unknownMode));
+  EXPECT_NE(message.find("materials[2].alphaMode"), std::string::npos) << message;
+  const std::string negative = replaced(document, R"("alphaCutoff": 0.25)", R"("alphaCutoff": -0.25)");
+  EXPECT_NE(loadError(write("negative-cutoff.gltf", negative)).find("alphaCutoff"), std::string::npos);
+}
+
 TEST_F(GltfFiles, mirroredInstanceGetsReversedWindingSoFrontFacesStayFront) {
   const std::string nodes = R"([{"children": [1, 2]}, {"mesh": 0}, {"scale": [-1, 1, 1], "mesh": 0}])";
   const Scene scene = loadGltf(write("mirror.gltf", triangleDocument(nodes, dataUri(triangleBuffer()))));

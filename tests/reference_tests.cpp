@@ -290,6 +290,60 @@ double cornerFormFactor(double a, double b, double h) {
   return (x / rootX * std::atan(y / rootX) + y / rootY * std::atan(x / rootY)) / (2.0 * glm::pi<double>());
 }
 
+// The plane under a 6×6 m rectangle 1 m up whose texture cuts it out in a checker of 1.5 m squares (glTF's MASK:
+// Material::alphaCutoff), lit by the sun from high up: the camera sees the plane through the holes, and the sun lights
+// it through them.
+Scene cutOutScene(float alphaCutoff) {
+  Scene scene = planeScene();
+  renderer::Texture checker{"checker", 8, 8, {}};
+  for (uint32_t y = 0; y < 8; ++y)
+    for (uint32_t x = 0; x < 8; ++x)
+      checker.rgba.insert(checker.rgba.end(), {200, 180, 160, static_cast<uint8_t>(((x / 4 + y / 4) % 2) * 255)});
+  scene.textures.push_back(checker);
+  scene.materials.push_back({"leaves", glm::vec3(0.6f), 0});
+  scene.materials[1].alphaCutoff = alphaCutoff;
+  scene.meshes.push_back(horizontalRectangle(1.0f, 3.0f, 3.0f, false, 1));
+  scene.instances.push_back({1, glm::mat4(1.0f)});
+  scene.sun.enabled = true;
+  scene.sun.direction = renderer::sunDirection(30.0f, 70.0f);
+  scene.sun.illuminance = glm::vec3(5.0f);
+  return scene;
+}
+
+TEST_F(Reference, surfacesCutOutByTheirTextureAreLeftOutAlikeByTheRendererItsShadowsAndThePathTracer) {
+  // Where the texture's alpha is below the cutoff there is no surface: the G-buffer shows what lies behind, the sun's
+  // shadow map casts no shadow, and the path tracer's rays pass. The two must agree on what each pixel sees and on
+  // its direct light, but for the pixels on the edges of the holes (bilinear alpha crossing the cutoff, and the
+  // shadow map's filtered edges): at most 4 % of the pixels. And the holes must matter: against the same rectangle
+  // drawn opaque, over 10 % of the pixels see or are lit differently.
+  constexpr uint32_t kWidth = 96, kHeight = 72;
+  renderer::RendererSettings settings;
+  settings.width = kWidth;
+  settings.height = kHeight;
+  const auto rendered = [&](const Scene& scene) {
+    renderer::Renderer renderer(device(), scene, settings);
+    renderer.render(renderer::evaluateAnimation(scene, scene.cameras[0], 0.0f));
+    return std::make_pair(renderer.viewDistance(), renderer.directIrradiance());
+  };
+  const Scene scene = cutOutScene(0.5f);
+  const auto [distance, direct] = rendered(scene);
+  const auto [opaqueDistance, opaqueDirect] = rendered(cutOutScene(0.0f));
+  auto& tracer = trace(scene, kWidth, kHeight, 1);
+  const FloatImage tracedDistance = tracer.viewDistance(), tracedDirect = tracer.directIrradiance();
+
+  uint32_t disagree = 0, cutOut = 0;
+  for (uint32_t pixel = 0; pixel < kWidth * kHeight; ++pixel) {
+    const float seen = channel(distance, pixel, 0), light = channel(direct, pixel, 0);
+    const bool sameSurface = std::abs(channel(tracedDistance, pixel, 0) - seen) <= 1e-3f * seen;
+    const bool sameLight = std::abs(channel(tracedDirect, pixel, 0) - light) <= 0.05f * 5.0f;
+    disagree += !(sameSurface && sameLight);
+    cutOut += std::abs(channel(opaqueDistance, pixel, 0) - seen) > 1e-3f * seen ||
+              std::abs(channel(opaqueDirect, pixel, 0) - light) > 0.05f * 5.0f;
+  }
+  EXPECT_LE(disagree, kWidth * kHeight * 4 / 100);
+  EXPECT_GE(cutOut, kWidth * kHeight / 10);
+}
+
 TEST_F(Reference, rectangularEmitterGivesThePointBelowItsCentrePiTimesRadianceTimesFormFactor) {
   // A 1 × 0.6 m rectangle of radiance L, 1 m over a black floor (nothing reflects, no sky): at the point below its
   // centre E_indirect = π·L·F, F the sum of the four corner rectangles' form factors. The view is 9 × 9 pixels

@@ -60,12 +60,12 @@ vec3 emitterIrradiance(vec3 position, vec3 normal, vec3 shadowOrigin, uint emitt
   TraceTriangle triangle = triangles[emitter.triangle];
   vec2 square = nextRandom2(random);
   float root = sqrt(square.x);
-  vec3 point = triangle.vertex0.xyz + root * (1.0 - square.y) * triangle.edge1.xyz + root * square.y * triangle.edge2.xyz;
+  vec3 point = triangle.vertex0 + root * (1.0 - square.y) * triangle.edge1 + root * square.y * triangle.edge2;
   vec3 toEmitter = point - position;
   float distanceSquared = dot(toEmitter, toEmitter);
   vec3 direction = toEmitter * inversesqrt(distanceSquared);
   float cosine = dot(normal, direction);
-  vec3 doubleAreaNormal = cross(triangle.edge1.xyz, triangle.edge2.xyz);
+  vec3 doubleAreaNormal = cross(triangle.edge1, triangle.edge2);
   float doubleArea = length(doubleAreaNormal);
   vec3 emitterNormal = doubleAreaNormal / doubleArea;
   float emitterCosine = abs(dot(emitterNormal, direction));
@@ -76,7 +76,7 @@ vec3 emitterIrradiance(vec3 position, vec3 normal, vec3 shadowOrigin, uint emitt
   vec3 shadowRay = shadowEnd - shadowOrigin;
   float shadowDistance = length(shadowRay);
   if (occluded(shadowOrigin, shadowRay / shadowDistance, shadowDistance)) return vec3(0.0);
-  vec3 emission = materials[floatBitsToUint(shading[emitter.triangle].texcoordVAndMaterial.w)].emission.rgb;
+  vec3 emission = materials[floatBitsToUint(shading[emitter.triangle].texcoordVAndMaterial.w)].emission;
   // The two densities of y as the vertex's cosine-sampled ray would meet it: from the ray origin (`shadowOrigin`),
   // which extendPath uses for the point it hits, so that the two weights of one point sum to 1.
   vec3 fromOrigin = point - shadowOrigin;

@@ -16,6 +16,51 @@ layout(binding = kBindTraceLights) readonly buffer Lights { GpuLight lights[]; }
 layout(binding = kBindTraceEmitters) readonly buffer Emitters { EmissiveTriangle emitters[]; };
 
 const float kInfiniteDistance = 3.0e38;
+// Whether any of the scene's materials cuts its surfaces out (sceneTracingConstants): a pipeline of its own for a scene
+// none of whose do, since lavapipe would run cutOut's reads for every triangle a ray meets, taken or not.
+layout(constant_id = 0) const bool kSceneCutsOut = true;
+
+vec3 srgbToLinear(vec3 srgb) {
+  return mix(srgb / 12.92, pow((srgb + 0.055) / 1.055, vec3(2.4)), greaterThan(srgb, vec3(0.04045)));
+}
+
+// A texel, its colour decoded to linear (its alpha is linear).
+vec4 texelColour(PackedTexture image, ivec2 texel) {
+  ivec2 size = ivec2(image.width, image.height);
+  ivec2 wrapped = ((texel % size) + size) % size;  // repeat, also for negative coordinates
+  vec4 packedTexel = unpackUnorm4x8(texels[image.firstTexel + uint(wrapped.y) * image.width + uint(wrapped.x)]);
+  return vec4(srgbToLinear(packedTexel.rgb), packedTexel.a);
+}
+
+// What the renderer's sampler returns for an sRGB texture: texels decoded to linear first, then filtered bilinearly
+// with repeat addressing (the scene textures have a single mip level).
+vec4 sampleTexture(uint textureIndex, vec2 uv) {
+  PackedTexture image = textures[textureIndex];
+  vec2 position = uv * vec2(image.width, image.height) - 0.5;
+  vec2 cell = floor(position);
+  vec2 weight = position - cell;
+  ivec2 texel = ivec2(cell);
+  vec4 top = mix(texelColour(image, texel), texelColour(image, texel + ivec2(1, 0)), weight.x);
+  vec4 bottom = mix(texelColour(image, texel + ivec2(0, 1)), texelColour(image, texel + ivec2(1, 1)), weight.x);
+  return mix(top, bottom, weight.y);
+}
+
+// The texture coordinates of a point of a triangle, at barycentric weights of its three vertices.
+vec2 triangleTexcoord(TriangleShading attributes, vec3 weights) {
+  return weights.x * vec2(attributes.normal0AndU0.w, attributes.texcoordVAndMaterial.x) +
+         weights.y * vec2(attributes.normal1AndU1.w, attributes.texcoordVAndMaterial.y) +
+         weights.z * vec2(attributes.normal2AndU2.w, attributes.texcoordVAndMaterial.z);
+}
+
+// Whether the point of a triangle at barycentrics (of vertices 1 and 2) is cut out of its surface, as the G-buffer
+// leaves it out (Material::alphaCutoff; TraceTriangle::cutsOut tells which triangles to ask).
+bool cutOut(uint triangle, vec2 barycentrics) {
+  TriangleShading attributes = shading[triangle];
+  GpuMaterial material = materials[floatBitsToUint(attributes.texcoordVAndMaterial.w)];
+  if (material.alphaCutoff <= 0.0 || material.baseColorTexture == kNoTexture) return material.alphaCutoff > 1.0;
+  vec3 weights = vec3(1.0 - barycentrics.x - barycentrics.y, barycentrics);
+  return sampleTexture(material.baseColorTexture, triangleTexcoord(attributes, weights)).a < material.alphaCutoff;
+}
 
 struct RayHit {
   float distance;      // along the (unit) ray direction
@@ -69,8 +114,8 @@ bool traceRay(vec3 origin, vec3 direction, float maxDistance, bool anyHit, out R
     uint first = floatBitsToUint(current.boundsMinAndFirst.w);
     for (uint i = first; i < first + count; ++i) {
       TraceTriangle triangle = triangles[i];
-      vec3 tuv = intersectTriangle(origin, direction, triangle.vertex0.xyz, triangle.edge1.xyz, triangle.edge2.xyz);
-      if (tuv.x > 0.0 && tuv.x < hit.distance) {
+      vec3 tuv = intersectTriangle(origin, direction, triangle.vertex0, triangle.edge1, triangle.edge2);
+      if (tuv.x > 0.0 && tuv.x < hit.distance && (!kSceneCutsOut || triangle.cutsOut == 0u || !cutOut(i, tuv.yz))) {
         hit.distance = tuv.x;
         hit.triangle = i;
         hit.barycentrics = tuv.yz;
@@ -105,30 +150,6 @@ vec3 offsetRayOrigin(vec3 position, vec3 geometricNormal) {
   return position + geometricNormal * (1e-4 * max(1.0, max(max(magnitude.x, magnitude.y), magnitude.z)));
 }
 
-vec3 srgbToLinear(vec3 srgb) {
-  return mix(srgb / 12.92, pow((srgb + 0.055) / 1.055, vec3(2.4)), greaterThan(srgb, vec3(0.04045)));
-}
-
-vec3 texelColour(PackedTexture image, ivec2 texel) {
-  ivec2 size = ivec2(image.width, image.height);
-  ivec2 wrapped = ((texel % size) + size) % size;  // repeat, also for negative coordinates
-  uint packedTexel = texels[image.firstTexel + uint(wrapped.y) * image.width + uint(wrapped.x)];
-  return srgbToLinear(unpackUnorm4x8(packedTexel).rgb);
-}
-
-// What the renderer's sampler returns for an sRGB texture: texels decoded to linear first, then filtered bilinearly
-// with repeat addressing (the scene textures have a single mip level).
-vec3 sampleTexture(uint textureIndex, vec2 uv) {
-  PackedTexture image = textures[textureIndex];
-  vec2 position = uv * vec2(image.width, image.height) - 0.5;
-  vec2 cell = floor(position);
-  vec2 weight = position - cell;
-  ivec2 texel = ivec2(cell);
-  vec3 top = mix(texelColour(image, texel), texelColour(image, texel + ivec2(1, 0)), weight.x);
-  vec3 bottom = mix(texelColour(image, texel + ivec2(0, 1)), texelColour(image, texel + ivec2(1, 1)), weight.x);
-  return mix(top, bottom, weight.y);
-}
-
 struct Surface {
   vec3 position;
   vec3 geometricNormal;  // both normals face the side the ray came from (two-sided surfaces)
@@ -143,8 +164,8 @@ Surface surfaceAt(vec3 direction, RayHit hit) {
   vec3 weights = vec3(1.0 - hit.barycentrics.x - hit.barycentrics.y, hit.barycentrics);
   Surface surface;
   // On the triangle's plane exactly, rather than origin + t·direction, which rounding can put on either side.
-  surface.position = triangle.vertex0.xyz + hit.barycentrics.x * triangle.edge1.xyz + hit.barycentrics.y * triangle.edge2.xyz;
-  surface.geometricNormal = normalize(cross(triangle.edge1.xyz, triangle.edge2.xyz));
+  surface.position = triangle.vertex0 + hit.barycentrics.x * triangle.edge1 + hit.barycentrics.y * triangle.edge2;
+  surface.geometricNormal = normalize(cross(triangle.edge1, triangle.edge2));
   surface.normal = normalize(weights.x * attributes.normal0AndU0.xyz + weights.y * attributes.normal1AndU1.xyz +
                              weights.z * attributes.normal2AndU2.xyz);
   // A counter-clockwise triangle faces the ray when its geometric normal opposes it; otherwise it is seen from behind
@@ -154,15 +175,10 @@ Surface surfaceAt(vec3 direction, RayHit hit) {
     surface.normal = -surface.normal;
   }
   GpuMaterial material = materials[floatBitsToUint(attributes.texcoordVAndMaterial.w)];
-  surface.albedo = material.baseColorAndTexture.rgb;
-  uint textureIndex = floatBitsToUint(material.baseColorAndTexture.w);
-  if (textureIndex != kNoTexture) {
-    vec2 uv = weights.x * vec2(attributes.normal0AndU0.w, attributes.texcoordVAndMaterial.x) +
-              weights.y * vec2(attributes.normal1AndU1.w, attributes.texcoordVAndMaterial.y) +
-              weights.z * vec2(attributes.normal2AndU2.w, attributes.texcoordVAndMaterial.z);
-    surface.albedo *= sampleTexture(textureIndex, uv);
-  }
-  surface.emission = material.emission.rgb;
+  surface.albedo = material.baseColor;
+  if (material.baseColorTexture != kNoTexture)
+    surface.albedo *= sampleTexture(material.baseColorTexture, triangleTexcoord(attributes, weights)).rgb;
+  surface.emission = material.emission;
   return surface;
 }
 

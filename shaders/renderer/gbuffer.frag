@@ -18,10 +18,10 @@ layout(location = 3) out vec2 outMotion;
 
 void main() {
   GpuMaterial material = materials[draw.material];
-  vec3 albedo = material.baseColorAndTexture.rgb;
-  if (floatBitsToUint(material.baseColorAndTexture.w) != kNoTexture) {
-    albedo *= texture(baseColorTexture, inUv).rgb;  // the view is sRGB: decoded to linear by the sampler
-  }
+  // The view is sRGB: decoded to linear by the sampler.
+  vec4 texel = material.baseColorTexture != kNoTexture ? texture(baseColorTexture, inUv) : vec4(1.0);
+  if (texel.a < material.alphaCutoff) discard;  // cut out (Material::alphaCutoff)
+  vec3 albedo = material.baseColor * texel.rgb;
   // Two-sided: a back face seen from the camera shades with the normal facing the camera.
   vec3 normal = normalize(inNormal);
   if (!gl_FrontFacing) normal = -normal;

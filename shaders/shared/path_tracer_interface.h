@@ -24,9 +24,12 @@ SSVGI_CHECK_SIZE(BvhNode, 32);
 
 // A world-space triangle as the ray test reads it (Möller–Trumbore: a vertex and two edges), in BVH leaf order.
 struct TraceTriangle {
-  vec4 vertex0;  // xyz
-  vec4 edge1;    // xyz: vertex1 - vertex0
-  vec4 edge2;    // xyz: vertex2 - vertex0
+  vec3 vertex0;
+  uint cutsOut;   // 1 where its material's texture cuts it out in places (Material::alphaCutoff): a hit looks there
+  vec3 edge1;     // vertex1 - vertex0
+  uint padding1;
+  vec3 edge2;     // vertex2 - vertex0
+  uint padding2;
 };
 SSVGI_CHECK_SIZE(TraceTriangle, 48);
 

@@ -87,8 +87,10 @@ struct GpuInstance {
 SSVGI_CHECK_SIZE(GpuInstance, 192);
 
 struct GpuMaterial {
-  vec4 baseColorAndTexture;     // rgb: linear base colour; w: texture index as float bits, kNoTexture when none
-  vec4 emission;                // rgb: emitted radiance, W/(sr·m²)
+  vec3 baseColor;               // linear
+  uint baseColorTexture;        // kNoTexture when none
+  vec3 emission;                // emitted radiance, W/(sr·m²)
+  float alphaCutoff;            // Material::alphaCutoff: the texture's alpha below which the surface is cut out
 };
 SSVGI_CHECK_SIZE(GpuMaterial, 32);
 
