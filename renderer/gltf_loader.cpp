@@ -944,17 +944,20 @@ class GltfConverter {
 
   // Material::alphaCutoff of a glTF material: for MASK, where baseColorFactor's alpha × the texture's is below
   // alphaCutoff — the texture's alpha below alphaCutoff over the factor's (kCutsOutEverywhere where no alpha passes).
-  // BLEND is drawn opaque: the renderer has no transparency.
+  // The renderer has no transparency: BLEND is cut out where the alpha is below one half (kBlendCutoff), so that a
+  // window's glass, mostly clear, lets the light through and a decal, mostly opaque, stays.
   float alphaCutoff(const tinygltf::Material& source, const std::string& where) const {
     constexpr float kCutsOutEverywhere = 2.0f;  // above any alpha
-    if (source.alphaMode == "OPAQUE" || source.alphaMode == "BLEND") return 0.0f;
-    if (source.alphaMode != "MASK")
+    constexpr double kBlendCutoff = 0.5;
+    if (source.alphaMode == "OPAQUE") return 0.0f;
+    if (source.alphaMode != "MASK" && source.alphaMode != "BLEND")
       fail(path_, where + ".alphaMode '" + source.alphaMode + "' is not OPAQUE, MASK or BLEND");
+    const double cutoff = source.alphaMode == "BLEND" ? kBlendCutoff : source.alphaCutoff;
     const std::vector<double>& factor = source.pbrMetallicRoughness.baseColorFactor;
     const double factorAlpha = factor.size() == 4 ? factor[3] : 1.0;
-    if (source.alphaCutoff <= 0.0) return 0.0f;
-    if (factorAlpha * kCutsOutEverywhere <= source.alphaCutoff) return kCutsOutEverywhere;
-    return static_cast<float>(source.alphaCutoff / factorAlpha);
+    if (cutoff <= 0.0) return 0.0f;
+    if (factorAlpha * kCutsOutEverywhere <= cutoff) return kCutsOutEverywhere;
+    return static_cast<float>(cutoff / factorAlpha);
   }
 
   void convertMaterials() {

@@ -233,8 +233,9 @@ TEST_F(GltfFiles, stripsAndFansBecomeTrianglesWithTheirWinding) {
 
 TEST_F(GltfFiles, maskedMaterialsCutOutWhereTheTexturesAlphaFallsBelowTheCutoffOverTheFactorsAlpha) {
   // glTF's MASK: no surface where baseColorFactor's alpha × the texture's is below alphaCutoff (0.5 unless given), so
-  // the texture's alpha is compared with alphaCutoff / the factor's alpha. OPAQUE and BLEND (no transparency here) cut
-  // nothing; a factor whose alpha no texture can lift to the cutoff cuts everything out (anything above 1).
+  // the texture's alpha is compared with alphaCutoff / the factor's alpha. BLEND (no transparency here) is cut out
+  // below one half, whatever alphaCutoff says; OPAQUE cuts nothing. A factor whose alpha no texture can lift to the
+  // cutoff cuts everything out (anything above 1).
   const std::string materials = R"(, "materials": [
       {"alphaMode": "MASK", "alphaCutoff": 0.25, "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 0.5]}},
       {"alphaMode": "MASK"},
@@ -247,7 +248,7 @@ TEST_F(GltfFiles, maskedMaterialsCutOutWhereTheTexturesAlphaFallsBelowTheCutoffO
   ASSERT_EQ(scene.materials.size(), 7u);  // and glTF's default material, for the triangle, which names none
   EXPECT_FLOAT_EQ(scene.materials[0].alphaCutoff, 0.5f);
   EXPECT_FLOAT_EQ(scene.materials[1].alphaCutoff, 0.5f);
-  EXPECT_EQ(scene.materials[2].alphaCutoff, 0.0f);
+  EXPECT_FLOAT_EQ(scene.materials[2].alphaCutoff, 0.5f);
   EXPECT_EQ(scene.materials[3].alphaCutoff, 0.0f);
   EXPECT_GT(scene.materials[4].alphaCutoff, 1.0f);
   EXPECT_EQ(scene.materials[5].alphaCutoff, 0.0f);
