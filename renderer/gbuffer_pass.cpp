@@ -51,7 +51,10 @@ void GBufferPass::record(gpu::HostCommandList& commands, const GpuScene& scene, 
   commands.use(scene.materials(), gpu::Usage::GraphicsRead);
   commands.use(scene.vertices(), gpu::Usage::VertexInput);
   commands.use(scene.indices(), gpu::Usage::VertexInput);
-  for (const Draw& draw : scene.draws()) commands.use(scene.baseColorTexture(draw.material), gpu::Usage::FragmentSampled);
+  for (const Draw& draw : scene.draws()) {
+    commands.use(scene.baseColorTexture(draw.material), gpu::Usage::FragmentSampled);
+    commands.use(scene.emissionTexture(draw.material), gpu::Usage::FragmentSampled);
+  }
 
   const VkClearValue black{};
   VkClearValue farDepth{};
@@ -67,6 +70,8 @@ void GBufferPass::record(gpu::HostCommandList& commands, const GpuScene& scene, 
                                          .buffer(shader::kBindDrawInstances, scene.instances())
                                          .buffer(shader::kBindDrawMaterials, scene.materials())
                                          .sampled(shader::kBindDrawBaseColor, scene.baseColorTexture(draw.material),
+                                                  scene.textureSampler())
+                                         .sampled(shader::kBindDrawEmission, scene.emissionTexture(draw.material),
                                                   scene.textureSampler()));
     vkCmdBindVertexBuffers(commands.handle(), 0, 1, &vertexBuffer, &offset);
     vkCmdBindIndexBuffer(commands.handle(), scene.indices().handle(), 0, VK_INDEX_TYPE_UINT32);

@@ -272,6 +272,9 @@ class DocumentCheck {
     string(material, "alphaMode", where);
     number(material, "alphaCutoff", where, kAlphaCutoff);
     numbers(material, "emissiveFactor", where, 3, kUnitInterval);
+    if (const Json* texture = object(material, "emissiveTexture", where)) {
+      index(*texture, "index", memberPath(where, "emissiveTexture"));
+    }
     if (const Json* pbr = object(material, "pbrMetallicRoughness", where)) {
       const std::string at = memberPath(where, "pbrMetallicRoughness");
       numbers(*pbr, "baseColorFactor", at, 4, kUnitInterval);
@@ -976,6 +979,8 @@ class GltfConverter {
         strength = static_cast<float>(extension->second.Get("emissiveStrength").GetNumberAsDouble());
       }
       material.emission = rgbOr(source.emissiveFactor, glm::vec3(0.0f)) * strength;
+      if (material.emission != glm::vec3(0.0f))
+        material.emissionTexture = textureFor(source.emissiveTexture, where + ".emissiveTexture");
       material.alphaCutoff = alphaCutoff(source, where);
       scene_.materials.push_back(std::move(material));
     }

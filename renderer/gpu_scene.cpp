@@ -33,11 +33,12 @@ gpu::Image makeTexture(gpu::OwnedDevice& device, const std::string& name, uint32
 }  // namespace
 
 shader::GpuMaterial toGpuMaterial(const Material& material, size_t textureCount) {
-  const uint32_t texture = material.baseColorTexture < textureCount ? material.baseColorTexture : kNoTexture;
+  const auto known = [&](uint32_t texture) { return texture < textureCount ? texture : kNoTexture; };
   return shader::GpuMaterial{.baseColor = material.baseColor,
-                             .baseColorTexture = texture,
+                             .baseColorTexture = known(material.baseColorTexture),
                              .emission = material.emission,
-                             .alphaCutoff = material.alphaCutoff};
+                             .alphaCutoff = material.alphaCutoff,
+                             .emissionTexture = known(material.emissionTexture)};
 }
 
 GpuScene::GpuScene(gpu::OwnedDevice& device, const Scene& scene)
@@ -51,8 +52,7 @@ GpuScene::GpuScene(gpu::OwnedDevice& device, const Scene& scene)
   std::vector<shader::GpuMaterial> materials;
   for (const Material& material : scene.materials) {
     materials.push_back(toGpuMaterial(material, scene.textures.size()));
-    materialTextures_.push_back(material.baseColorTexture < scene.textures.size() ? material.baseColorTexture
-                                                                                  : kNoTexture);
+    materialTextures_.push_back({materials.back().baseColorTexture, materials.back().emissionTexture});
   }
   if (materials.empty()) throw gpu::GpuError("scene '" + scene.name + "' has no materials");
 
@@ -102,7 +102,14 @@ void GpuScene::updateInstances(const Scene& scene, const AnimatedState& state) {
 }
 
 const gpu::Image& GpuScene::baseColorTexture(uint32_t material) const {
-  const uint32_t texture = materialTextures_.at(material);
+  return textureOrWhite(materialTextures_.at(material).baseColor);
+}
+
+const gpu::Image& GpuScene::emissionTexture(uint32_t material) const {
+  return textureOrWhite(materialTextures_.at(material).emission);
+}
+
+const gpu::Image& GpuScene::textureOrWhite(uint32_t texture) const {
   return texture == kNoTexture ? whiteTexture_ : textures_[texture];
 }
 

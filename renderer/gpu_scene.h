@@ -34,14 +34,22 @@ class GpuScene {
   const gpu::Buffer& instances() const { return instances_; }
   const gpu::Buffer& materials() const { return materials_; }
   const std::vector<Draw>& draws() const { return draws_; }
-  // The base colour texture of a material (a 1×1 white one when it has none).
+  // The base colour and the emission texture of a material (a 1×1 white one where it has none).
   const gpu::Image& baseColorTexture(uint32_t material) const;
+  const gpu::Image& emissionTexture(uint32_t material) const;
   VkSampler textureSampler() const { return sampler_.handle(); }
 
  private:
+  const gpu::Image& textureOrWhite(uint32_t texture) const;
+
+  // A material's textures: indices into textures_, kNoTexture where it has none.
+  struct MaterialTextures {
+    uint32_t baseColor;
+    uint32_t emission;
+  };
   std::vector<gpu::Image> textures_;
   gpu::Image whiteTexture_;
-  std::vector<uint32_t> materialTextures_;
+  std::vector<MaterialTextures> materialTextures_;
   gpu::Sampler sampler_;
   gpu::Buffer vertices_;
   gpu::Buffer indices_;

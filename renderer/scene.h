@@ -33,7 +33,8 @@ struct Material {
   std::string name;
   glm::vec3 baseColor{1.0f};       // linear
   uint32_t baseColorTexture = kNoTexture;
-  glm::vec3 emission{0.0f};        // emitted radiance, W/(sr·m²): emissiveFactor × emissive_strength (× texture: not used)
+  glm::vec3 emission{0.0f};        // emitted radiance, W/(sr·m²): emissiveFactor × emissive_strength, times
+  uint32_t emissionTexture = kNoTexture;  // this texture (decoded from sRGB) where there is one
   // Where the texture's alpha is below this, there is no surface (foliage, fences): glTF's MASK, its alphaCutoff over
   // the base colour's alpha factor. 0: opaque, everywhere.
   float alphaCutoff = 0.0f;

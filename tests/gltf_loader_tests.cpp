@@ -408,6 +408,32 @@ TEST_F(GltfFiles, storesBaseColorTexturesAsRgba8EvenFromGreyImages) {
   EXPECT_EQ(scene.materials[0].baseColorTexture, 0u);
 }
 
+TEST_F(GltfFiles, emissionTexturesScaleTheEmissiveFactorAndAreNotLoadedWhereNothingEmits) {
+  // The same 2×1 PNG as the emissive texture of a material that emits and of one whose emissiveFactor is glTF's
+  // default, black: the texture multiplies the factor, so only the first needs it.
+  const std::string greyPng =
+      "data:image/"
+      "png;base64,iVBORw0KGgoAAAANSUhEUgAAAAIAAAABCAAAAADRSSBWAAAAC0lEQVR4nGNgOAEAAMsAyWnIw2wAAAAASUVORK5CYII=";
+  std::string document =
+      triangleDocument(R"([{"mesh": 0}])", dataUri(triangleBuffer()),
+                       R"(, "materials": [{"emissiveFactor": [1, 0.5, 0], "emissiveTexture": {"index": 0}},
+                                          {"emissiveTexture": {"index": 0}}],
+      "textures": [{"source": 0}], "images": [{"name": "grey", "uri": ")" +
+                           greyPng + "\"}]");
+  document = replaced(document, R"("indices": 1})", R"("indices": 1, "material": 0})");
+  const Scene scene = loadGltf(write("emissive.gltf", document));
+  ASSERT_EQ(scene.textures.size(), 1u);
+  expectNear(scene.materials[0].emission, {1.0f, 0.5f, 0.0f});
+  EXPECT_EQ(scene.materials[0].emissionTexture, 0u);
+  EXPECT_EQ(scene.materials[0].baseColorTexture, kNoTexture);
+  expectNear(scene.materials[1].emission, glm::vec3(0.0f));
+  EXPECT_EQ(scene.materials[1].emissionTexture, kNoTexture);
+  const std::string message =
+      loadError(write("missing.gltf", replaced(document, R"("emissiveTexture": {"index": 0}},)",
+                                               R"("emissiveTexture": {"index": 3}},)")));
+  EXPECT_NE(message.find("materials[0].emissiveTexture"), std::string::npos) << message;
+}
+
 // ---- Broken files ----
 
 TEST_F(GltfFiles, missingFileIsAnError) {

@@ -370,6 +370,59 @@ TEST_F(Reference, rectangularEmitterGivesThePointBelowItsCentrePiTimesRadianceTi
   }
 }
 
+// A 64 × 1 texture black in its left half and white in its right: on horizontalRectangle's texture coordinates (u from
+// −1 to 1 across x) it is white where x lies in [−w/2, 0) or [w/2, w) of a half-width w.
+renderer::Texture halfWhiteTexture() {
+  renderer::Texture texture{"half white", 64, 1, {}};
+  for (uint32_t x = 0; x < 64; ++x) {
+    const uint8_t value = x < 32 ? 0 : 255;
+    texture.rgba.insert(texture.rgba.end(), {value, value, value, 255});
+  }
+  return texture;
+}
+
+TEST_F(Reference, anEmissionTextureScalesTheEmissionWhereverTheRendererAndThePathsMeetIt) {
+  // The emitter of the test above with the half-white texture as its emission texture, over a black floor: the white
+  // strips, each a difference of corner rectangles, give the point below its centre E = π·L·2·F(w, d, h) — half the
+  // whole panel's — with the bilinear ramps at the texel edges (a texel of 64 each) symmetric about the step, so no
+  // error of their own. Half the emitter samples fall on black, which takes the relative standard deviation of a
+  // sample to about 1: 65,536 samples leave σ = 0.4 %, and 2 % is 5 σ.
+  constexpr float kHeight = 1.0f, kHalfWidth = 0.5f, kHalfDepth = 0.3f;
+  const glm::vec3 radiance(15.0f, 10.0f, 5.0f);
+  Scene scene = planeScene();
+  scene.materials[0].baseColor = glm::vec3(0.0f);
+  scene.textures.push_back(halfWhiteTexture());
+  scene.materials.push_back({"panel", glm::vec3(0.0f), renderer::kNoTexture, radiance, 0});
+  scene.meshes.push_back(horizontalRectangle(kHeight, kHalfWidth, kHalfDepth, true, 1));
+  scene.instances.push_back({1, glm::mat4(1.0f)});
+  const FloatImage indirect = trace(scene, 3, 3, 65536, shortDispatches()).indirectIrradiance();
+  const double formFactor = 2.0 * cornerFormFactor(kHalfWidth, kHalfDepth, kHeight);
+  for (uint32_t c = 0; c < 3; ++c) {
+    const double expected = glm::pi<double>() * radiance[c] * formFactor;
+    EXPECT_NEAR(channel(indirect, 4, c), expected, 0.02 * expected) << "channel " << c;
+  }
+
+  // Seen from the camera, the renderer's G-buffer and the path tracer's first hits show the same emission (the
+  // floor and the panel reflect nothing): within the hardware sampler's 8-bit filter weights, 1 % of L. From closer,
+  // so that the panel fills much of the view.
+  scene.cameras[0] = camera({0.0f, 2.5f, 1.5f}, {0.0f, 1.0f, 0.0f}, 60.0f);
+  constexpr uint32_t kWidth = 48, kHeightPixels = 36;
+  renderer::RendererSettings settings;
+  settings.width = kWidth;
+  settings.height = kHeightPixels;
+  renderer::Renderer renderer(device(), scene, settings);
+  renderer.render(renderer::evaluateAnimation(scene, scene.cameras[0], 0.0f));
+  const FloatImage shown = renderer.finalRadiance();
+  const FloatImage traced = trace(scene, kWidth, kHeightPixels, 1).finalRadiance();
+  uint32_t bright = 0;
+  for (uint32_t pixel = 0; pixel < kWidth * kHeightPixels; ++pixel) {
+    for (uint32_t c = 0; c < 3; ++c)
+      ASSERT_NEAR(channel(traced, pixel, c), channel(shown, pixel, c), 0.01f * radiance[c]) << "pixel " << pixel;
+    bright += channel(shown, pixel, 0) > 0.9f * radiance[0];
+  }
+  EXPECT_GT(bright, 20u);  // the white strips are in view
+}
+
 // A closed 2 × 2 × 2 m room of albedo 0.7 (x, z ∈ [−1, 1], y ∈ [0, 2]) lit only by a 0.6 × 0.4 m panel of radiance
 // (15, 12, 8). By default it hangs 0.4 m below the ceiling, a rectangle with no thickness, its front face down and its
 // back lighting the ceiling; the camera stands inside and sees the floor, the back wall and the panel. With

@@ -76,15 +76,21 @@ vec3 emitterIrradiance(vec3 position, vec3 normal, vec3 shadowOrigin, uint emitt
   vec3 shadowRay = shadowEnd - shadowOrigin;
   float shadowDistance = length(shadowRay);
   if (occluded(shadowOrigin, shadowRay / shadowDistance, shadowDistance)) return vec3(0.0);
-  vec3 emission = materials[floatBitsToUint(shading[emitter.triangle].texcoordVAndMaterial.w)].emission;
+  TriangleShading attributes = shading[emitter.triangle];
+  GpuMaterial material = materials[floatBitsToUint(attributes.texcoordVAndMaterial.w)];
+  vec3 emission = material.emission;
+  if (material.emissionTexture != kNoTexture) {
+    vec3 weights = vec3(1.0 - root, root * (1.0 - square.y), root * square.y);
+    emission *= sampleTexture(material.emissionTexture, triangleTexcoord(attributes, weights)).rgb;
+  }
   // The two densities of y as the vertex's cosine-sampled ray would meet it: from the ray origin (`shadowOrigin`),
   // which extendPath uses for the point it hits, so that the two weights of one point sum to 1.
   vec3 fromOrigin = point - shadowOrigin;
   float originDistanceSquared = dot(fromOrigin, fromOrigin);
   vec3 originDirection = fromOrigin * inversesqrt(originDistanceSquared);
   float weight = powerHeuristic(
-      emitterPointDensity(emissionLuminance(emission), originDistanceSquared, abs(dot(emitterNormal, originDirection)),
-                          emittedPower),
+      emitterPointDensity(emissionLuminance(material.emission), originDistanceSquared,
+                          abs(dot(emitterNormal, originDirection)), emittedPower),
       cosineDirectionDensity(normal, originDirection));
   float area = 0.5 * doubleArea;
   return emission * (weight * cosine * emitterCosine * area / (distanceSquared * emitter.selectionProbability));
@@ -134,7 +140,7 @@ bool extendPath(inout Path path, uint maxBounces, uint emitterCount, float emitt
     path.radiance += path.throughput * surface.emission;
   } else if (any(greaterThan(surface.emission, vec3(0.0)))) {
     // The emission NEE could have sampled from the segment's origin: the cosine-sampled share of the power heuristic.
-    float lightDensity = emitterPointDensity(emissionLuminance(surface.emission), hit.distance * hit.distance,
+    float lightDensity = emitterPointDensity(surface.emitterLuminance, hit.distance * hit.distance,
                                              abs(dot(surface.geometricNormal, path.direction)), emittedPower);
     path.radiance += path.throughput * surface.emission * powerHeuristic(path.directionDensity, lightDensity);
   }

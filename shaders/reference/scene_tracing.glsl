@@ -156,6 +156,8 @@ struct Surface {
   vec3 normal;           // shading normal: interpolated vertex normals
   vec3 albedo;
   vec3 emission;         // emitted radiance
+  // The luminance the emitter table weighs the triangle's power by: its material's emission without the texture.
+  float emitterLuminance;
 };
 
 Surface surfaceAt(vec3 direction, RayHit hit) {
@@ -175,10 +177,12 @@ Surface surfaceAt(vec3 direction, RayHit hit) {
     surface.normal = -surface.normal;
   }
   GpuMaterial material = materials[floatBitsToUint(attributes.texcoordVAndMaterial.w)];
+  vec2 uv = triangleTexcoord(attributes, weights);
   surface.albedo = material.baseColor;
-  if (material.baseColorTexture != kNoTexture)
-    surface.albedo *= sampleTexture(material.baseColorTexture, triangleTexcoord(attributes, weights)).rgb;
+  if (material.baseColorTexture != kNoTexture) surface.albedo *= sampleTexture(material.baseColorTexture, uv).rgb;
   surface.emission = material.emission;
+  if (material.emissionTexture != kNoTexture) surface.emission *= sampleTexture(material.emissionTexture, uv).rgb;
+  surface.emitterLuminance = emissionLuminance(material.emission);
   return surface;
 }
 

@@ -9,6 +9,7 @@ layout(location = 3) in vec4 inPreviousClip;
 
 layout(binding = kBindDrawMaterials) readonly buffer Materials { GpuMaterial materials[]; };
 layout(binding = kBindDrawBaseColor) uniform sampler2D baseColorTexture;
+layout(binding = kBindDrawEmission) uniform sampler2D emissionTexture;
 layout(push_constant) uniform Push { DrawPush draw; };
 
 layout(location = 0) out vec4 outAlbedo;
@@ -26,7 +27,9 @@ void main() {
   vec3 normal = normalize(inNormal);
   if (!gl_FrontFacing) normal = -normal;
   outAlbedo = vec4(albedo, 1.0);
-  outEmission = vec4(material.emission.rgb, 0.0);
+  vec3 emission = material.emission;
+  if (material.emissionTexture != kNoTexture) emission *= texture(emissionTexture, inUv).rgb;
+  outEmission = vec4(emission, 0.0);
   outNormal = vec4(normal, 0.0);
   // Screen-space motion in UV units from last frame to this one (current - previous).
   vec2 current = ssvgiNdcToUv(inClip.xy / inClip.w);

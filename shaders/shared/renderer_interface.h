@@ -89,10 +89,14 @@ SSVGI_CHECK_SIZE(GpuInstance, 192);
 struct GpuMaterial {
   vec3 baseColor;               // linear
   uint baseColorTexture;        // kNoTexture when none
-  vec3 emission;                // emitted radiance, W/(sr·m²)
+  vec3 emission;                // emitted radiance, W/(sr·m²), times the emission texture where there is one
   float alphaCutoff;            // Material::alphaCutoff: the texture's alpha below which the surface is cut out
+  uint emissionTexture;         // kNoTexture when none
+  uint padding0;
+  uint padding1;
+  uint padding2;
 };
-SSVGI_CHECK_SIZE(GpuMaterial, 32);
+SSVGI_CHECK_SIZE(GpuMaterial, 48);
 
 struct DrawPush {
   uint instance;
@@ -108,7 +112,8 @@ SSVGI_CONSTANT(uint, kBindDrawFrame, 0u);          // FrameConstants (uniform)
 SSVGI_CONSTANT(uint, kBindDrawInstances, 1u);      // GpuInstance[]
 SSVGI_CONSTANT(uint, kBindDrawMaterials, 2u);      // GpuMaterial[]
 SSVGI_CONSTANT(uint, kBindDrawBaseColor, 3u);      // the draw's base colour texture (sRGB)
-SSVGI_CONSTANT(uint, kBindDrawShadowViews, 4u);    // ShadowView[]
+SSVGI_CONSTANT(uint, kBindDrawShadowViews, 4u);
+SSVGI_CONSTANT(uint, kBindDrawEmission, 5u);        // the draw's emission texture (sRGB)    // ShadowView[]
 // DirectLighting (direct_lighting.comp):
 SSVGI_CONSTANT(uint, kBindLightingFrame, 0u);
 SSVGI_CONSTANT(uint, kBindLightingLights, 1u);       // GpuLight[]
