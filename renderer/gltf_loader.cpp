@@ -37,8 +37,8 @@ constexpr uint64_t kMaxTexturePixels = uint64_t{8192} * 8192;
 constexpr float kMaxCoordinate = 1e5f;  // metres from the origin
 constexpr double kMinDeterminant = 1e-24;
 constexpr double kMinDirectionSine = 1e-3;  // a camera's view and up directions may not be closer than this
-constexpr std::array<std::string_view, 3> kReadExtensions = {"KHR_lights_punctual", "KHR_materials_emissive_strength",
-                                                             "KHR_mesh_quantization"};
+constexpr std::array<std::string_view, 4> kReadExtensions = {"KHR_lights_punctual", "KHR_materials_emissive_strength",
+                                                             "KHR_materials_transmission", "KHR_mesh_quantization"};
 
 [[noreturn]] void fail(const fs::path& path, std::string_view problem) {
   // tinygltf reports each problem on its own line; SceneLoadError promises one line.
@@ -286,6 +286,9 @@ class DocumentCheck {
       const std::string at = memberPath(where, "extensions");
       if (const Json* strength = object(*extensions, "KHR_materials_emissive_strength", at)) {
         number(*strength, "emissiveStrength", memberPath(at, "KHR_materials_emissive_strength"), kEmissiveStrength);
+      }
+      if (const Json* transmission = object(*extensions, "KHR_materials_transmission", at)) {
+        number(*transmission, "transmissionFactor", memberPath(at, "KHR_materials_transmission"), kUnitInterval);
       }
     }
   }
@@ -948,10 +951,16 @@ class GltfConverter {
   // Material::alphaCutoff of a glTF material: for MASK, where baseColorFactor's alpha × the texture's is below
   // alphaCutoff — the texture's alpha below alphaCutoff over the factor's (kCutsOutEverywhere where no alpha passes).
   // The renderer has no transparency: BLEND is cut out where the alpha is below one half (kBlendCutoff), so that a
-  // window's glass, mostly clear, lets the light through and a decal, mostly opaque, stays.
+  // window's glass, mostly clear, lets the light through and a decal, mostly opaque, stays; and so is a material that
+  // transmits more than half the light (KHR_materials_transmission's factor; its texture is not read), everywhere.
   float alphaCutoff(const tinygltf::Material& source, const std::string& where) const {
     constexpr float kCutsOutEverywhere = 2.0f;  // above any alpha
     constexpr double kBlendCutoff = 0.5;
+    if (const auto extension = source.extensions.find("KHR_materials_transmission");
+        extension != source.extensions.end() && extension->second.IsObject() &&
+        extension->second.Get("transmissionFactor").IsNumber() &&
+        extension->second.Get("transmissionFactor").GetNumberAsDouble() > kBlendCutoff)
+      return kCutsOutEverywhere;
     if (source.alphaMode == "OPAQUE") return 0.0f;
     if (source.alphaMode != "MASK" && source.alphaMode != "BLEND")
       fail(path_, where + ".alphaMode '" + source.alphaMode + "' is not OPAQUE, MASK or BLEND");

@@ -15,11 +15,11 @@ class SceneLoadError : public std::runtime_error {
 
 // Loads a glTF 2.0 file (.gltf with its buffers and images, or .glb): the node hierarchy flattened into instances,
 // meshes (triangles, strips and fans; points and lines are not drawn; POSITION, NORMAL, TEXCOORD_0), materials
-// (baseColorFactor/baseColorTexture, alphaMode MASK as Material::alphaCutoff — BLEND cut out below half —,
-// emissiveFactor × KHR_materials_emissive_strength × emissiveTexture), KHR_lights_punctual (point and spot as local
-// lights, directional as the sun; intensities used as given: candela as radiant intensity in W/sr, lux as irradiance in
-// W/m²) and cameras (the first is the default view; a file without one gets a camera framing the whole scene). glTF has
-// no sky: Scene::sky is None.
+// (baseColorFactor/baseColorTexture, alphaMode MASK as Material::alphaCutoff — BLEND cut out below half, and a
+// KHR_materials_transmission factor above half everywhere —, emissiveFactor × KHR_materials_emissive_strength ×
+// emissiveTexture), KHR_lights_punctual (point and spot as local lights, directional as the sun; intensities used as
+// given: candela as radiant intensity in W/sr, lux as irradiance in W/m²) and cameras (the first is the default view; a
+// file without one gets a camera framing the whole scene). glTF has no sky: Scene::sky is None.
 //
 // The file may come from anyone: it gives either a scene whose every number is finite and within the bounds below,
 // which the renderer draws finite, or a SceneLoadError; never a crash, a hang or a NaN. What is refused:
@@ -29,14 +29,15 @@ class SceneLoadError : public std::runtime_error {
 // - References: a buffer or image URI (other than a data: URI) must resolve, symbolic links followed, to a file in the
 //   glTF file's folder or below it. A viewer of a downloaded file must not read ~/.ssh/id_rsa or /etc/passwd because
 //   the file names them; a scene's own files sit beside it. The working directory is never searched.
-// - extensionsRequired may list only the extensions read here: KHR_lights_punctual, KHR_materials_emissive_strength
-//   and KHR_mesh_quantization.
+// - extensionsRequired may list only the extensions read here: KHR_lights_punctual, KHR_materials_emissive_strength,
+//   KHR_materials_transmission and KHR_mesh_quantization.
 // - Every member the loader reads must have its JSON type: tinygltf would turn a "yfov" given as a string, or an index
 //   given as -1 or 1.5, into its default without a word. Indices are whole numbers from 0; every number is finite as a
 //   float.
 // - Colours: baseColorFactor, emissiveFactor and a light's color in [0, 1], as glTF specifies (an albedo above 1 would
 //   make the GI's bounces add light). emissiveStrength in [0, 65504]: the renderer's G-buffer holds emission as half
-//   floats, whose largest value that is. alphaMode one of OPAQUE, MASK and BLEND; alphaCutoff at least 0.
+//   floats, whose largest value that is. alphaMode one of OPAQUE, MASK and BLEND; alphaCutoff at least 0;
+//   transmissionFactor in [0, 1].
 // - Lights: intensity in [0, 1e5] (W/sr, or W/m² for the sun; the noon sun gives about 1,000 W/m², and 1e5 leaves room
 //   for candela and lux used as they are, while 1e10 overflows the half floats of the GI); range > 0 where given;
 //   spot cones with 0 ≤ innerConeAngle ≤ outerConeAngle < π/2.

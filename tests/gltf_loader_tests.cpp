@@ -242,23 +242,31 @@ TEST_F(GltfFiles, maskedMaterialsCutOutWhereTheTexturesAlphaFallsBelowTheCutoffO
       {"alphaMode": "BLEND", "alphaCutoff": 0.7},
       {"alphaCutoff": 0.7},
       {"alphaMode": "MASK", "alphaCutoff": 0.6, "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 0.25]}},
-      {"alphaMode": "MASK", "alphaCutoff": 0}])";
+      {"alphaMode": "MASK", "alphaCutoff": 0},
+      {"extensions": {"KHR_materials_transmission": {"transmissionFactor": 0.9}}},
+      {"extensions": {"KHR_materials_transmission": {"transmissionFactor": 0.3}}}])";
   const std::string document = triangleDocument(R"([{"mesh": 0}])", dataUri(triangleBuffer()), materials);
   const Scene scene = loadGltf(write("masked.gltf", document));
-  ASSERT_EQ(scene.materials.size(), 7u);  // and glTF's default material, for the triangle, which names none
+  ASSERT_EQ(scene.materials.size(), 9u);  // and glTF's default material, for the triangle, which names none
   EXPECT_FLOAT_EQ(scene.materials[0].alphaCutoff, 0.5f);
   EXPECT_FLOAT_EQ(scene.materials[1].alphaCutoff, 0.5f);
   EXPECT_FLOAT_EQ(scene.materials[2].alphaCutoff, 0.5f);
   EXPECT_EQ(scene.materials[3].alphaCutoff, 0.0f);
   EXPECT_GT(scene.materials[4].alphaCutoff, 1.0f);
   EXPECT_EQ(scene.materials[5].alphaCutoff, 0.0f);
-  EXPECT_EQ(scene.materials[6].alphaCutoff, 0.0f);
+  // A material that transmits more than half the light is cut out everywhere (no transparency here either).
+  EXPECT_GT(scene.materials[6].alphaCutoff, 1.0f);
+  EXPECT_EQ(scene.materials[7].alphaCutoff, 0.0f);
+  EXPECT_EQ(scene.materials[8].alphaCutoff, 0.0f);
 
   const std::string unknownMode = replaced(document, R"("alphaMode": "BLEND")", R"("alphaMode": "CUTOUT")");
   const std::string message = loadError(write("unknown-mode.gltf", unknownMode));
   EXPECT_NE(message.find("materials[2].alphaMode"), std::string::npos) << message;
   const std::string negative = replaced(document, R"("alphaCutoff": 0.25)", R"("alphaCutoff": -0.25)");
   EXPECT_NE(loadError(write("negative-cutoff.gltf", negative)).find("alphaCutoff"), std::string::npos);
+  const std::string overOne = replaced(document, R"("transmissionFactor": 0.9)", R"("transmissionFactor": 1.5)");
+  EXPECT_NE(loadError(write("transmission.gltf", overOne)).find("materials[6].extensions.KHR_materials_transmission"),
+            std::string::npos);
 }
 
 TEST_F(GltfFiles, mirroredInstanceGetsReversedWindingSoFrontFacesStayFront) {
