@@ -37,8 +37,9 @@ constexpr uint64_t kMaxTexturePixels = uint64_t{8192} * 8192;
 constexpr float kMaxCoordinate = 1e5f;  // metres from the origin
 constexpr double kMinDeterminant = 1e-24;
 constexpr double kMinDirectionSine = 1e-3;  // a camera's view and up directions may not be closer than this
-constexpr std::array<std::string_view, 4> kReadExtensions = {"KHR_lights_punctual", "KHR_materials_emissive_strength",
-                                                             "KHR_materials_transmission", "KHR_mesh_quantization"};
+constexpr std::array<std::string_view, 5> kReadExtensions = {"KHR_lights_punctual", "KHR_materials_emissive_strength",
+                                                             "KHR_materials_transmission", "KHR_mesh_quantization",
+                                                             "KHR_texture_transform"};
 
 [[noreturn]] void fail(const fs::path& path, std::string_view problem) {
   // tinygltf reports each problem on its own line; SceneLoadError promises one line.
@@ -272,15 +273,13 @@ class DocumentCheck {
     string(material, "alphaMode", where);
     number(material, "alphaCutoff", where, kAlphaCutoff);
     numbers(material, "emissiveFactor", where, 3, kUnitInterval);
-    if (const Json* texture = object(material, "emissiveTexture", where)) {
-      index(*texture, "index", memberPath(where, "emissiveTexture"));
-    }
+    if (const Json* texture = object(material, "emissiveTexture", where))
+      checkTextureInfo(*texture, memberPath(where, "emissiveTexture"));
     if (const Json* pbr = object(material, "pbrMetallicRoughness", where)) {
       const std::string at = memberPath(where, "pbrMetallicRoughness");
       numbers(*pbr, "baseColorFactor", at, 4, kUnitInterval);
-      if (const Json* texture = object(*pbr, "baseColorTexture", at)) {
-        index(*texture, "index", memberPath(at, "baseColorTexture"));
-      }
+      if (const Json* texture = object(*pbr, "baseColorTexture", at))
+        checkTextureInfo(*texture, memberPath(at, "baseColorTexture"));
     }
     if (const Json* extensions = object(material, "extensions", where)) {
       const std::string at = memberPath(where, "extensions");
@@ -289,6 +288,19 @@ class DocumentCheck {
       }
       if (const Json* transmission = object(*extensions, "KHR_materials_transmission", at)) {
         number(*transmission, "transmissionFactor", memberPath(at, "KHR_materials_transmission"), kUnitInterval);
+      }
+    }
+  }
+
+  void checkTextureInfo(const Json& texture, const std::string& where) const {
+    index(texture, "index", where);
+    if (const Json* extensions = object(texture, "extensions", where)) {
+      const std::string at = memberPath(where, "extensions");
+      if (const Json* transform = object(*extensions, "KHR_texture_transform", at)) {
+        const std::string transformPath = memberPath(at, "KHR_texture_transform");
+        numbers(*transform, "offset", transformPath, 2, kFloat);
+        number(*transform, "rotation", transformPath, kFloat);
+        numbers(*transform, "scale", transformPath, 2, kFloat);
       }
     }
   }
@@ -747,6 +759,7 @@ class GltfConverter {
     Mesh mesh;
     mesh.name = name;
     mesh.material = materialFor(primitive.material, where + ".material");
+    const glm::dmat3 uvTransform = textureTransform(primitive.material);
     mesh.vertices.resize(vertexCount);
     std::vector<bool> lacksNormal(normals.empty() ? 0 : vertexCount, false);
     for (size_t v = 0; v < vertexCount; ++v) {
@@ -757,7 +770,9 @@ class GltfConverter {
         lacksNormal[v] = !normal;
         vertex.normal = normal.value_or(vertex.normal);
       }
-      if (!uvs.empty()) vertex.uv = glm::make_vec2(&uvs[2 * v]);
+      if (!uvs.empty()) vertex.uv = glm::vec2(uvTransform * glm::dvec3(glm::make_vec2(&uvs[2 * v]), 1.0));
+      if (!std::isfinite(vertex.uv.x) || !std::isfinite(vertex.uv.y))
+        fail(path_, where + ".attributes.TEXCOORD_0 is not finite under its material's KHR_texture_transform");
     }
     if (primitive.indices >= 0) {
       mesh.indices = readIndices(primitive.indices, vertexCount, where + ".indices");
@@ -795,6 +810,30 @@ class GltfConverter {
       }
     }
     return triangles;
+  }
+
+  // KHR_texture_transform of a material's textures as one matrix on the texture coordinates, uv' = T·R·S·uv: its
+  // base colour texture's, else its emission texture's (the mesh has one set of coordinates for both).
+  glm::dmat3 textureTransform(int material) const {
+    if (material < 0 || static_cast<size_t>(material) >= model_.materials.size()) return glm::dmat3(1.0);
+    const tinygltf::Material& source = model_.materials[static_cast<size_t>(material)];
+    const tinygltf::TextureInfo& baseColor = source.pbrMetallicRoughness.baseColorTexture;
+    const tinygltf::ExtensionMap& extensions =
+        baseColor.index >= 0 ? baseColor.extensions : source.emissiveTexture.extensions;
+    const auto found = extensions.find("KHR_texture_transform");
+    if (found == extensions.end() || !found->second.IsObject()) return glm::dmat3(1.0);
+    const tinygltf::Value& transform = found->second;
+    const auto pair = [&](const char* name, glm::dvec2 fallback) {
+      const tinygltf::Value& value = transform.Get(name);
+      if (!value.IsArray() || value.ArrayLen() != 2) return fallback;
+      return glm::dvec2(value.Get(0).GetNumberAsDouble(), value.Get(1).GetNumberAsDouble());
+    };
+    const glm::dvec2 offset = pair("offset", glm::dvec2(0.0)), scale = pair("scale", glm::dvec2(1.0));
+    const double rotation = transform.Get("rotation").IsNumber() ? transform.Get("rotation").GetNumberAsDouble() : 0.0;
+    // Column-major, as the extension's matrices: translation × rotation × scale.
+    const double c = std::cos(rotation), s = std::sin(rotation);
+    return glm::dmat3(glm::dvec3(c * scale.x, -s * scale.x, 0.0), glm::dvec3(s * scale.y, c * scale.y, 0.0),
+                      glm::dvec3(offset, 1.0));
   }
 
   // glTF: "When normals are not specified, client implementations MUST calculate flat normals." Each triangle gets its

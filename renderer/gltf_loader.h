@@ -15,11 +15,12 @@ class SceneLoadError : public std::runtime_error {
 
 // Loads a glTF 2.0 file (.gltf with its buffers and images, or .glb): the node hierarchy flattened into instances,
 // meshes (triangles, strips and fans; points and lines are not drawn; POSITION, NORMAL, TEXCOORD_0), materials
-// (baseColorFactor/baseColorTexture, alphaMode MASK as Material::alphaCutoff — BLEND cut out below half, and a
-// KHR_materials_transmission factor above half everywhere —, emissiveFactor × KHR_materials_emissive_strength ×
-// emissiveTexture), KHR_lights_punctual (point and spot as local lights, directional as the sun; intensities used as
-// given: candela as radiant intensity in W/sr, lux as irradiance in W/m²) and cameras (the first is the default view; a
-// file without one gets a camera framing the whole scene). glTF has no sky: Scene::sky is None.
+// (baseColorFactor/baseColorTexture with its KHR_texture_transform, alphaMode MASK as Material::alphaCutoff — BLEND cut
+// out below half, and a KHR_materials_transmission factor above half everywhere —, emissiveFactor ×
+// KHR_materials_emissive_strength × emissiveTexture), KHR_lights_punctual (point and spot as local lights, directional
+// as the sun; intensities used as given: candela as radiant intensity in W/sr, lux as irradiance in W/m²) and cameras
+// (the first is the default view; a file without one gets a camera framing the whole scene). glTF has no sky:
+// Scene::sky is None.
 //
 // The file may come from anyone: it gives either a scene whose every number is finite and within the bounds below,
 // which the renderer draws finite, or a SceneLoadError; never a crash, a hang or a NaN. What is refused:
@@ -30,7 +31,7 @@ class SceneLoadError : public std::runtime_error {
 //   glTF file's folder or below it. A viewer of a downloaded file must not read ~/.ssh/id_rsa or /etc/passwd because
 //   the file names them; a scene's own files sit beside it. The working directory is never searched.
 // - extensionsRequired may list only the extensions read here: KHR_lights_punctual, KHR_materials_emissive_strength,
-//   KHR_materials_transmission and KHR_mesh_quantization.
+//   KHR_materials_transmission, KHR_mesh_quantization and KHR_texture_transform.
 // - Every member the loader reads must have its JSON type: tinygltf would turn a "yfov" given as a string, or an index
 //   given as -1 or 1.5, into its default without a word. Indices are whole numbers from 0; every number is finite as a
 //   float.
@@ -48,9 +49,9 @@ class SceneLoadError : public std::runtime_error {
 //   positions there to 1 cm). A camera's view and up directions, and a spot or directional light's direction, must not
 //   collapse under it. A mesh under a degenerate transform (|determinant| < 1e-24, such as glTF's scale of 0 that hides
 //   a node) is not drawn: its normals could not be transformed.
-// - Geometry: positions, normals and texture coordinates finite; every drawn vertex within 1e5 m of the origin in
-//   world space. A normal of zero length is replaced by its first triangle's face normal; other normals are
-//   normalised.
+// - Geometry: positions, normals and texture coordinates finite (also under KHR_texture_transform); every drawn vertex
+//   within 1e5 m of the origin in world space. A normal of zero length is replaced by its first triangle's face
+//   normal; other normals are normalised.
 Scene loadGltf(const std::filesystem::path& path);
 
 }  // namespace ssvgi::renderer

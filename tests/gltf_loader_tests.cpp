@@ -442,6 +442,45 @@ TEST_F(GltfFiles, emissionTexturesScaleTheEmissiveFactorAndAreNotLoadedWhereNoth
   EXPECT_NE(message.find("materials[0].emissiveTexture"), std::string::npos) << message;
 }
 
+TEST_F(GltfFiles, textureTransformsMoveTheTextureCoordinates) {
+  // KHR_texture_transform: uv' = T·R·S·uv. With offset (0.5, 0), rotation π/2 and scale (2, 3), u' = 3v + 0.5 and
+  // v' = −2u: the corners' (1, 0) and (0, 1) go to (0.5, −2) and (3.5, 0).
+  std::string bytes;
+  append<float>(bytes, {0, 0, 0, 1, 0, 0, 0, 1, 0});
+  append<float>(bytes, {0, 0, 1, 0, 0, 1});
+  append<uint16_t>(bytes, {0, 1, 2, 0});
+  const std::string greyPng =
+      "data:image/"
+      "png;base64,iVBORw0KGgoAAAANSUhEUgAAAAIAAAABCAAAAADRSSBWAAAAC0lEQVR4nGNgOAEAAMsAyWnIw2wAAAAASUVORK5CYII=";
+  const std::string document =
+      R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+    "extensionsRequired": ["KHR_texture_transform"],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "indices": 2, "material": 0}]}],
+    "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "extensions": {"KHR_texture_transform":
+                   {"offset": [0.5, 0], "rotation": 1.5707963267948966, "scale": [2, 3]}}}}}],
+    "textures": [{"source": 0}], "images": [{"uri": ")" + greyPng + R"("}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+                  {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"},
+                  {"bufferView": 2, "componentType": 5123, "count": 3, "type": "SCALAR"}],
+    "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 24},
+                    {"buffer": 0, "byteOffset": 60, "byteLength": 6}],
+    "buffers": [{"byteLength": 68, "uri": ")" + dataUri(bytes) + "\"}]}";
+  const Scene scene = loadGltf(write("transformed.gltf", document));
+  ASSERT_EQ(scene.meshes.size(), 1u);
+  const Mesh& mesh = scene.meshes[0];
+  ASSERT_EQ(mesh.vertices.size(), 3u);  // flat normals: a vertex per corner, in order
+  const std::array<glm::vec2, 3> expected = {glm::vec2(0.5f, 0.0f), glm::vec2(0.5f, -2.0f), glm::vec2(3.5f, 0.0f)};
+  for (size_t corner = 0; corner < 3; ++corner) {
+    EXPECT_NEAR(mesh.vertices[mesh.indices[corner]].uv.x, expected[corner].x, kTolerance) << corner;
+    EXPECT_NEAR(mesh.vertices[mesh.indices[corner]].uv.y, expected[corner].y, kTolerance) << corner;
+  }
+  // Coordinates no float holds after the transform are refused.
+  const std::string huge = replaced(document, R"("scale": [2, 3])", R"("scale": [2, 3e38])");
+  EXPECT_NE(loadError(write("huge.gltf", replaced(huge, R"("offset": [0.5, 0])", R"("offset": [3e38, 0])")))
+                .find("KHR_texture_transform"),
+            std::string::npos);
+}
+
 // ---- Broken files ----
 
 TEST_F(GltfFiles, missingFileIsAnError) {
