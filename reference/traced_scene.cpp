@@ -44,9 +44,13 @@ SceneTriangles flattenScene(const renderer::Scene& scene, const renderer::Animat
       const glm::vec3 worldB(model * glm::vec4(b.position, 1.0f));
       const glm::vec3 worldC(model * glm::vec4(c.position, 1.0f));
       flat.triangles.push_back({worldA, cutsOut, worldB - worldA, 0u, worldC - worldA, 0u});
-      flat.shading.push_back({glm::vec4(normalMatrix * a.normal, a.uv.x), glm::vec4(normalMatrix * b.normal, b.uv.x),
-                              glm::vec4(normalMatrix * c.normal, c.uv.x),
-                              glm::vec4(a.uv.y, b.uv.y, c.uv.y, materialBits)});
+      flat.shading.push_back({.normal0AndU0 = glm::vec4(normalMatrix * a.normal, a.uv.x),
+                              .normal1AndU1 = glm::vec4(normalMatrix * b.normal, b.uv.x),
+                              .normal2AndU2 = glm::vec4(normalMatrix * c.normal, c.uv.x),
+                              .texcoordVAndMaterial = glm::vec4(a.uv.y, b.uv.y, c.uv.y, materialBits),
+                              .color0 = a.color,
+                              .color1 = b.color,
+                              .color2 = c.color});
     }
   }
   if (flat.triangles.empty()) throw gpu::GpuError("scene '" + scene.name + "' has no triangles");

@@ -24,7 +24,8 @@ gpu::GraphicsPipelineDesc gbufferPipelineDesc() {
   desc.vertexStride = sizeof(Vertex);
   desc.vertexAttributes = {{0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(Vertex, position)},
                            {1, VK_FORMAT_R32G32B32_SFLOAT, offsetof(Vertex, normal)},
-                           {2, VK_FORMAT_R32G32_SFLOAT, offsetof(Vertex, uv)}};
+                           {2, VK_FORMAT_R32G32_SFLOAT, offsetof(Vertex, uv)},
+                           {3, VK_FORMAT_R32G32B32_SFLOAT, offsetof(Vertex, color)}};
   desc.colorFormats = {kAlbedoFormat, kEmissionFormat, kNormalFormat, kMotionFormat};
   desc.depthFormat = VK_FORMAT_D32_SFLOAT;
   desc.depthCompare = VK_COMPARE_OP_GREATER_OR_EQUAL;  // reversed-Z

@@ -755,6 +755,13 @@ class GltfConverter {
     };
     const std::vector<float> normals = readOptional("NORMAL", 3);
     const std::vector<float> uvs = readOptional("TEXCOORD_0", 2);
+    // COLOR_0 is RGB or RGBA (its alpha is not used).
+    const int colorAccessor = attribute("COLOR_0");
+    const int colorComponents =
+        colorAccessor < 0 ? 3 : viewAccessor(colorAccessor, where + ".attributes.COLOR_0").componentCount;
+    if (colorComponents != 3 && colorComponents != 4)
+      fail(path_, where + ".attributes.COLOR_0 has " + std::to_string(colorComponents) + " components, not 3 or 4");
+    const std::vector<float> colors = readOptional("COLOR_0", colorComponents);
 
     Mesh mesh;
     mesh.name = name;
@@ -771,6 +778,9 @@ class GltfConverter {
         vertex.normal = normal.value_or(vertex.normal);
       }
       if (!uvs.empty()) vertex.uv = glm::vec2(uvTransform * glm::dvec3(glm::make_vec2(&uvs[2 * v]), 1.0));
+      // Clamped as glTF bounds it: a colour above 1 would make an albedo that adds light.
+      if (!colors.empty())
+        vertex.color = glm::clamp(glm::make_vec3(&colors[colorComponents * v]), glm::vec3(0.0f), glm::vec3(1.0f));
       if (!std::isfinite(vertex.uv.x) || !std::isfinite(vertex.uv.y))
         fail(path_, where + ".attributes.TEXCOORD_0 is not finite under its material's KHR_texture_transform");
     }
@@ -846,7 +856,8 @@ class GltfConverter {
       const Vertex& b = mesh.vertices[mesh.indices[i + 1]];
       const Vertex& c = mesh.vertices[mesh.indices[i + 2]];
       const glm::vec3 normal = faceNormal(a.position, b.position, c.position);
-      for (const Vertex* corner : {&a, &b, &c}) corners.push_back({corner->position, normal, corner->uv});
+      for (const Vertex* corner : {&a, &b, &c})
+        corners.push_back({corner->position, normal, corner->uv, corner->color});
     }
     mesh.vertices = std::move(corners);
     for (size_t i = 0; i < mesh.indices.size(); ++i) mesh.indices[i] = static_cast<uint32_t>(i);

@@ -14,7 +14,7 @@ class SceneLoadError : public std::runtime_error {
 };
 
 // Loads a glTF 2.0 file (.gltf with its buffers and images, or .glb): the node hierarchy flattened into instances,
-// meshes (triangles, strips and fans; points and lines are not drawn; POSITION, NORMAL, TEXCOORD_0), materials
+// meshes (triangles, strips and fans; points and lines are not drawn; POSITION, NORMAL, TEXCOORD_0, COLOR_0), materials
 // (baseColorFactor/baseColorTexture with its KHR_texture_transform, alphaMode MASK as Material::alphaCutoff — BLEND cut
 // out below half, and a KHR_materials_transmission factor above half everywhere —, emissiveFactor ×
 // KHR_materials_emissive_strength × emissiveTexture), KHR_lights_punctual (point and spot as local lights, directional

@@ -16,6 +16,7 @@ struct Vertex {
   glm::vec3 position{0.0f};
   glm::vec3 normal{0.0f, 1.0f, 0.0f};
   glm::vec2 uv{0.0f};
+  glm::vec3 color{1.0f};  // linear, in [0, 1]: multiplies the material's base colour (glTF's COLOR_0)
 };
 
 // 8-bit RGBA texture, sRGB-encoded colour (glTF base colour textures are sRGB).

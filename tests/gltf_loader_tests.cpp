@@ -481,6 +481,37 @@ TEST_F(GltfFiles, textureTransformsMoveTheTextureCoordinates) {
             std::string::npos);
 }
 
+TEST_F(GltfFiles, vertexColoursAreReadFromRgbOrRgbaAndKeptWithinZeroToOne) {
+  // COLOR_0 as normalized 8-bit RGBA (alpha not used) and as float RGB, one value above 1, which is clamped.
+  std::string bytes;
+  append<float>(bytes, {0, 0, 0, 1, 0, 0, 0, 1, 0});
+  append<uint16_t>(bytes, {0, 1, 2, 0});
+  append<uint8_t>(bytes, {255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 51, 0});
+  append<float>(bytes, {0.25f, 0.5f, 0.75f, 1.5f, 0, 0, 0, 0, 1});
+  const std::string document =
+      R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "COLOR_0": 2}, "indices": 1},
+                               {"attributes": {"POSITION": 0, "COLOR_0": 3}, "indices": 1}]}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+                  {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"},
+                  {"bufferView": 2, "componentType": 5121, "normalized": true, "count": 3, "type": "VEC4"},
+                  {"bufferView": 3, "componentType": 5126, "count": 3, "type": "VEC3"}],
+    "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 6},
+                    {"buffer": 0, "byteOffset": 44, "byteLength": 12}, {"buffer": 0, "byteOffset": 56, "byteLength": 36}],
+    "buffers": [{"byteLength": 92, "uri": ")" + dataUri(bytes) + "\"}]}";
+  const Scene scene = loadGltf(write("coloured.gltf", document));
+  ASSERT_EQ(scene.meshes.size(), 2u);
+  // Flat normals: a vertex per corner, in order.
+  const std::array<glm::vec3, 3> bytesRead = {glm::vec3(1, 0, 0), glm::vec3(0, 1, 0), glm::vec3(0, 0, 0.2f)};
+  const std::array<glm::vec3, 3> floatsRead = {glm::vec3(0.25f, 0.5f, 0.75f), glm::vec3(1, 0, 0), glm::vec3(0, 0, 1)};
+  for (size_t corner = 0; corner < 3; ++corner) {
+    expectNear(scene.meshes[0].vertices[scene.meshes[0].indices[corner]].color, bytesRead[corner]);
+    expectNear(scene.meshes[1].vertices[scene.meshes[1].indices[corner]].color, floatsRead[corner]);
+  }
+  const std::string twoComponents = replaced(document, R"("count": 3, "type": "VEC3"}],)", R"("count": 3, "type": "VEC2"}],)");
+  EXPECT_NE(loadError(write("two.gltf", twoComponents)).find("COLOR_0 has 2 components"), std::string::npos);
+}
+
 // ---- Broken files ----
 
 TEST_F(GltfFiles, missingFileIsAnError) {

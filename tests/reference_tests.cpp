@@ -254,6 +254,33 @@ TEST_F(Reference, texturedAlbedoMatchesTheRenderersSampler) {
   EXPECT_GT(checked, kWidth * kHeight / 2);
 }
 
+TEST_F(Reference, vertexColoursMultiplyTheAlbedoAlikeInTheRendererAndThePathTracer) {
+  // The slab's vertices coloured by where they lie, from (0, 0.25, 0.3) to (1, 0.75, 0.3) across it: both interpolate
+  // them over each triangle (perspective-correct, barycentric) and multiply the base colour, so the albedo each pixel
+  // shows agrees to the G-buffer's half floats (2·10⁻³). And the colours matter: many pixels differ from the white
+  // slab's 0.8 by more than that.
+  Scene scene = planeScene();
+  for (renderer::Vertex& vertex : scene.meshes[0].vertices)
+    vertex.color = glm::vec3(0.5f + 0.05f * vertex.position.x, 0.5f + 0.025f * vertex.position.z, 0.3f);
+  constexpr uint32_t kWidth = 64, kHeight = 48;
+  renderer::RendererSettings settings;
+  settings.width = kWidth;
+  settings.height = kHeight;
+  renderer::Renderer renderer(device(), scene, settings);
+  renderer.render(renderer::evaluateAnimation(scene, scene.cameras[0], 0.0f));
+  const FloatImage albedo = trace(scene, kWidth, kHeight, 1).albedo();
+  const FloatImage expected = renderer.albedo();
+  const FloatImage distance = renderer.viewDistance();
+  uint32_t coloured = 0;
+  for (uint32_t pixel = 0; pixel < kWidth * kHeight; ++pixel) {
+    if (channel(distance, pixel, 0) <= 0.0f) continue;
+    for (uint32_t c = 0; c < 3; ++c)
+      ASSERT_NEAR(channel(albedo, pixel, c), channel(expected, pixel, c), 2e-3f) << "pixel " << pixel << " channel " << c;
+    coloured += std::abs(channel(expected, pixel, 0) - 0.8f) > 0.05f;
+  }
+  EXPECT_GT(coloured, kWidth * kHeight / 2);
+}
+
 bool sameBits(const FloatImage& a, const FloatImage& b) {
   return a.pixels.size() == b.pixels.size() &&
          std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(float)) == 0;

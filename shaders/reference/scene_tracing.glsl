@@ -178,7 +178,8 @@ Surface surfaceAt(vec3 direction, RayHit hit) {
   }
   GpuMaterial material = materials[floatBitsToUint(attributes.texcoordVAndMaterial.w)];
   vec2 uv = triangleTexcoord(attributes, weights);
-  surface.albedo = material.baseColor;
+  surface.albedo = material.baseColor *
+                   (weights.x * attributes.color0 + weights.y * attributes.color1 + weights.z * attributes.color2);
   if (material.baseColorTexture != kNoTexture) surface.albedo *= sampleTexture(material.baseColorTexture, uv).rgb;
   surface.emission = material.emission;
   if (material.emissionTexture != kNoTexture) surface.emission *= sampleTexture(material.emissionTexture, uv).rgb;

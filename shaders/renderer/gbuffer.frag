@@ -6,6 +6,7 @@ layout(location = 0) in vec3 inNormal;
 layout(location = 1) in vec2 inUv;
 layout(location = 2) in vec4 inClip;
 layout(location = 3) in vec4 inPreviousClip;
+layout(location = 4) in vec3 inColor;  // the vertices' colours (Vertex::color)
 
 layout(binding = kBindDrawMaterials) readonly buffer Materials { GpuMaterial materials[]; };
 layout(binding = kBindDrawBaseColor) uniform sampler2D baseColorTexture;
@@ -22,7 +23,7 @@ void main() {
   // The view is sRGB: decoded to linear by the sampler.
   vec4 texel = material.baseColorTexture != kNoTexture ? texture(baseColorTexture, inUv) : vec4(1.0);
   if (texel.a < material.alphaCutoff) discard;  // cut out (Material::alphaCutoff)
-  vec3 albedo = material.baseColor * texel.rgb;
+  vec3 albedo = material.baseColor * texel.rgb * inColor;
   // Two-sided: a back face seen from the camera shades with the normal facing the camera.
   vec3 normal = normalize(inNormal);
   if (!gl_FrontFacing) normal = -normal;

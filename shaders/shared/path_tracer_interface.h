@@ -41,8 +41,14 @@ struct TriangleShading {
   vec4 normal1AndU1;
   vec4 normal2AndU2;
   vec4 texcoordVAndMaterial;  // xyz: texture v of vertices 0, 1, 2; w: material index (uint bits)
+  vec3 color0;          // the vertices' colours (renderer::Vertex::color)
+  float padding0;
+  vec3 color1;
+  float padding1;
+  vec3 color2;
+  float padding2;
 };
-SSVGI_CHECK_SIZE(TriangleShading, 64);
+SSVGI_CHECK_SIZE(TriangleShading, 112);
 
 // An 8-bit sRGB RGBA texture inside the packed texel buffer: one uint per texel (R in the low byte), rows top to
 // bottom. The Vulkan layer binds no descriptor arrays, so all of a scene's textures share one storage buffer.
