@@ -167,6 +167,11 @@ std::string triangleDocument(const std::string& nodes, const std::string& buffer
          bufferUri + "\"}]" + extra + "}";
 }
 
+// A 2×1 8-bit greyscale PNG with the values 0 and 200, as a data URI.
+const std::string kGreyPng =
+    "data:image/"
+    "png;base64,iVBORw0KGgoAAAANSUhEUgAAAAIAAAABCAAAAADRSSBWAAAAC0lEQVR4nGNgOAEAAMsAyWnIw2wAAAAASUVORK5CYII=";
+
 std::string replaced(std::string text, const std::string& from, const std::string& to) {
   const size_t at = text.find(from);
   EXPECT_NE(at, std::string::npos) << from;
@@ -396,15 +401,11 @@ TEST_F(GltfFiles, readsInterleavedVerticesByteIndicesAndMaterialsFromGlb) {
 }
 
 TEST_F(GltfFiles, storesBaseColorTexturesAsRgba8EvenFromGreyImages) {
-  // A 2×1 8-bit greyscale PNG with the values 0 and 200.
-  const std::string greyPng =
-      "data:image/"
-      "png;base64,iVBORw0KGgoAAAANSUhEUgAAAAIAAAABCAAAAADRSSBWAAAAC0lEQVR4nGNgOAEAAMsAyWnIw2wAAAAASUVORK5CYII=";
   std::string document =
       triangleDocument(R"([{"mesh": 0}])", dataUri(triangleBuffer()),
                        R"(, "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
       "textures": [{"source": 0}], "images": [{"name": "grey", "uri": ")" +
-                           greyPng + "\"}]");
+                           kGreyPng + "\"}]");
   document = replaced(document, R"("indices": 1})", R"("indices": 1, "material": 0})");
   const Scene scene = loadGltf(write("textured.gltf", document));
   ASSERT_EQ(scene.textures.size(), 1u);
@@ -419,15 +420,12 @@ TEST_F(GltfFiles, storesBaseColorTexturesAsRgba8EvenFromGreyImages) {
 TEST_F(GltfFiles, emissionTexturesScaleTheEmissiveFactorAndAreNotLoadedWhereNothingEmits) {
   // The same 2×1 PNG as the emissive texture of a material that emits and of one whose emissiveFactor is glTF's
   // default, black: the texture multiplies the factor, so only the first needs it.
-  const std::string greyPng =
-      "data:image/"
-      "png;base64,iVBORw0KGgoAAAANSUhEUgAAAAIAAAABCAAAAADRSSBWAAAAC0lEQVR4nGNgOAEAAMsAyWnIw2wAAAAASUVORK5CYII=";
   std::string document =
       triangleDocument(R"([{"mesh": 0}])", dataUri(triangleBuffer()),
                        R"(, "materials": [{"emissiveFactor": [1, 0.5, 0], "emissiveTexture": {"index": 0}},
                                           {"emissiveTexture": {"index": 0}}],
       "textures": [{"source": 0}], "images": [{"name": "grey", "uri": ")" +
-                           greyPng + "\"}]");
+                           kGreyPng + "\"}]");
   document = replaced(document, R"("indices": 1})", R"("indices": 1, "material": 0})");
   const Scene scene = loadGltf(write("emissive.gltf", document));
   ASSERT_EQ(scene.textures.size(), 1u);
@@ -449,16 +447,13 @@ TEST_F(GltfFiles, textureTransformsMoveTheTextureCoordinates) {
   append<float>(bytes, {0, 0, 0, 1, 0, 0, 0, 1, 0});
   append<float>(bytes, {0, 0, 1, 0, 0, 1});
   append<uint16_t>(bytes, {0, 1, 2, 0});
-  const std::string greyPng =
-      "data:image/"
-      "png;base64,iVBORw0KGgoAAAANSUhEUgAAAAIAAAABCAAAAADRSSBWAAAAC0lEQVR4nGNgOAEAAMsAyWnIw2wAAAAASUVORK5CYII=";
   const std::string document =
       R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
     "extensionsRequired": ["KHR_texture_transform"],
     "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "indices": 2, "material": 0}]}],
     "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "extensions": {"KHR_texture_transform":
                    {"offset": [0.5, 0], "rotation": 1.5707963267948966, "scale": [2, 3]}}}}}],
-    "textures": [{"source": 0}], "images": [{"uri": ")" + greyPng + R"("}],
+    "textures": [{"source": 0}], "images": [{"uri": ")" + kGreyPng + R"("}],
     "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
                   {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"},
                   {"bufferView": 2, "componentType": 5123, "count": 3, "type": "SCALAR"}],
