@@ -294,6 +294,7 @@ class DocumentCheck {
 
   void checkTextureInfo(const Json& texture, const std::string& where) const {
     index(texture, "index", where);
+    index(texture, "texCoord", where);
     if (const Json* extensions = object(texture, "extensions", where)) {
       const std::string at = memberPath(where, "extensions");
       if (const Json* transform = object(*extensions, "KHR_texture_transform", at)) {
@@ -754,7 +755,10 @@ class GltfConverter {
       return values;
     };
     const std::vector<float> normals = readOptional("NORMAL", 3);
-    const std::vector<float> uvs = readOptional("TEXCOORD_0", 2);
+    // The coordinate set the mesh's texture names (texCoord).
+    const tinygltf::TextureInfo* texture = meshTexture(primitive.material);
+    const std::string texcoords = "TEXCOORD_" + std::to_string(texture != nullptr ? texture->texCoord : 0);
+    const std::vector<float> uvs = readOptional(texcoords.c_str(), 2);
     // COLOR_0 is RGB or RGBA (its alpha is not used).
     const int colorAccessor = attribute("COLOR_0");
     const int colorComponents =
@@ -766,7 +770,7 @@ class GltfConverter {
     Mesh mesh;
     mesh.name = name;
     mesh.material = materialFor(primitive.material, where + ".material");
-    const glm::dmat3 uvTransform = textureTransform(primitive.material);
+    const glm::dmat3 uvTransform = textureTransform(texture);
     mesh.vertices.resize(vertexCount);
     std::vector<bool> lacksNormal(normals.empty() ? 0 : vertexCount, false);
     for (size_t v = 0; v < vertexCount; ++v) {
@@ -782,7 +786,7 @@ class GltfConverter {
       if (!colors.empty())
         vertex.color = glm::clamp(glm::make_vec3(&colors[colorComponents * v]), glm::vec3(0.0f), glm::vec3(1.0f));
       if (!std::isfinite(vertex.uv.x) || !std::isfinite(vertex.uv.y))
-        fail(path_, where + ".attributes.TEXCOORD_0 is not finite under its material's KHR_texture_transform");
+        fail(path_, where + ".attributes." + texcoords + " is not finite under its material's KHR_texture_transform");
     }
     if (primitive.indices >= 0) {
       mesh.indices = readIndices(primitive.indices, vertexCount, where + ".indices");
@@ -822,16 +826,21 @@ class GltfConverter {
     return triangles;
   }
 
-  // KHR_texture_transform of a material's textures as one matrix on the texture coordinates, uv' = T·R·S·uv: its
-  // base colour texture's, else its emission texture's (the mesh has one set of coordinates for both).
-  glm::dmat3 textureTransform(int material) const {
-    if (material < 0 || static_cast<size_t>(material) >= model_.materials.size()) return glm::dmat3(1.0);
+  // The texture whose coordinates a primitive's mesh carries: its material's base colour texture, else its emission
+  // texture (a mesh has one set of coordinates for both); null where the material has neither.
+  const tinygltf::TextureInfo* meshTexture(int material) const {
+    if (material < 0 || static_cast<size_t>(material) >= model_.materials.size()) return nullptr;
     const tinygltf::Material& source = model_.materials[static_cast<size_t>(material)];
-    const tinygltf::TextureInfo& baseColor = source.pbrMetallicRoughness.baseColorTexture;
-    const tinygltf::ExtensionMap& extensions =
-        baseColor.index >= 0 ? baseColor.extensions : source.emissiveTexture.extensions;
-    const auto found = extensions.find("KHR_texture_transform");
-    if (found == extensions.end() || !found->second.IsObject()) return glm::dmat3(1.0);
+    if (source.pbrMetallicRoughness.baseColorTexture.index >= 0) return &source.pbrMetallicRoughness.baseColorTexture;
+    if (source.emissiveTexture.index >= 0) return &source.emissiveTexture;
+    return nullptr;
+  }
+
+  // A texture's KHR_texture_transform as one matrix on its texture coordinates, uv' = T·R·S·uv.
+  glm::dmat3 textureTransform(const tinygltf::TextureInfo* texture) const {
+    if (texture == nullptr) return glm::dmat3(1.0);
+    const auto found = texture->extensions.find("KHR_texture_transform");
+    if (found == texture->extensions.end() || !found->second.IsObject()) return glm::dmat3(1.0);
     const tinygltf::Value& transform = found->second;
     const auto pair = [&](const char* name, glm::dvec2 fallback) {
       const tinygltf::Value& value = transform.Get(name);

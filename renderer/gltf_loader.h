@@ -14,13 +14,13 @@ class SceneLoadError : public std::runtime_error {
 };
 
 // Loads a glTF 2.0 file (.gltf with its buffers and images, or .glb): the node hierarchy flattened into instances,
-// meshes (triangles, strips and fans; points and lines are not drawn; POSITION, NORMAL, TEXCOORD_0, COLOR_0), materials
-// (baseColorFactor/baseColorTexture with its KHR_texture_transform, alphaMode MASK as Material::alphaCutoff — BLEND cut
-// out below half, and a KHR_materials_transmission factor above half everywhere —, emissiveFactor ×
-// KHR_materials_emissive_strength × emissiveTexture), KHR_lights_punctual (point and spot as local lights, directional
-// as the sun; intensities used as given: candela as radiant intensity in W/sr, lux as irradiance in W/m²) and cameras
-// (the first is the default view; a file without one gets a camera framing the whole scene). glTF has no sky:
-// Scene::sky is None.
+// meshes (triangles, strips and fans; points and lines are not drawn; POSITION, NORMAL, COLOR_0 and the TEXCOORD_n the
+// base colour texture names), materials (baseColorFactor/baseColorTexture with its KHR_texture_transform, alphaMode
+// MASK as Material::alphaCutoff — BLEND cut out below half, and a KHR_materials_transmission factor above half
+// everywhere —, emissiveFactor × KHR_materials_emissive_strength × emissiveTexture), KHR_lights_punctual (point and
+// spot as local lights, directional as the sun; intensities used as given: candela as radiant intensity in W/sr, lux as
+// irradiance in W/m²) and cameras (the first is the default view; a file without one gets a camera framing the whole
+// scene). glTF has no sky: Scene::sky is None.
 //
 // The file may come from anyone: it gives either a scene whose every number is finite and within the bounds below,
 // which the renderer draws finite, or a SceneLoadError; never a crash, a hang or a NaN. What is refused:

@@ -507,6 +507,36 @@ TEST_F(GltfFiles, vertexColoursAreReadFromRgbOrRgbaAndKeptWithinZeroToOne) {
   EXPECT_NE(loadError(write("two.gltf", twoComponents)).find("COLOR_0 has 2 components"), std::string::npos);
 }
 
+TEST_F(GltfFiles, theMeshCarriesTheTextureCoordinateSetItsTextureNames) {
+  // The base colour texture names TEXCOORD_1 (texCoord 1): the mesh carries that set, not TEXCOORD_0.
+  std::string bytes;
+  append<float>(bytes, {0, 0, 0, 1, 0, 0, 0, 1, 0});
+  append<float>(bytes, {9, 9, 9, 9, 9, 9});
+  append<float>(bytes, {0.25f, 0.5f, 0.75f, 1, 0, 0});
+  append<uint16_t>(bytes, {0, 1, 2, 0});
+  const std::string document =
+      R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1, "TEXCOORD_1": 2}, "indices": 3,
+                                "material": 0}]}],
+    "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "texCoord": 1}}}],
+    "textures": [{"source": 0}], "images": [{"uri": ")" + kGreyPng + R"("}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+                  {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"},
+                  {"bufferView": 2, "componentType": 5126, "count": 3, "type": "VEC2"},
+                  {"bufferView": 3, "componentType": 5123, "count": 3, "type": "SCALAR"}],
+    "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 24},
+                    {"buffer": 0, "byteOffset": 60, "byteLength": 24}, {"buffer": 0, "byteOffset": 84, "byteLength": 6}],
+    "buffers": [{"byteLength": 92, "uri": ")" + dataUri(bytes) + "\"}]}";
+  const Scene scene = loadGltf(write("second-set.gltf", document));
+  ASSERT_EQ(scene.meshes.size(), 1u);
+  const Mesh& mesh = scene.meshes[0];
+  const std::array<glm::vec2, 3> expected = {glm::vec2(0.25f, 0.5f), glm::vec2(0.75f, 1.0f), glm::vec2(0.0f, 0.0f)};
+  for (size_t corner = 0; corner < 3; ++corner) {
+    EXPECT_FLOAT_EQ(mesh.vertices[mesh.indices[corner]].uv.x, expected[corner].x) << corner;
+    EXPECT_FLOAT_EQ(mesh.vertices[mesh.indices[corner]].uv.y, expected[corner].y) << corner;
+  }
+}
+
 // ---- Broken files ----
 
 TEST_F(GltfFiles, missingFileIsAnError) {
