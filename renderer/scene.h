@@ -34,10 +34,13 @@ struct Material {
   std::string name;
   glm::vec3 baseColor{1.0f};       // linear
   uint32_t baseColorTexture = kNoTexture;
-  glm::vec3 emission{0.0f};        // emitted radiance, W/(sr·m²): emissiveFactor × emissive_strength, times
-  uint32_t emissionTexture = kNoTexture;  // this texture (decoded from sRGB) where there is one
-  // Where the texture's alpha is below this, there is no surface (foliage, fences): glTF's MASK, its alphaCutoff over
-  // the base colour's alpha factor. 0: opaque, everywhere.
+  // Emitted radiance, W/(sr·m²): emission (emissiveFactor × emissive_strength) times the emission texture (decoded
+  // from sRGB) where there is one.
+  glm::vec3 emission{0.0f};
+  uint32_t emissionTexture = kNoTexture;
+  // Where the base colour texture's alpha (1 without one) is below this, there is no surface (foliage, fences, clear
+  // glass): for glTF's MASK its alphaCutoff over the base colour factor's alpha (gltf_loader.h says the rest).
+  // 0: opaque.
   float alphaCutoff = 0.0f;
 };
 

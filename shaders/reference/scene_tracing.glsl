@@ -52,14 +52,16 @@ vec2 triangleTexcoord(TriangleShading attributes, vec3 weights) {
          weights.z * vec2(attributes.normal2AndU2.w, attributes.texcoordVAndMaterial.z);
 }
 
-// Whether the point of a triangle at barycentrics (of vertices 1 and 2) is cut out of its surface, as the G-buffer
-// leaves it out (Material::alphaCutoff; TraceTriangle::cutsOut tells which triangles to ask).
-bool cutOut(uint triangle, vec2 barycentrics) {
+// Whether the point of a triangle at barycentric weights of its three vertices is cut out of its surface, as the
+// G-buffer leaves it out: the alpha of its texture (1 without one) below Material::alphaCutoff. TraceTriangle::cutsOut
+// tells which triangles to ask.
+bool cutOut(uint triangle, vec3 weights) {
   TriangleShading attributes = shading[triangle];
   GpuMaterial material = materials[floatBitsToUint(attributes.texcoordVAndMaterial.w)];
-  if (material.alphaCutoff <= 0.0 || material.baseColorTexture == kNoTexture) return material.alphaCutoff > 1.0;
-  vec3 weights = vec3(1.0 - barycentrics.x - barycentrics.y, barycentrics);
-  return sampleTexture(material.baseColorTexture, triangleTexcoord(attributes, weights)).a < material.alphaCutoff;
+  float alpha = material.baseColorTexture != kNoTexture
+                    ? sampleTexture(material.baseColorTexture, triangleTexcoord(attributes, weights)).a
+                    : 1.0;
+  return alpha < material.alphaCutoff;
 }
 
 struct RayHit {
@@ -115,7 +117,9 @@ bool traceRay(vec3 origin, vec3 direction, float maxDistance, bool anyHit, out R
     for (uint i = first; i < first + count; ++i) {
       TraceTriangle triangle = triangles[i];
       vec3 tuv = intersectTriangle(origin, direction, triangle.vertex0, triangle.edge1, triangle.edge2);
-      if (tuv.x > 0.0 && tuv.x < hit.distance && (!kSceneCutsOut || triangle.cutsOut == 0u || !cutOut(i, tuv.yz))) {
+      // A cut-out point is looked up only for a hit nearer than the one found.
+      if (tuv.x > 0.0 && tuv.x < hit.distance &&
+          !(kSceneCutsOut && triangle.cutsOut != 0u && cutOut(i, vec3(1.0 - tuv.y - tuv.z, tuv.yz)))) {
         hit.distance = tuv.x;
         hit.triangle = i;
         hit.barycentrics = tuv.yz;
