@@ -443,6 +443,28 @@ TEST_F(Reference, anEmissionTextureScalesTheEmissionWhereverTheRendererAndThePat
   EXPECT_GT(bright, 20u);  // the white strips are in view
 }
 
+TEST_F(Reference, anEmitterItsTextureCutsOutInPlacesEmitsOnlyWhereItIs) {
+  // The panel of the test above emitting L all over, cut out by its base colour texture's alpha where that test's
+  // emission texture was black: the same E, π·L·2·F, from next-event estimation and the paths' hits alike (2 %).
+  constexpr float kHeight = 1.0f, kHalfWidth = 0.5f, kHalfDepth = 0.3f;
+  const glm::vec3 radiance(15.0f, 10.0f, 5.0f);
+  Scene scene = planeScene();
+  scene.materials[0].baseColor = glm::vec3(0.0f);
+  renderer::Texture holes = halfWhiteTexture();
+  for (size_t texel = 0; texel < 32; ++texel) holes.rgba[4 * texel + 3] = 0;
+  scene.textures.push_back(holes);
+  scene.materials.push_back({"panel", glm::vec3(0.0f), 0, radiance});
+  scene.materials[1].alphaCutoff = 0.5f;
+  scene.meshes.push_back(horizontalRectangle(kHeight, kHalfWidth, kHalfDepth, true, 1));
+  scene.instances.push_back({1, glm::mat4(1.0f)});
+  const FloatImage indirect = trace(scene, 3, 3, 65536, shortDispatches()).indirectIrradiance();
+  const double formFactor = 2.0 * cornerFormFactor(kHalfWidth, kHalfDepth, kHeight);
+  for (uint32_t c = 0; c < 3; ++c) {
+    const double expected = glm::pi<double>() * radiance[c] * formFactor;
+    EXPECT_NEAR(channel(indirect, 4, c), expected, 0.02 * expected) << "channel " << c;
+  }
+}
+
 // A closed 2 × 2 × 2 m room of albedo 0.7 (x, z ∈ [−1, 1], y ∈ [0, 2]) lit only by a 0.6 × 0.4 m panel of radiance
 // (15, 12, 8). By default it hangs 0.4 m below the ceiling, a rectangle with no thickness, its front face down and its
 // back lighting the ceiling; the camera stands inside and sees the floor, the back wall and the panel. With

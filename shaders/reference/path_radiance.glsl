@@ -60,7 +60,10 @@ vec3 emitterIrradiance(vec3 position, vec3 normal, vec3 shadowOrigin, uint emitt
   TraceTriangle triangle = triangles[emitter.triangle];
   vec2 square = nextRandom2(random);
   float root = sqrt(square.x);
-  vec3 point = triangle.vertex0 + root * (1.0 - square.y) * triangle.edge1 + root * square.y * triangle.edge2;
+  vec3 weights = vec3(1.0 - root, root * (1.0 - square.y), root * square.y);
+  // A point its material's texture cuts out is no emitter (a path never hits it either).
+  if (kSceneCutsOut && triangle.cutsOut != 0u && cutOut(emitter.triangle, weights)) return vec3(0.0);
+  vec3 point = triangle.vertex0 + weights.y * triangle.edge1 + weights.z * triangle.edge2;
   vec3 toEmitter = point - position;
   float distanceSquared = dot(toEmitter, toEmitter);
   vec3 direction = toEmitter * inversesqrt(distanceSquared);
@@ -79,10 +82,8 @@ vec3 emitterIrradiance(vec3 position, vec3 normal, vec3 shadowOrigin, uint emitt
   TriangleShading attributes = shading[emitter.triangle];
   GpuMaterial material = materials[floatBitsToUint(attributes.texcoordVAndMaterial.w)];
   vec3 emission = material.emission;
-  if (material.emissionTexture != kNoTexture) {
-    vec3 weights = vec3(1.0 - root, root * (1.0 - square.y), root * square.y);
+  if (material.emissionTexture != kNoTexture)
     emission *= sampleTexture(material.emissionTexture, triangleTexcoord(attributes, weights)).rgb;
-  }
   // The two densities of y as the vertex's cosine-sampled ray would meet it: from the ray origin (`shadowOrigin`),
   // which extendPath uses for the point it hits, so that the two weights of one point sum to 1.
   vec3 fromOrigin = point - shadowOrigin;
