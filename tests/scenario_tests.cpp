@@ -296,9 +296,14 @@ TEST_F(Scenario, cornellLightSwitchedOffWhileTheCameraLooksAwayFadesOnceItLooksB
   EXPECT_LT(lookAway.differenceFromNeverOn.back(), 0.5 * lookAway.differenceWithTheLightOn);
 }
 
-// The cut changes the GI: E_indirect on its frame differs by more than 10 % (relative mean absolute difference) from a
-// run that sat at the new view all along.
+// Recovered, as `ssvgi scenario cut` reports it: E_indirect within 10 % (relative mean absolute difference) of a run
+// that sat at the new view all along.
 constexpr double kRecoveryTolerance = 0.1;
+// The cut changes the GI: on its frame E_indirect is at least this many times as far from that run as 32 frames
+// later, so that there is a recovery to measure (the teleport 3.4 times, 9.6 % against 2.8 %; the half turn 2.8 times,
+// 2026-12-07). Not an absolute figure: what the first frame after a cut already knows of the new view is the better
+// the less there is to recover.
+constexpr double kCutChangeOverRecovered = 2.0;
 // Recovered: after 32 frames, no further from the path-traced reference of the new view than that run, within 2 points
 // of relative MAE (both runs averaged over their last 8 frames, the reference at 512 samples per pixel). Not "equal to
 // that run": the run after the cut keeps the voxels and the observed space of the old view, and where they are still
@@ -323,7 +328,8 @@ TEST_P(ScenarioCameraCut, staysFiniteAndWithin32FramesIsNoFurtherFromTheReferenc
   std::printf("%s: %s\n", GetParam().name, bench::toJson(cut).dump().c_str());
   EXPECT_TRUE(cut.allFinite);
   ASSERT_EQ(cut.differenceFromSettled.size(), options.framesAfter);
-  EXPECT_GT(cut.differenceFromSettled.front(), kRecoveryTolerance) << "the cut changes the GI: there is a recovery";
+  EXPECT_GT(cut.differenceFromSettled.front(), kCutChangeOverRecovered * cut.differenceFromSettled.back())
+      << "the cut changes the GI: there is a recovery";
   ASSERT_TRUE(cut.errorAfterCut && cut.errorSettled);
   EXPECT_LT(*cut.errorAfterCut, *cut.errorSettled + kReferenceTolerance)
       << "last difference from the run that sat there " << cut.differenceFromSettled.back();

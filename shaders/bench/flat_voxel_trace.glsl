@@ -35,18 +35,18 @@ VoxelHit traceVoxelsFlat(vec3 origin, vec3 direction, float maxDistance, bool wa
       VoxelHit met;
       if (meetsSurfaceBeside(walk, cached, direction, reads, met))
         return withObservation(met, unobserved, unobservedDistance);
-      passed = passUnobservedVoxel(passed, walk, unobserved, unobservedDistance);
+      passUnobservedVoxel(passed, walk, cached, direction, unobserved, unobservedDistance);
     }
     int axis = firstCrossingAxis(nextCrossing);
     if (nextCrossing[axis] > maxDistance) break;
     walk.distance = nextCrossing[axis];
     walk.voxel[axis] += walk.step[axis];
     if (walk.voxel[axis] < 0 || walk.voxel[axis] >= size[axis]) break;
-    if (leftUnobservedVoxelsBrick(passed, walk)) return unknownBesideSurface(passed, maxDistance, reads);
+    if (endsPastUnobservedVoxels(passed, walk, false, unobserved, unobservedDistance))
+      return unknownBesideSurface(passed, direction, maxDistance, reads);
     nextCrossing[axis] = crossingDistance(walk, axis, exitPlane(walk.voxel[axis], kVoxelLevel, walk.step[axis]));
   }
-  if (passed.passed) return unknownBesideSurface(passed, maxDistance, reads);
-  return withObservation(voxelMiss(maxDistance, reads), unobserved, unobservedDistance);
+  return walkMissed(passed, walk, direction, unobserved, unobservedDistance, maxDistance, reads);
 }
 
 #endif

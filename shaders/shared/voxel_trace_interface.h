@@ -27,7 +27,8 @@ struct VoxelTraceHit {
   vec3 radiance;                // the hit voxel's, black for a miss or a back face
   float distance;               // m to where the ray enters the hit voxel; the ray's maximum distance for a miss
   vec3 normal;                  // the hit voxel's, zero for a miss
-  uint brick;                   // pool index of the hit voxel's brick, kInvalidBrick for a miss
+  uint brick;                   // pool index of the hit voxel's brick (of the surface's voxel beside which a miss
+                                // ended, kTraceEndedBesideSurface), kInvalidBrick for another miss
   uint voxelBit;                // the voxel's bit in its brick (voxelBit)
   uint reads;                   // buffer reads the trace made
   uint unobserved;              // kTraceObserved, kTraceCrossedUnobservedSpace or kTraceEndedBesideSurface (below)

@@ -83,23 +83,22 @@ shared float trimmedLuminance[kProbeTraceGroupSize];
 // The history count this update blends with (followChange), for every thread: the reservoirs forget as much.
 shared uint blendedHistoryCount;
 // Unknown is not sky (SPEC §6.4): what each ray found (below), the light of those that met a surface less its direct
-// part, how many found something known and the radiance the two kinds of unknown rays stand for (averageKnownRays);
+// part, how many found something known and the radiance the rays into unobserved space stand for (averageKnownRays);
 // and what the probe holds — its history, or, for a probe that starts afresh, the coarser level's radiance it starts
 // from (black without one), which it keeps where none of its rays found anything known.
 const uint kRayFoundSky = 0u;
 const uint kRayMetSurface = 1u;
 const uint kRayUnknownInSpace = 2u;          // it crossed space no view has observed and met nothing
-const uint kRayUnknownBesideSurface = 3u;    // it ended at unobserved voxels beside seen surfaces (voxel_trace.glsl)
+const uint kRayUnknownBesideSurface = 3u;    // it ended at unobserved voxels beside a seen surface (voxel_trace.glsl),
+                                             // and stands for that surface's light
 shared uint rayFound[kProbeTraceGroupSize];
 shared vec3 rayIndirectRadiance[kProbeTraceGroupSize];
 shared uint knownRays;
-// What an unknown ray stands for (averageKnownRays): its radiance and its share of sky, into unobserved space (in each
-// half of the sphere, 0: below the horizon, 1: above) and beside seen surfaces.
+// What a ray into unobserved space stands for (averageKnownRays): its radiance and its share of sky, in each half of
+// the sphere (0: below the horizon, 1: above).
 shared uint rayHalf[kProbeTraceGroupSize];
 shared vec3 knownMeanWithoutDirect[2];
 shared float knownSkyShare[2];
-shared vec3 surfacesMeanRadiance;
-shared float surfacesSkyShare;
 shared float knownDirectShare;  // of the known rays' light, the share not relit from the probes: direct and sky
 shared vec4 heldSkyVisibility;
 shared Sh2Rgb heldRadiance;
@@ -401,7 +400,7 @@ VoxelHit traceRay(ListedProbe probe, ProbeRay chosen, uint ray) {
   } else if (hit.unobserved) {  // neither a surface nor the sky (SPEC §6.4)
     rayFound[ray] = hit.endedBesideSurface ? kRayUnknownBesideSurface : kRayUnknownInSpace;
   }
-  rayRadiance[ray] = hit.hit ? hit.radiance : skyRadiance(chosen.direction);
+  rayRadiance[ray] = hit.hit || hit.endedBesideSurface ? hit.radiance : skyRadiance(chosen.direction);
   return hit;
 }
 
@@ -413,15 +412,14 @@ VoxelHit traceRay(ListedProbe probe, ProbeRay chosen, uint ray) {
 // buildings: docs/QUALITY.md). The sky by halves: it lies above the horizon, and over the whole sphere the sky openings
 // show above lit the unknown space at floor level too; the surfaces over the whole sphere, whose mean is steadier than
 // a half's (by halves, more light came through a wall's junctions in `two-rooms`: docs/QUALITY.md, "Unknown rays take
-// the known sky's share"). A ray that ended beside seen surfaces stands for the surfaces' mean, whole: what it would
-// have met is most likely beside them, sunlit or not (the sunlit wall past a pillar's edge in the gallery). Each alike
-// for every direction of its half, so that what the probe learns does not depend on what it held before, which would
-// keep a camera cut's old light in it for good. (Unknown rays once stood for the surfaces' mean alone, never the sky:
-// it kept the hall without the capture around the camera from taking the sky through its roof's openings to the whole
-// unknown sphere, when views observed the space beside walls they grazed; with today's stricter observed space that
-// rule left the hall's probes that see the nearer opening only through air no view observed too dark.) A half no known
-// ray lies in takes the whole sphere's share of sky; a probe none of whose rays found anything known keeps what it
-// holds. One thread.
+// the known sky's share"). Alike for every direction of its half, so that what the probe learns does not depend on
+// what it held before, which would keep a camera cut's old light in it for good. (Unknown rays once stood for the
+// surfaces' mean alone, never the sky: it kept the hall without the capture around the camera from taking the sky
+// through its roof's openings to the whole unknown sphere, when views observed the space beside walls they grazed; with
+// today's stricter observed space that rule left the hall's probes that see the nearer opening only through air no
+// view observed too dark.) A half no known ray lies in takes the whole sphere's share of sky; a probe none of whose
+// rays found anything known keeps what it holds. (A ray that ended beside a seen surface stands for that surface's
+// light, which the trace gives it.) One thread.
 void averageKnownRays() {
   vec3 surfaceSum = vec3(0.0), surfaceIndirectSum = vec3(0.0), skySum[3];
   uint surfaces = 0u, count[3], skyRays[3];
@@ -459,9 +457,6 @@ void averageKnownRays() {
     knownMeanWithoutDirect[side] = mix(surfacesIndirectMean, skyMean, skyShare);
     knownSkyShare[side] = skyShare;
   }
-  vec3 wholeSkyMean = skyRays[2] > 0u ? skySum[2] / float(skyRays[2]) : vec3(0.0);
-  surfacesMeanRadiance = surfaces > 0u ? surfaceSum / float(surfaces) : wholeSkyMean;
-  surfacesSkyShare = surfaces > 0u || count[2] == 0u ? 0.0 : 1.0;
 }
 
 // The thread's terms of the probe's three SH2, L_lm = (4π/N) Σ L(ω_i) Y_lm(ω_i) (SPEC §2).
@@ -475,12 +470,10 @@ void projectRay(ProbeRay chosen, VoxelHit hit, uint ray) {
   uint found = rayFound[ray];
   bool unknown = found == kRayUnknownInSpace || found == kRayUnknownBesideSurface;
   float skyVisibility = found == kRayFoundSky ? 1.0 : 0.0;
-  if (unknown && knownRays > 0u) {
-    bool inSpace = found == kRayUnknownInSpace;
-    uint side = rayHalf[ray];
-    radiance = inSpace ? knownMeanWithoutDirect[side] : surfacesMeanRadiance;
-    skyVisibility = inSpace ? knownSkyShare[side] : surfacesSkyShare;
-  } else if (unknown) {
+  if (found == kRayUnknownInSpace && knownRays > 0u) {
+    radiance = knownMeanWithoutDirect[rayHalf[ray]];
+    skyVisibility = knownSkyShare[rayHalf[ray]];
+  } else if (found == kRayUnknownInSpace) {
     radiance = max(sh2Evaluate(heldRadiance, sh2Basis(chosen.direction)), vec3(0.0));
     skyVisibility = clamp(dot(heldSkyVisibility, sh2Basis(chosen.direction)), 0.0, 1.0);
   }

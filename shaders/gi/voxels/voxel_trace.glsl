@@ -23,7 +23,8 @@ struct VoxelHit {
   bool hit;
   float distance;   // metres along the ray to where it enters the hit voxel (0 when it starts inside it);
                     // maxDistance for a miss
-  uint brick;       // pool index of the hit voxel's brick; kInvalidBrick for a miss
+  uint brick;       // pool index of the hit voxel's brick; kInvalidBrick for a miss (but one that ended beside a
+                    // surface, below)
   uint voxelIndex;  // the voxel's bit in its brick (voxelBit)
   vec3 radiance;    // the voxel's radiance; black for a miss or when the ray meets the voxel from behind
   vec3 normal;      // the voxel's stored unit normal; zero for a miss
@@ -34,7 +35,8 @@ struct VoxelHit {
   bool unobserved;
   float unobservedDistance;
   // A miss that ended at unobserved voxels beside a surface it moved along or away from (below), not in space that no
-  // view has observed: what it would have met lies beside surfaces the views have seen.
+  // view has observed: `brick`, `voxelIndex`, `normal` and `radiance` are that surface's, its light as the ray would
+  // have met it (black from behind).
   bool endedBesideSurface;
 };
 
@@ -177,9 +179,9 @@ bool isCached(CachedBrick cached, ivec3 brick) { return all(equal(cached.brick, 
 // has seen holding a surface or seen through. A view that meets a wall at a grazing angle, or has seen it only a few
 // times, leaves some of its voxels empty (SceneVoxelization fills a voxel only when a sample lands on its surface):
 // such a voxel is most likely wall not yet seen, and a probe ray through it would find the sky or the sunlit ground
-// behind the wall. A trace that watches observed space meets the surface beside it or ends unknown in its brick
-// (meetsSurfaceBeside, unknownBesideSurface). Only in a brick holding surface: an empty brick of the pool is one being
-// filled or released, and a trace that steps over empty bricks never looks in.
+// behind the wall. A trace that watches observed space meets the surface beside it, ends unknown beside it or goes on
+// as through unobserved space (meetsSurfaceBeside, passUnobservedVoxel). Only in a brick holding surface: an empty
+// brick of the pool is one being filled or released, and a trace that steps over empty bricks never looks in.
 void loadBrick(inout CachedBrick cached, VoxelWalk walk, bool watchesVoxels, inout uint reads) {
   ivec3 brick = walk.voxel >> kBrickLevel;
   if (isCached(cached, brick)) return;
@@ -327,8 +329,8 @@ VoxelHit voxelMiss(float maxDistance, uint reads) {
 // observed are not the sky — or takes every brick cell without voxels for empty (a visibility test between two
 // points, most debug views). A watching trace goes on through unobserved brick cells: a surface it meets beyond is a
 // surface the views did see, and the rays that pass a pillar's blind spot to a sunlit wall find the wall. It ends,
-// unknown, where it leaves a brick that holds surface after passing an unobserved voxel of it (loadBrick) without
-// meeting a surface there.
+// unknown, where it leaves a brick that holds surface after passing an unobserved voxel of it beside a surface
+// (loadBrick, passUnobservedVoxel) without meeting a surface there; past unobserved air of the brick it goes on.
 const bool kWatchObservedSpace = true;
 const bool kIgnoreObservedSpace = false;
 
@@ -365,34 +367,95 @@ bool meetsSurfaceBeside(VoxelWalk walk, CachedBrick brick, vec3 direction, inout
   return true;
 }
 
-// An unobserved voxel a walk has passed without meeting a surface beside it: it goes on to look for a surface in the
-// same brick — the air voxels in front of a floor that no view has seen at the right angle hide nothing, most likely,
-// from a ray that meets the floor beyond them — and ends unknown, beside the surfaces it moved along or away from,
-// where it leaves the brick without one.
+// An unobserved voxel a walk passes without meeting a surface ahead: the walk goes on to look for a surface in the
+// same brick — the air in front of a floor that no view has seen at the right angle hides nothing, most likely, from a
+// ray that meets the floor beyond it. Where it leaves the brick without one, it depends on what the voxels it passed
+// there lie beside. Beside a surface of the brick (on a side the ray moves away from or along), such a voxel is most
+// likely that surface not yet seen as well — the rim of a hole, the junction of a wall and a floor —: the walk ends
+// unknown beside it, with the light the ray would have met there, the surface's as seen from the ray's side (black
+// from behind). Beside none, they are air no view has seen, as an unobserved brick cell is: the walk goes on,
+// unobserved from them, so that a surface it meets beyond is a surface the views saw and a miss is not the sky. (An
+// unobserved voxel once ended the ray standing for the mean light of the probe's surfaces: the air at the corners of a
+// sunlit fence's holes gave the floor in front of it three times its indirect light; and standing for that mean only
+// beside a surface, `two-rooms` leaked 3.7 times as much: docs/QUALITY.md, "What an unobserved voxel stands for".)
 struct UnobservedVoxelPassed {
   bool passed;
-  ivec3 brick;      // the brick cell it lies in
-  float distance;   // where the ray first entered unobserved space (metres)
+  ivec3 brick;         // the brick cell they lie in
+  float distance;      // where the ray first entered unobserved space (metres)
+  bool besideSurface;  // one of them lies beside a surface of the brick: that surface's voxel (voxelBit) in the brick
+  uint besideBrick;    // of pool index besideBrick
+  uint besideVoxel;
 };
-const UnobservedVoxelPassed kNoUnobservedVoxelPassed = UnobservedVoxelPassed(false, ivec3(0), 0.0);
+const UnobservedVoxelPassed kNoUnobservedVoxelPassed =
+    UnobservedVoxelPassed(false, ivec3(0), 0.0, false, kInvalidBrick, 0u);
 
-UnobservedVoxelPassed passUnobservedVoxel(UnobservedVoxelPassed pending, VoxelWalk walk, bool crossedUnobserved,
-                                          float unobservedDistance) {
-  if (pending.passed) return pending;
-  return UnobservedVoxelPassed(true, walk.voxel >> kBrickLevel, crossedUnobserved ? unobservedDistance : walk.distance);
+// The occupied neighbour of the walk's voxel inside its brick, across the axis the ray moves along fastest; -1 where
+// none is.
+int surfaceBeside(VoxelWalk walk, CachedBrick brick, vec3 direction) {
+  ivec3 inBrick = voxelInBrick(walk.voxel);
+  int found = -1;
+  float fastest = -1.0;
+  for (int axis = 0; axis < 3; ++axis) {
+    for (int side = -1; side <= 1; side += 2) {
+      ivec3 neighbour = inBrick;
+      neighbour[axis] += side;
+      bool inside = neighbour[axis] >= 0 && neighbour[axis] < int(kBrickSizeVoxels);
+      if (inside && abs(direction[axis]) > fastest && voxelBitSet(brick.mask, neighbour)) {
+        fastest = abs(direction[axis]);
+        found = int(voxelBit(uvec3(neighbour)));
+      }
+    }
+  }
+  return found;
 }
 
-// Whether the walk has left the brick of an unobserved voxel it passed without meeting a surface there.
-bool leftUnobservedVoxelsBrick(UnobservedVoxelPassed pending, VoxelWalk walk) {
-  return pending.passed && any(notEqual(walk.voxel >> kBrickLevel, pending.brick));
+// The walk at an unobserved voxel where it meets no surface ahead (meetsSurfaceBeside).
+void passUnobservedVoxel(inout UnobservedVoxelPassed pending, VoxelWalk walk, CachedBrick brick, vec3 direction,
+                         bool crossedUnobserved, float unobservedDistance) {
+  if (pending.besideSurface) return;
+  if (!pending.passed) {
+    pending.passed = true;
+    pending.brick = walk.voxel >> kBrickLevel;
+    pending.distance = crossedUnobserved ? unobservedDistance : walk.distance;
+  }
+  int beside = surfaceBeside(walk, brick, direction);
+  if (beside >= 0) {
+    pending.besideSurface = true;
+    pending.besideBrick = brick.index;
+    pending.besideVoxel = uint(beside);
+  }
 }
 
-// A walk that passed an unobserved voxel and met no surface in its brick: no hit, unobserved from where it first
-// entered unobserved space, ended beside surfaces.
-VoxelHit unknownBesideSurface(UnobservedVoxelPassed pending, float maxDistance, uint reads) {
-  VoxelHit unknown = withObservation(voxelMiss(maxDistance, reads), true, pending.distance);
-  unknown.endedBesideSurface = true;
-  return unknown;
+// Where the walk leaves the brick of the unobserved voxels it passed (or ends): true where it ends there, beside a
+// surface; past air alone it goes on, unobserved from that air.
+bool endsPastUnobservedVoxels(inout UnobservedVoxelPassed pending, VoxelWalk walk, bool walkEnded,
+                              inout bool unobserved, inout float unobservedDistance) {
+  if (!pending.passed || (!walkEnded && all(equal(walk.voxel >> kBrickLevel, pending.brick)))) return false;
+  if (pending.besideSurface) return true;
+  if (!unobserved) {
+    unobserved = true;
+    unobservedDistance = pending.distance;
+  }
+  pending = kNoUnobservedVoxelPassed;
+  return false;
+}
+
+// A walk that ends beside a surface (endsPastUnobservedVoxels): no hit, unobserved from where it first entered
+// unobserved space, with the surface's voxel, normal and light as the ray would have met it.
+VoxelHit unknownBesideSurface(UnobservedVoxelPassed pending, vec3 direction, float maxDistance, uint reads) {
+  Voxel voxel = voxels[pending.besideBrick * kVoxelsPerBrick + pending.besideVoxel];
+  vec3 normal = voxelNormal(voxel);
+  vec3 radiance = dot(normal, direction) > 0.0 ? vec3(0.0) : unpackR11G11B10F(voxel.radiance);
+  return VoxelHit(false, maxDistance, pending.besideBrick, pending.besideVoxel, radiance, normal, reads + 1u, true,
+                  pending.distance, true);
+}
+
+// The end of a walk that met no surface.
+VoxelHit walkMissed(UnobservedVoxelPassed pending, VoxelWalk walk, vec3 direction, bool unobserved,
+                    float unobservedDistance, float maxDistance, uint reads) {
+  if (endsPastUnobservedVoxels(pending, walk, true, unobserved, unobservedDistance))
+    return unknownBesideSurface(pending, direction, maxDistance, reads);
+  return withObservation(voxelMiss(maxDistance, reads), unobserved, unobservedDistance);
 }
 
 // How far in front of a voxel's surface plane (in voxels) a ray still meets it: the plane's 8-bit quantisation (0.007)
@@ -465,7 +528,8 @@ VoxelHit walkOccupancyHierarchy(VoxelTraceFrame volumeFrame, vec3 origin, vec3 d
     for (;;) {
       if (stepsFirst) {
         ivec3 previous = walk.voxel;
-        if (!stepOverCell(walk, level) || leftUnobservedVoxelsBrick(passed, walk)) {
+        if (!stepOverCell(walk, level) ||
+            endsPastUnobservedVoxels(passed, walk, false, unobserved, unobservedDistance)) {
           walking = false;
           break;
         }
@@ -495,15 +559,14 @@ VoxelHit walkOccupancyHierarchy(VoxelTraceFrame volumeFrame, vec3 origin, vec3 d
       VoxelHit met;
       if (meetsSurfaceBeside(walk, cached, direction, reads, met))
         return withObservation(met, unobserved, unobservedDistance);
-      passed = passUnobservedVoxel(passed, walk, unobserved, unobservedDistance);
+      passUnobservedVoxel(passed, walk, cached, direction, unobserved, unobservedDistance);
     } else {
       VoxelHit hit = voxelHitAt(walk, cached, direction, reads);
       if (hit.hit) return withObservation(hit, unobserved, unobservedDistance);
       reads = hit.reads;  // in front of the voxel's surface all the way through: on, as past an empty voxel
     }
   }
-  if (passed.passed) return unknownBesideSurface(passed, maxDistance, reads);
-  return withObservation(voxelMiss(maxDistance, reads), unobserved, unobservedDistance);
+  return walkMissed(passed, walk, direction, unobserved, unobservedDistance, maxDistance, reads);
 }
 
 // The traces this invocation has made and their reads, whichever function made them: the work a pass counts
