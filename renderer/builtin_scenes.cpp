@@ -85,7 +85,7 @@ class SceneAssembly {
       movingMotion_->instance = addInstancedMesh(std::move(movingShape_), movingMaterial_, movingPlacement_);
       scene_.movingObject = movingMotion_;
     }
-    scene_.giDetailScale = giDetailScaleFor(worldBounds(scene_));
+    scene_.giDetailScale = giDetailScaleFor(worldBounds(scene_), scene_.cameras.at(0).position);
     return std::move(scene_);
   }
 

@@ -530,9 +530,9 @@ class GltfConverter {
     if (scene_.instances.empty()) fail(path_, "no triangle meshes in the scene");
     checkWorldExtent();
     const Bounds bounds = worldBounds(scene_);
-    scene_.giDetailScale = giDetailScaleFor(bounds);
     // Cameras and lights come in the order their nodes are visited (the scene's nodes, depth first).
     if (scene_.cameras.empty()) scene_.cameras.push_back(cameraFraming(bounds));
+    scene_.giDetailScale = giDetailScaleFor(bounds, scene_.cameras.front().position);
     return std::move(scene_);
   }
 

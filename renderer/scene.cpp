@@ -23,14 +23,17 @@ Bounds worldBounds(const Scene& scene) {
   return {low, high};
 }
 
-float giDetailScaleFor(const Bounds& bounds) {
+float giDetailScaleFor(const Bounds& bounds, const glm::vec3& viewpoint) {
   constexpr float kTierProbeSpacing = 1.0f;  // metres, every tier's (ssvgi::settingsForTier)
-  constexpr float kFinestScale = 0.25f;
+  constexpr float kFinestScale = 1.0f / 16.0f;
   const glm::vec3 extent = bounds.max - bounds.min;
   const float middleExtent =
       std::max(std::min(extent.x, extent.y), std::min(std::max(extent.x, extent.y), extent.z));
+  const float viewDistance = glm::distance(viewpoint, 0.5f * (bounds.min + bounds.max));
   float scale = 1.0f;
-  while (scale > kFinestScale && middleExtent < kGiProbeSpacingsAcrossScene * kTierProbeSpacing * scale) scale *= 0.5f;
+  while (scale > kFinestScale && middleExtent < kGiProbeSpacingsAcrossScene * kTierProbeSpacing * scale &&
+         viewDistance <= kGiProbeSpacingsToViewpoint * kTierProbeSpacing * 0.5f * scale)
+    scale *= 0.5f;
   return scale;
 }
 

@@ -142,13 +142,18 @@ struct Bounds {
 // World-space bounds of all instances' vertices (all zero for a scene without geometry).
 Bounds worldBounds(const Scene& scene);
 
-// Scene::giDetailScale for a scene of these bounds. The tiers' sizes (0.25 m voxels, 1 m probes) suit rooms and
-// streets; in a smaller scene most of its probes would sit in its walls, and the few left inside could not resolve
-// its light (docs/QUALITY.md, "A scene's GI detail follows its size"). So the scale halves, down to a quarter, until the bounds' middle extent spans at least
-// kGiProbeSpacingsAcrossScene spacings of the tiers' 1 m probes: two probes or more inside the scene along its two
-// larger axes. The middle extent, not the smallest: a wide, flat scene keeps the tiers' volume.
+// Scene::giDetailScale for a scene of these bounds seen from `viewpoint` (its first camera). The tiers' sizes (0.25 m
+// voxels, 1 m probes) suit rooms and streets; in a smaller scene most of its probes would sit in its walls, and the few
+// left inside could not resolve its light (docs/QUALITY.md, "A scene's GI detail follows its size"). So the scale
+// halves, down to a sixteenth, until the bounds' middle extent spans at least kGiProbeSpacingsAcrossScene spacings of
+// the tiers' 1 m probes: two probes or more inside the scene along its two larger axes. The middle extent, not the
+// smallest: a wide, flat scene keeps the tiers' volume. But not so far that the scene's centre lies more than
+// kGiProbeSpacingsToViewpoint spacings from the viewpoint: the finest probes (a grid of 32 or more spacings around the
+// camera) and the voxel volume must still reach it (a 0.6 m tabletop seen from 6 m lost three quarters of its light
+// at 3 cm voxels; docs/QUALITY.md, "Tabletop scenes").
 constexpr float kGiProbeSpacingsAcrossScene = 3.0f;
-float giDetailScaleFor(const Bounds& bounds);
+constexpr float kGiProbeSpacingsToViewpoint = 32.0f;
+float giDetailScaleFor(const Bounds& bounds, const glm::vec3& viewpoint);
 
 // Unit vector towards the sun. Azimuth is measured in the horizontal plane from +Z towards +X (0° → +Z, 90° → +X),
 // elevation above the horizon: (cos(el)·sin(az), sin(el), cos(el)·cos(az)).

@@ -134,9 +134,12 @@ TEST(SceneBounds, coverEveryInstanceTransformedVertex) {
   expectNear(bounds.max, {11.0f, 2.0f, 0.5f});
 }
 
-// Scene::giDetailScale follows the middle of the bounds' three extents: at least three 1 m probe spacings across it.
+// Scene::giDetailScale follows the middle of the bounds' three extents: at least three 1 m probe spacings across it,
+// the scene's centre no further from the viewpoint than 32 spacings.
 TEST(SceneDetail, halvesTheGiDetailUntilThreeProbeSpacingsSpanTheMiddleExtent) {
-  const auto scaleFor = [](glm::vec3 extent) { return giDetailScaleFor({glm::vec3(-1.0f), glm::vec3(-1.0f) + extent}); };
+  const auto scaleFor = [](glm::vec3 extent) {
+    return giDetailScaleFor({glm::vec3(-1.0f), glm::vec3(-1.0f) + extent}, glm::vec3(-1.0f) + 0.5f * extent);
+  };
   EXPECT_EQ(scaleFor({5.0f, 3.0f, 5.0f}), 1.0f);     // a room
   EXPECT_EQ(scaleFor({3.0f, 3.0f, 3.0f}), 1.0f);     // just three spacings
   EXPECT_EQ(scaleFor({2.9f, 2.9f, 2.9f}), 0.5f);
@@ -144,7 +147,18 @@ TEST(SceneDetail, halvesTheGiDetailUntilThreeProbeSpacingsSpanTheMiddleExtent) {
   EXPECT_EQ(scaleFor({80.0f, 0.3f, 80.0f}), 1.0f);   // a wide, flat scene: its middle extent is 80 m
   EXPECT_EQ(scaleFor({0.5f, 40.0f, 2.0f}), 0.5f);    // a thin tall wall: 2 m
   EXPECT_EQ(scaleFor({1.2f, 1.2f, 1.2f}), 0.25f);
-  EXPECT_EQ(scaleFor({0.1f, 0.1f, 0.1f}), 0.25f);    // no finer than a quarter
+  EXPECT_EQ(scaleFor({0.6f, 0.15f, 0.4f}), 0.125f);  // a tabletop: its middle extent is 0.4 m
+  EXPECT_EQ(scaleFor({0.1f, 0.1f, 0.1f}), 0.0625f);  // no finer than a sixteenth
+}
+
+TEST(SceneDetail, aScaleFineEnoughForTheSceneIsNotTakenWhereItsCentreLiesBeyondThirtyTwoSpacingsOfTheViewpoint) {
+  const Bounds tabletop{glm::vec3(-0.3f, 0.0f, -0.2f), glm::vec3(0.3f, 0.15f, 0.2f)};
+  const glm::vec3 centre = 0.5f * (tabletop.min + tabletop.max);
+  EXPECT_EQ(giDetailScaleFor(tabletop, centre + glm::vec3(0.0f, 0.0f, 4.0f)), 0.125f);  // 32 spacings of 0.125 m
+  EXPECT_EQ(giDetailScaleFor(tabletop, centre + glm::vec3(0.0f, 0.0f, 4.1f)), 0.25f);
+  EXPECT_EQ(giDetailScaleFor(tabletop, centre + glm::vec3(0.0f, 6.0f, 6.0f)), 0.5f);   // 8.5 m: within 16 m, not 8
+  const Bounds cornellBox{glm::vec3(-1.0f), glm::vec3(1.0f)};
+  EXPECT_EQ(giDetailScaleFor(cornellBox, glm::vec3(0.0f, 0.0f, 20.0f)), 1.0f);  // beyond 16 m: the tiers' sizes
 }
 
 Scene sceneWithAnimation() {

@@ -133,7 +133,10 @@ ResolvedScene resolveScene(const SceneOptions& options) {
   resolved.height = height;
 
   resolved.camera = scene.cameras.empty() ? renderer::Camera{} : scene.cameras.front();
-  if (!options.camera.empty()) resolved.camera = parseCamera(options.camera, "--camera", resolved.camera);
+  if (!options.camera.empty()) {
+    resolved.camera = parseCamera(options.camera, "--camera", resolved.camera);
+    scene.giDetailScale = renderer::giDetailScaleFor(renderer::worldBounds(scene), resolved.camera.position);
+  }
   if (!options.cameraPath || !options.camera.empty()) scene.cameraPath.clear();
 
   if (options.sun == "off") {
