@@ -382,9 +382,9 @@ struct UnobservedVoxelPassed {
   bool passed;
   ivec3 brick;         // the brick cell they lie in
   float distance;      // where the ray first entered unobserved space (metres)
-  bool besideSurface;  // one of them lies beside a surface of the brick: that surface's voxel (voxelBit) in the brick
-  uint besideBrick;    // of pool index besideBrick
-  uint besideVoxel;
+  bool besideSurface;  // one of them lies beside a surface of the brick:
+  uint besideBrick;    // the brick's pool index
+  uint besideVoxel;    // and the surface's voxel in it (voxelBit)
 };
 const UnobservedVoxelPassed kNoUnobservedVoxelPassed =
     UnobservedVoxelPassed(false, ivec3(0), 0.0, false, kInvalidBrick, 0u);
