@@ -52,6 +52,28 @@ TEST(VoxelTracePacking, r11g11b10fKeepsRadianceToItsMantissaPrecision) {
   EXPECT_TRUE(glm::all(glm::greaterThan(saturated, glm::vec3(6e4f))) && glm::all(glm::lessThan(saturated, glm::vec3(7e4f))));
 }
 
+TEST(BrickMasks, theVoxelsBesideAMasksVoxelsAreThoseWithAFaceNeighbourInItInsideTheBrick) {
+  std::mt19937_64 rng(11);
+  for (int trial = 0; trial < 200; ++trial) {
+    // Sparse masks, so that voxels beside none are common too.
+    uint64_t mask = rng() & rng() & rng();
+    const glm::uvec2 beside = shader::voxelsBesideVoxels(glm::uvec2(uint32_t(mask), uint32_t(mask >> 32)));
+    for (uint32_t bit = 0; bit < shader::kVoxelsPerBrick; ++bit) {
+      const glm::ivec3 voxel(bit % 4, (bit / 4) % 4, bit / 16);
+      bool expected = false;
+      for (int axis = 0; axis < 3; ++axis)
+        for (const int side : {-1, 1}) {
+          glm::ivec3 neighbour = voxel;
+          neighbour[axis] += side;
+          if (neighbour[axis] >= 0 && neighbour[axis] < 4)
+            expected = expected || ((mask >> shader::voxelBit(glm::uvec3(neighbour))) & 1u);
+        }
+      const bool actual = ((bit < 32 ? beside.x : beside.y) >> (bit % 32)) & 1u;
+      ASSERT_EQ(actual, expected) << "mask " << std::hex << mask << std::dec << ", voxel " << bit;
+    }
+  }
+}
+
 TEST(VoxelTracePacking, octahedralNormalRoundTripIsWithinOneDegree) {
   std::mt19937 rng(11);
   std::normal_distribution<float> gaussian;
@@ -911,7 +933,8 @@ TEST_F(VoxelTrace, watchingObservedSpaceARayThroughUnobservedAirGoesOnAndOneBesi
   // first layer. A ray down through that air meets the floor, known: the air of a brick in front of a surface met in
   // it hides nothing. Rays along X in the layer on the floor pass voxels beside it: they end unknown beside the floor,
   // with its light as they would have met it — the floor's own along it, black rising away from it. A ray along X two
-  // layers up passes only air beside no surface: it goes on, unobserved from that air, and meets the wall beyond.
+  // layers up passes only air beside no surface: it goes on, unobserved from that air, and meets the wall beyond; one
+  // through that air into a second floor brick along Z meets its floor.
   const glm::vec3 floorRadiance(1.0f, 0.5f, 0.25f), wallRadiance(0.25f, 2.0f, 1.0f);
   const glm::ivec3 brick(6, 7, 8);
   const uint64_t bottomLayer = bottomVoxelLayer();
@@ -922,17 +945,25 @@ TEST_F(VoxelTrace, watchingObservedSpaceARayThroughUnobservedAirGoesOnAndOneBesi
   const uint32_t wallIndex =
       cpu_->addBrick(brick + glm::ivec3(1, 0, 0), firstLayerAlongX, wallRadiance, glm::vec3(-1.0f, 0.0f, 0.0f));
   cpu_->setObserved(wallIndex, ~uint64_t(0));
+  const uint32_t floorBeyondIndex = cpu_->addBrick(brick + glm::ivec3(0, 0, 1), bottomLayer, floorRadiance,
+                                                   glm::vec3(0.0f, 1.0f, 0.0f));
+  cpu_->setObserved(floorBeyondIndex, bottomLayer);
   upload();
   buildOctree(cpu_->allocatedCells());
 
   const float voxel = cpu_->voxelSize();
   const glm::vec3 brickMin = cpu_->minimumCorner() + glm::vec3(brick) * cpu_->volume().brickSize;
   const glm::vec3 rising = glm::normalize(glm::vec3(1.0f, 0.05f, 0.0f));
+  // Along Z through the second layer, air, to the next floor brick, where it sinks into the first layer at z = 4.07
+  // voxels, above the floor it moves towards: unobserved since the air, it still watches that voxel and meets the
+  // floor there.
+  const glm::vec3 descendingAlongZ = glm::normalize(glm::vec3(0.0f, -0.14f, 1.0f));
   std::vector<VoxelTraceRay> rays{
       {brickMin + glm::vec3(0.5f, 3.3f, 1.5f) * voxel, 10.0f, glm::normalize(glm::vec3(1.0f, -1.0f, 0.0f)), 1u},
       {brickMin + glm::vec3(0.5f, 1.5f, 1.5f) * voxel, 10.0f, glm::vec3(1.0f, 0.0f, 0.0f), 1u},
       {brickMin + glm::vec3(0.5f, 1.5f, 1.5f) * voxel, 10.0f, rising, 1u},
       {brickMin + glm::vec3(0.5f, 2.5f, 1.5f) * voxel, 10.0f, glm::vec3(1.0f, 0.0f, 0.0f), 1u},
+      {brickMin + glm::vec3(1.5f, 2.5f, 0.5f) * voxel, 10.0f, descendingAlongZ, 1u},
   };
   const glm::ivec3 floorVoxelBelowTheFirstEntered = brick * 4 + glm::ivec3(1, 0, 1);
   for (gi::TraceRays* tracer : {hierarchical_.get(), flat_.get()}) {
@@ -962,6 +993,14 @@ TEST_F(VoxelTrace, watchingObservedSpaceARayThroughUnobservedAirGoesOnAndOneBesi
     EXPECT_EQ(pastTheAir.radiance, shader::unpackR11G11B10F(shader::packR11G11B10F(wallRadiance)));
     EXPECT_EQ(pastTheAir.unobserved, shader::kTraceCrossedUnobservedSpace);
     EXPECT_NEAR(pastTheAir.unobservedDistance, 0.5f * voxel, 1e-5f);
+    const VoxelTraceHit& onTheNextFloor = run.hits[4];
+    ASSERT_TRUE(isHit(onTheNextFloor));
+    EXPECT_EQ(onTheNextFloor.unobserved, shader::kTraceCrossedUnobservedSpace);
+    EXPECT_NEAR(onTheNextFloor.unobservedDistance, 0.5f * voxel / descendingAlongZ.z, 1e-5f);
+    ASSERT_EQ(onTheNextFloor.brick, floorBeyondIndex);
+    EXPECT_EQ(cpu_->voxelOf(onTheNextFloor.brick, onTheNextFloor.voxelBit),
+              (brick + glm::ivec3(0, 0, 1)) * 4 + glm::ivec3(1, 0, 0));
+    EXPECT_NEAR(onTheNextFloor.distance, 0.5f / 0.14f / descendingAlongZ.z * voxel, 1e-4f);  // entering (1, 1, 4)
   }
 }
 

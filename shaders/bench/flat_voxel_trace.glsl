@@ -31,7 +31,7 @@ VoxelHit traceVoxelsFlat(vec3 origin, vec3 direction, float maxDistance, bool wa
       VoxelHit hit = voxelHitAt(walk, cached, direction, reads);
       if (hit.hit) return withObservation(hit, unobserved, unobservedDistance);
       reads = hit.reads;
-    } else if (countsAsUnobservedVoxel(walk, cached)) {
+    } else if (countsAsUnobservedVoxel(walk, watchedUnobservedVoxels(cached, unobserved))) {
       VoxelHit met;
       if (meetsSurfaceBeside(walk, cached, direction, reads, met))
         return withObservation(met, unobserved, unobservedDistance);
@@ -42,11 +42,13 @@ VoxelHit traceVoxelsFlat(vec3 origin, vec3 direction, float maxDistance, bool wa
     walk.distance = nextCrossing[axis];
     walk.voxel[axis] += walk.step[axis];
     if (walk.voxel[axis] < 0 || walk.voxel[axis] >= size[axis]) break;
-    if (endsPastUnobservedVoxels(passed, walk, false, unobserved, unobservedDistance))
-      return unknownBesideSurface(passed, direction, maxDistance, reads);
+    if (leftUnobservedVoxelsBrick(passed, walk)) {
+      if (passed.besideSurface) return unknownBesideSurface(passed, direction, maxDistance, reads);
+      goOnPastUnobservedAir(passed, unobserved, unobservedDistance);
+    }
     nextCrossing[axis] = crossingDistance(walk, axis, exitPlane(walk.voxel[axis], kVoxelLevel, walk.step[axis]));
   }
-  return walkMissed(passed, walk, direction, unobserved, unobservedDistance, maxDistance, reads);
+  return walkMissed(passed, direction, unobserved, unobservedDistance, maxDistance, reads);
 }
 
 #endif

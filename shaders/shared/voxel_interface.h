@@ -322,6 +322,17 @@ SSVGI_INLINE bool brickInVolume(ivec3 worldBrick, VoxelVolume volume) {
 
 SSVGI_INLINE uint voxelBit(uvec3 voxelInBrick) { return voxelInBrick.x + 4u * voxelInBrick.y + 16u * voxelInBrick.z; }
 
+// The voxels of a brick with a neighbour (across a face, inside the brick) in `mask` (bit x + 4y + 16z; the two words
+// hold z 0–1 and z 2–3): the mask shifted one voxel along each axis either way, bits that would wrap into the next row
+// or layer cleared.
+SSVGI_INLINE uvec2 voxelsBesideVoxels(uvec2 mask) {
+  uvec2 beside = ((mask << 1u) & 0xEEEEEEEEu) | ((mask >> 1u) & 0x77777777u);  // along x, x ≠ 0 / x ≠ 3
+  beside |= ((mask << 4u) & 0xFFF0FFF0u) | ((mask >> 4u) & 0x0FFF0FFFu);         // along y, y ≠ 0 / y ≠ 3
+  beside |= uvec2(mask.x << 16u, (mask.y << 16u) | (mask.x >> 16u));             // along z, from z − 1
+  beside |= uvec2((mask.x >> 16u) | (mask.y << 16u), mask.y >> 16u);             // along z, from z + 1
+  return beside;
+}
+
 SSVGI_SHARED_END
 
 #endif

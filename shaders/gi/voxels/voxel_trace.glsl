@@ -169,9 +169,10 @@ struct CachedBrick {
   uint index;        // pool index or kInvalidBrick
   uvec2 mask;        // 64-bit occupancy mask, zero without a brick
   uvec2 unobserved;  // for a trace that watches observed space, the brick's unobserved voxels (below); else zero
+  uvec2 unobservedBesideSurface;  // those of them with an occupied neighbour in the brick
 };
 
-CachedBrick noCachedBrick() { return CachedBrick(ivec3(-1), kInvalidBrick, uvec2(0u), uvec2(0u)); }
+CachedBrick noCachedBrick() { return CachedBrick(ivec3(-1), kInvalidBrick, uvec2(0u), uvec2(0u), uvec2(0u)); }
 
 bool isCached(CachedBrick cached, ivec3 brick) { return all(equal(cached.brick, brick)); }
 
@@ -190,12 +191,14 @@ void loadBrick(inout CachedBrick cached, VoxelWalk walk, bool watchesVoxels, ino
   cached.index = index == kAllocatingBrick ? kInvalidBrick : index;  // mid-allocation: not there yet
   cached.mask = uvec2(0u);
   cached.unobserved = uvec2(0u);
+  cached.unobservedBesideSurface = uvec2(0u);
   reads += 1u;
   if (cached.index != kInvalidBrick) {
     cached.mask = bricks[cached.index].occupancy;
     reads += 1u;
     if (watchesVoxels && any(notEqual(cached.mask, uvec2(0u)))) {
       cached.unobserved = ~(bricks[cached.index].observed | cached.mask);
+      cached.unobservedBesideSurface = cached.unobserved & voxelsBesideVoxels(cached.mask);
       reads += 1u;
     }
   }
@@ -259,13 +262,21 @@ const uint kCellUnobservedVoxel = 3u;
 
 // Whether the walk is in an unobserved voxel that counts: any but the one the ray starts in — a probe stands in empty
 // space, whether or not a view has seen it so.
-bool countsAsUnobservedVoxel(VoxelWalk walk, CachedBrick brick) {
-  return walk.distance > 0.0 && voxelBitSet(brick.unobserved, voxelInBrick(walk.voxel));
+bool countsAsUnobservedVoxel(VoxelWalk walk, uvec2 watchedVoxels) {
+  return walk.distance > 0.0 && voxelBitSet(watchedVoxels, voxelInBrick(walk.voxel));
+}
+
+// The unobserved voxels of the brick a walk watches: all of them until it has entered unobserved space; after that
+// only those beside a surface, which may end it (passUnobservedVoxel) — past air it would go on as it is, so it
+// need not step through that air voxel by voxel.
+uvec2 watchedUnobservedVoxels(CachedBrick brick, bool unobserved) {
+  return unobserved ? brick.unobservedBesideSurface : brick.unobserved;
 }
 
 // What the level-`level` cell holding the walk's voxel holds: grid levels from the grid (except for the brick
-// already at hand), finer ones from the brick's masks. `watchesCells`: unobserved brick cells count; `watchesVoxels`:
-// unobserved voxels do.
+// already at hand), finer ones from the brick's masks. `watchesCells`: unobserved brick cells count (the walk has
+// not entered unobserved space yet), and so do unobserved voxels beside no surface; `watchesVoxels`: unobserved voxels
+// do.
 uint cellContents(VoxelWalk walk, int level, bool watchesCells, bool watchesVoxels, inout CachedBrick brick,
                   inout CachedGridWords grid, inout CachedGridWords observed, inout uint reads) {
   bool gridLevel = level >= kBrickLevel;
@@ -289,11 +300,12 @@ uint cellContents(VoxelWalk walk, int level, bool watchesCells, bool watchesVoxe
   }
   if (unobservedCell) return kCellUnobserved;
   ivec3 inBrick = voxelInBrick(walk.voxel);
+  uvec2 watchedVoxels = watchedUnobservedVoxels(brick, !watchesCells);
   if (level == kVoxelLevel) {
     if (voxelBitSet(brick.mask, inBrick)) return kCellOccupied;
-    return countsAsUnobservedVoxel(walk, brick) ? kCellUnobservedVoxel : kCellEmpty;
+    return countsAsUnobservedVoxel(walk, watchedVoxels) ? kCellUnobservedVoxel : kCellEmpty;
   }
-  return blockOccupied(brick.mask | brick.unobserved, inBrick) ? kCellOccupied : kCellEmpty;
+  return blockOccupied(brick.mask | watchedVoxels, inBrick) ? kCellOccupied : kCellEmpty;
 }
 
 // Moves the walk past the level-`level` cell it is in: to the voxel the ray reaches by the first crossing of the
@@ -426,21 +438,22 @@ void passUnobservedVoxel(inout UnobservedVoxelPassed pending, VoxelWalk walk, Ca
   }
 }
 
-// Where the walk leaves the brick of the unobserved voxels it passed (or ends): true where it ends there, beside a
-// surface; past air alone it goes on, unobserved from that air.
-bool endsPastUnobservedVoxels(inout UnobservedVoxelPassed pending, VoxelWalk walk, bool walkEnded,
-                              inout bool unobserved, inout float unobservedDistance) {
-  if (!pending.passed || (!walkEnded && all(equal(walk.voxel >> kBrickLevel, pending.brick)))) return false;
-  if (pending.besideSurface) return true;
+// Whether the walk has left the brick of the unobserved voxels it passed without meeting a surface there: it ends
+// there beside a surface (unknownBesideSurface) or goes on past air (goOnPastUnobservedAir).
+bool leftUnobservedVoxelsBrick(UnobservedVoxelPassed pending, VoxelWalk walk) {
+  return pending.passed && any(notEqual(walk.voxel >> kBrickLevel, pending.brick));
+}
+
+// Past unobserved air alone, the walk goes on, unobserved from that air.
+void goOnPastUnobservedAir(inout UnobservedVoxelPassed pending, inout bool unobserved, inout float unobservedDistance) {
   if (!unobserved) {
     unobserved = true;
     unobservedDistance = pending.distance;
   }
   pending = kNoUnobservedVoxelPassed;
-  return false;
 }
 
-// A walk that ends beside a surface (endsPastUnobservedVoxels): no hit, unobserved from where it first entered
+// A walk that ends beside a surface (leftUnobservedVoxelsBrick): no hit, unobserved from where it first entered
 // unobserved space, with the surface's voxel, normal and light as the ray would have met it.
 VoxelHit unknownBesideSurface(UnobservedVoxelPassed pending, vec3 direction, float maxDistance, uint reads) {
   Voxel voxel = voxels[pending.besideBrick * kVoxelsPerBrick + pending.besideVoxel];
@@ -451,10 +464,10 @@ VoxelHit unknownBesideSurface(UnobservedVoxelPassed pending, vec3 direction, flo
 }
 
 // The end of a walk that met no surface.
-VoxelHit walkMissed(UnobservedVoxelPassed pending, VoxelWalk walk, vec3 direction, bool unobserved,
-                    float unobservedDistance, float maxDistance, uint reads) {
-  if (endsPastUnobservedVoxels(pending, walk, true, unobserved, unobservedDistance))
-    return unknownBesideSurface(pending, direction, maxDistance, reads);
+VoxelHit walkMissed(UnobservedVoxelPassed pending, vec3 direction, bool unobserved, float unobservedDistance,
+                    float maxDistance, uint reads) {
+  if (pending.besideSurface) return unknownBesideSurface(pending, direction, maxDistance, reads);
+  if (pending.passed) goOnPastUnobservedAir(pending, unobserved, unobservedDistance);
   return withObservation(voxelMiss(maxDistance, reads), unobserved, unobservedDistance);
 }
 
@@ -525,11 +538,11 @@ VoxelHit walkOccupancyHierarchy(VoxelTraceFrame volumeFrame, vec3 origin, vec3 d
     // runs a loop's whole body, every branch, on each step of any of its lanes (SIMD masks, not jumps).
     uint contents = kCellEmpty;
     bool walking = true;
+    bool leftPassedBrick = false;
     for (;;) {
       if (stepsFirst) {
         ivec3 previous = walk.voxel;
-        if (!stepOverCell(walk, level) ||
-            endsPastUnobservedVoxels(passed, walk, false, unobserved, unobservedDistance)) {
+        if (!stepOverCell(walk, level)) {
           walking = false;
           break;
         }
@@ -541,6 +554,8 @@ VoxelHit walkOccupancyHierarchy(VoxelTraceFrame volumeFrame, vec3 origin, vec3 d
         if (level < kTopLevel && (knownOccupiedLevels & (1u << uint(level + 1))) == 0u) ++level;
       }
       stepsFirst = true;
+      leftPassedBrick = leftUnobservedVoxelsBrick(passed, walk);
+      if (leftPassedBrick) break;
       contents = cellContents(walk, level, watchesObservedSpace && !unobserved, watchesObservedSpace, cached, grid,
                               observed, reads);
       if (contents == kCellUnobserved) {
@@ -555,7 +570,11 @@ VoxelHit walkOccupancyHierarchy(VoxelTraceFrame volumeFrame, vec3 origin, vec3 d
       }
     }
     if (!walking) break;
-    if (contents == kCellUnobservedVoxel) {
+    if (leftPassedBrick) {
+      if (passed.besideSurface) return unknownBesideSurface(passed, direction, maxDistance, reads);
+      goOnPastUnobservedAir(passed, unobserved, unobservedDistance);
+      stepsFirst = false;  // the cell it has stepped into is yet to be looked at
+    } else if (contents == kCellUnobservedVoxel) {
       VoxelHit met;
       if (meetsSurfaceBeside(walk, cached, direction, reads, met))
         return withObservation(met, unobserved, unobservedDistance);
@@ -566,7 +585,7 @@ VoxelHit walkOccupancyHierarchy(VoxelTraceFrame volumeFrame, vec3 origin, vec3 d
       reads = hit.reads;  // in front of the voxel's surface all the way through: on, as past an empty voxel
     }
   }
-  return walkMissed(passed, walk, direction, unobserved, unobservedDistance, maxDistance, reads);
+  return walkMissed(passed, direction, unobserved, unobservedDistance, maxDistance, reads);
 }
 
 // The traces this invocation has made and their reads, whichever function made them: the work a pass counts
