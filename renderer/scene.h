@@ -149,8 +149,7 @@ Bounds worldBounds(const Scene& scene);
 // the tiers' 1 m probes: two probes or more inside the scene along its two larger axes. The middle extent, not the
 // smallest: a wide, flat scene keeps the tiers' volume. But not so far that the scene's centre lies more than
 // kGiProbeSpacingsToViewpoint spacings from the viewpoint: the finest probes (a grid of 32 or more spacings around the
-// camera) and the voxel volume must still reach it (a 0.6 m tabletop seen from 6 m lost three quarters of its light
-// at 3 cm voxels; docs/QUALITY.md, "Tabletop scenes").
+// camera) and the voxel volume must still reach it (docs/QUALITY.md, "Tabletop scenes").
 constexpr float kGiProbeSpacingsAcrossScene = 3.0f;
 constexpr float kGiProbeSpacingsToViewpoint = 32.0f;
 float giDetailScaleFor(const Bounds& bounds, const glm::vec3& viewpoint);

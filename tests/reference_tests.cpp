@@ -406,26 +406,39 @@ renderer::Texture halfWhiteTexture() {
   return texture;
 }
 
+// A black plane under a 1 × 0.6 m panel 1 m up, facing down: `panel` is its material, `texture` the scene's one
+// texture.
+constexpr float kPanelHeight = 1.0f, kPanelHalfWidth = 0.5f, kPanelHalfDepth = 0.3f;
+Scene blackPlaneUnderAPanel(const renderer::Material& panel, renderer::Texture texture) {
+  Scene scene = planeScene();
+  scene.materials[0].baseColor = glm::vec3(0.0f);
+  scene.textures.push_back(std::move(texture));
+  scene.materials.push_back(panel);
+  scene.meshes.push_back(horizontalRectangle(kPanelHeight, kPanelHalfWidth, kPanelHalfDepth, true, 1));
+  scene.instances.push_back({1, glm::mat4(1.0f)});
+  return scene;
+}
+
+// The irradiance the middle pixel of a 3 × 3 trace of the panel scene sees, against π·L·2·F: what half the panel
+// emitting L gives the point below its centre (2 % allowed; each test says why).
+void expectHalfThePanelsIrradiance(const FloatImage& indirect, const glm::vec3& radiance) {
+  const double formFactor = 2.0 * cornerFormFactor(kPanelHalfWidth, kPanelHalfDepth, kPanelHeight);
+  for (uint32_t c = 0; c < 3; ++c) {
+    const double expected = glm::pi<double>() * radiance[c] * formFactor;
+    EXPECT_NEAR(channel(indirect, 4, c), expected, 0.02 * expected) << "channel " << c;
+  }
+}
+
 TEST_F(Reference, anEmissionTextureScalesTheEmissionWhereverTheRendererAndThePathsMeetIt) {
   // The emitter of the test above with the half-white texture as its emission texture, over a black floor: the white
   // strips, each a difference of corner rectangles, give the point below its centre E = π·L·2·F(w, d, h) — half the
   // whole panel's — with the bilinear ramps at the texel edges (a texel of 64 each) symmetric about the step, so no
   // error of their own. Half the emitter samples fall on black, which takes the relative standard deviation of a
   // sample to about 1: 65,536 samples leave σ = 0.4 %, and 2 % is 5 σ.
-  constexpr float kHeight = 1.0f, kHalfWidth = 0.5f, kHalfDepth = 0.3f;
   const glm::vec3 radiance(15.0f, 10.0f, 5.0f);
-  Scene scene = planeScene();
-  scene.materials[0].baseColor = glm::vec3(0.0f);
-  scene.textures.push_back(halfWhiteTexture());
-  scene.materials.push_back({"panel", glm::vec3(0.0f), renderer::kNoTexture, radiance, 0});
-  scene.meshes.push_back(horizontalRectangle(kHeight, kHalfWidth, kHalfDepth, true, 1));
-  scene.instances.push_back({1, glm::mat4(1.0f)});
-  const FloatImage indirect = trace(scene, 3, 3, 65536, shortDispatches()).indirectIrradiance();
-  const double formFactor = 2.0 * cornerFormFactor(kHalfWidth, kHalfDepth, kHeight);
-  for (uint32_t c = 0; c < 3; ++c) {
-    const double expected = glm::pi<double>() * radiance[c] * formFactor;
-    EXPECT_NEAR(channel(indirect, 4, c), expected, 0.02 * expected) << "channel " << c;
-  }
+  Scene scene =
+      blackPlaneUnderAPanel({"panel", glm::vec3(0.0f), renderer::kNoTexture, radiance, 0}, halfWhiteTexture());
+  expectHalfThePanelsIrradiance(trace(scene, 3, 3, 65536, shortDispatches()).indirectIrradiance(), radiance);
 
   // Seen from the camera, the renderer's G-buffer and the path tracer's first hits show the same emission (the
   // floor and the panel reflect nothing): within the hardware sampler's 8-bit filter weights, 1 % of L. From closer,
@@ -446,23 +459,13 @@ TEST_F(Reference, anEmissionTextureScalesTheEmissionWhereverTheRendererAndThePat
 TEST_F(Reference, anEmitterItsTextureCutsOutInPlacesEmitsOnlyWhereItIs) {
   // The panel of the test above emitting L all over, cut out by its base colour texture's alpha where that test's
   // emission texture was black: the same E, π·L·2·F, from next-event estimation and the paths' hits alike (2 %).
-  constexpr float kHeight = 1.0f, kHalfWidth = 0.5f, kHalfDepth = 0.3f;
   const glm::vec3 radiance(15.0f, 10.0f, 5.0f);
-  Scene scene = planeScene();
-  scene.materials[0].baseColor = glm::vec3(0.0f);
   renderer::Texture holes = halfWhiteTexture();
   for (size_t texel = 0; texel < 32; ++texel) holes.rgba[4 * texel + 3] = 0;
-  scene.textures.push_back(holes);
-  scene.materials.push_back({"panel", glm::vec3(0.0f), 0, radiance});
-  scene.materials[1].alphaCutoff = 0.5f;
-  scene.meshes.push_back(horizontalRectangle(kHeight, kHalfWidth, kHalfDepth, true, 1));
-  scene.instances.push_back({1, glm::mat4(1.0f)});
-  const FloatImage indirect = trace(scene, 3, 3, 65536, shortDispatches()).indirectIrradiance();
-  const double formFactor = 2.0 * cornerFormFactor(kHalfWidth, kHalfDepth, kHeight);
-  for (uint32_t c = 0; c < 3; ++c) {
-    const double expected = glm::pi<double>() * radiance[c] * formFactor;
-    EXPECT_NEAR(channel(indirect, 4, c), expected, 0.02 * expected) << "channel " << c;
-  }
+  renderer::Material panel{"panel", glm::vec3(0.0f), 0, radiance};
+  panel.alphaCutoff = 0.5f;
+  const Scene scene = blackPlaneUnderAPanel(panel, std::move(holes));
+  expectHalfThePanelsIrradiance(trace(scene, 3, 3, 65536, shortDispatches()).indirectIrradiance(), radiance);
 }
 
 // A closed 2 × 2 × 2 m room of albedo 0.7 (x, z ∈ [−1, 1], y ∈ [0, 2]) lit only by a 0.6 × 0.4 m panel of radiance

@@ -300,9 +300,8 @@ TEST_F(Scenario, cornellLightSwitchedOffWhileTheCameraLooksAwayFadesOnceItLooksB
 // that sat at the new view all along.
 constexpr double kRecoveryTolerance = 0.1;
 // The cut changes the GI: on its frame E_indirect is at least this many times as far from that run as 32 frames
-// later, so that there is a recovery to measure (the teleport 3.4 times, 9.6 % against 2.8 %; the half turn 2.8 times,
-// 2026-12-07). Not an absolute figure: what the first frame after a cut already knows of the new view is the better
-// the less there is to recover.
+// later, so that there is a recovery to measure (QUALITY.md, "What an unobserved voxel stands for"). Not an absolute
+// figure: what the first frame after a cut already knows of the new view is the better the less there is to recover.
 constexpr double kCutChangeOverRecovered = 2.0;
 // Recovered: after 32 frames, no further from the path-traced reference of the new view than that run, within 2 points
 // of relative MAE (both runs averaged over their last 8 frames, the reference at 512 samples per pixel). Not "equal to

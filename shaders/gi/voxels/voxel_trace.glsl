@@ -388,8 +388,8 @@ bool meetsSurfaceBeside(VoxelWalk walk, CachedBrick brick, vec3 direction, inout
 // from behind). Beside none, they are air no view has seen, as an unobserved brick cell is: the walk goes on,
 // unobserved from them, so that a surface it meets beyond is a surface the views saw and a miss is not the sky. (An
 // unobserved voxel once ended the ray standing for the mean light of the probe's surfaces: the air at the corners of a
-// sunlit fence's holes gave the floor in front of it three times its indirect light; and standing for that mean only
-// beside a surface, `two-rooms` leaked 3.7 times as much: docs/QUALITY.md, "What an unobserved voxel stands for".)
+// sunlit fence's holes lit the floor in front of it with the sunlit floor's own light; and standing for that mean
+// only beside a surface, `two-rooms` leaked more: docs/QUALITY.md, "What an unobserved voxel stands for".)
 struct UnobservedVoxelPassed {
   bool passed;
   ivec3 brick;         // the brick cell they lie in
