@@ -262,6 +262,32 @@ TEST(ProbeSharedDrift, theSameLeanTellsALargerGapWhereMoreOfTheLightHasBounced) 
   EXPECT_TRUE(gi::showsSharedDrift(leaningOf(strays, 0.0f)));  // all of it bounced: any significant lean is a gap
 }
 
+// A drift is started by a lean of four standard errors and followed while its window leans by one: a small room's
+// few probes, far from their end, tell their lean by four only now and then (docs/QUALITY.md, "A drift followed while
+// it lasts"). A lean within a standard error, or a gap under the floor, ends it.
+TEST(ProbeSharedDrift, aDriftFollowedGoesOnWhileItsWindowStillLeans) {
+  std::vector<float> strays;
+  for (int probe = 0; probe < 100; ++probe) strays.push_back(0.06f + (probe % 2 ? 0.3f : -0.3f));
+  const gi::ProbeLeaning twoErrors = leaningOf(strays, 0.3f);
+  ASSERT_GT(twoErrors.mean, 1.5 * twoErrors.standardError);
+  ASSERT_LT(twoErrors.mean, 3.0 * twoErrors.standardError);
+  EXPECT_GT(twoErrors.gap(), 0.1);
+  EXPECT_FALSE(gi::showsSharedDrift(twoErrors, false));
+  EXPECT_TRUE(gi::showsSharedDrift(twoErrors, true));
+
+  for (float& stray : strays) stray -= 0.04f;  // a lean of 0.01: within a standard error (0.015)
+  const gi::ProbeLeaning settling = leaningOf(strays, 0.3f);
+  ASSERT_LT(settling.mean, settling.standardError);
+  EXPECT_FALSE(gi::showsSharedDrift(settling, true));
+
+  for (float& stray : strays) stray += 0.04f;
+  const gi::ProbeLeaning open = leaningOf(strays, 1.0f);  // the same lean, all of the light direct: a 6 % gap
+  EXPECT_TRUE(gi::showsSharedDrift(open, true));
+  const gi::ProbeLeaning nearlyThere = leaningOf(std::vector<float>(strays.size(), 0.04f), 1.0f);
+  EXPECT_LT(nearlyThere.gap(), shader::kProbeSharedDriftGapFloor);
+  EXPECT_FALSE(gi::showsSharedDrift(nearlyThere, true));
+}
+
 // The window a drift holds the probes to: about 1/gap updates, from 16 for the smallest gap followed down to 8.
 TEST(ProbeSharedDrift, theLargerTheGapTheShorterTheHistoryItHoldsTheProbesTo) {
   auto capForGap = [](double gap) {

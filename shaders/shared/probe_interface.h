@@ -517,16 +517,18 @@ SSVGI_CONSTANT(float, kProbeDriftStep, kProbeDriftLimit / 7.0f);
 // feeds back a share 1 − s of the light, an update T of a probe whose history H falls a share G short of the loop's
 // fixed point leans by T − H = s·G·H: a lean tells the gap only with the direct share, and a hall whose light is mostly
 // bounced can be far from its end with a lean the size of a sunlit courtyard's last percent (docs/QUALITY.md, "The
-// loop's gap, not its lean"). ProbeVolume pools the tallies of the last kProbeSharedDriftWindow frames since the last
-// drift it followed — rounds of an update of each level, each with its own 32 directions, which the probes of a level
-// share (so one frame's mean leans now and then in a still scene) — and where their mean leaning is toward more light
-// by more than kProbeSharedDriftErrors standard errors and tells a gap 2·lean / s above kProbeSharedDriftGapFloor, it
-// holds the history cap of the updates in the next kProbeLevels frames at about 1/gap updates, between
-// kProbeSharedDriftShortestHistoryCap and kProbeSharedDriftHistoryCap, and lets no probe sit out: the loop goes round
-// at the pace of that shorter window until the probes no longer lean, and the full window then averages their noise
-// away again. A history 12 % or more short of its end takes a window of 8 updates, one 6 % short 16: a hall whose light
-// is mostly bounced gets there sooner (docs/QUALITY.md, "The loop's gap, not its lean"). Not 4: the hall without the
-// capture, many of whose rays are unknown, went blotchy (its error twice as large).
+// loop's gap, not its lean"). ProbeVolume pools the tallies of the last kProbeSharedDriftWindow frames — rounds of an
+// update of each level, each with its own 32 directions, which the probes of a level share (so one frame's mean leans
+// now and then in a still scene) — and where their mean leaning is toward more light by more than
+// kProbeSharedDriftErrors standard errors and tells a gap 2·lean / s above kProbeSharedDriftGapFloor, it holds the
+// history cap of each update at about 1/gap updates, between kProbeSharedDriftShortestHistoryCap and
+// kProbeSharedDriftHistoryCap, and lets no probe sit out, for as long as the window still leans by
+// kProbeSharedDriftHoldErrors and tells such a gap: the loop goes round at the pace of that shorter window until the
+// probes no longer lean, and the full window then averages their noise away again. A small room's few probes tell its
+// lean by four standard errors only now and then, however far it still has to go (docs/QUALITY.md, "A drift followed
+// while it lasts"). A history 12 % or more short of its end takes a window of 8 updates, one 6 % short 16: a hall whose
+// light is mostly bounced gets there sooner (docs/QUALITY.md, "The loop's gap, not its lean"). Not 4: the hall without
+// the capture, many of whose rays are unknown, went blotchy (its error twice as large).
 struct ProbeChangeTally {
   uint watchedProbes;   // traced with a history of at least kProbeChangeMinimumHistory, change detection on
   uint cutProbes;       // of those, whose history a large change cut
@@ -538,7 +540,8 @@ struct ProbeChangeTally {
 SSVGI_CHECK_SIZE(ProbeChangeTally, 24);
 SSVGI_CONSTANT(uint, kProbeSharedChangeMinimumProbes, 32u);
 SSVGI_CONSTANT(float, kProbeLeaningScale, 1024.0f);  // leanings ≤ 4: squares of 2^18 probes fit in 32 bits
-SSVGI_CONSTANT(float, kProbeSharedDriftErrors, 4.0f);
+SSVGI_CONSTANT(float, kProbeSharedDriftErrors, 4.0f);     // to start following a drift
+SSVGI_CONSTANT(float, kProbeSharedDriftHoldErrors, 1.0f);  // to go on following it
 SSVGI_CONSTANT(float, kProbeSharedDriftGapFloor, 0.05f);  // histories 5 % short of the loop's fixed point
 SSVGI_CONSTANT(uint, kProbeSharedDriftWindow, 9u);        // frames: three rounds of the three levels
 SSVGI_CONSTANT(uint, kProbeSharedDriftHistoryCap, 16u);

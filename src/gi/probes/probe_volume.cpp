@@ -36,8 +36,9 @@ double ProbeLeaning::gap() const {
   return mean > 0.0 ? std::numeric_limits<double>::infinity() : 0.0;
 }
 
-bool showsSharedDrift(const ProbeLeaning& leaning) {
-  return leaning.mean > shader::kProbeSharedDriftErrors * leaning.standardError &&
+bool showsSharedDrift(const ProbeLeaning& leaning, bool followed) {
+  const double errors = followed ? shader::kProbeSharedDriftHoldErrors : shader::kProbeSharedDriftErrors;
+  return leaning.mean > errors * leaning.standardError &&
          leaning.gap() > shader::kProbeSharedDriftGapFloor;
 }
 
@@ -143,17 +144,15 @@ OfferedProbeBlocks ProbeVolume::prepare(uint32_t frameIndex, glm::vec3 cameraPos
   current_.startsSharedRecovery = sharedRecoveryFramesLeft_ > 0 ? 1u : 0u;
   if (sharedRecoveryFramesLeft_ > 0) --sharedRecoveryFramesLeft_;
   // A drift is told from at least a round of tallies (an update of each level) and at most kProbeSharedDriftWindow,
-  // none of them from before the last drift followed: each is told from evidence of its own.
+  // the window sliding on while it is followed: the probes of a small scene are too few for each window to tell
+  // their lean afresh by kProbeSharedDriftErrors standard errors.
   if (driftWindow_.size() == shader::kProbeSharedDriftWindow) driftWindow_.erase(driftWindow_.begin());
   driftWindow_.push_back(lastTally_);
   leaning_ = probeLeaning(driftWindow_);
-  if (sharedShare > 0.0f && driftWindow_.size() >= shader::kProbeLevels && showsSharedDrift(leaning_)) {
-    sharedDriftFramesLeft_ = shader::kProbeLevels;
-    sharedDriftHistoryCap_ = sharedDriftHistoryCap(leaning_);
-    driftWindow_.clear();
+  if (sharedShare > 0.0f && driftWindow_.size() >= shader::kProbeLevels) {
+    followsSharedDrift_ = showsSharedDrift(leaning_, followsSharedDrift_);
+    if (followsSharedDrift_) sharedDriftHistoryCap_ = sharedDriftHistoryCap(leaning_);
   }
-  followsSharedDrift_ = sharedDriftFramesLeft_ > 0;
-  if (followsSharedDrift_) --sharedDriftFramesLeft_;
   current_.historyCap = followsSharedDrift_ ? std::min(settings_.probeHistoryCap, sharedDriftHistoryCap_)
                                             : settings_.probeHistoryCap;
   current_.settledProbeInterval = followsSharedDrift_ ? 1u : settings_.settledProbeInterval;

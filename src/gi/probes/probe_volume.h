@@ -33,8 +33,9 @@ struct ProbeLeaning {
 };
 ProbeLeaning probeLeaning(std::span<const shader::ProbeChangeTally> tallies);
 // Whether a leaning shows light coming round the loop: toward more light by more than kProbeSharedDriftErrors standard
-// errors, and a gap above kProbeSharedDriftGapFloor.
-bool showsSharedDrift(const ProbeLeaning& leaning);
+// errors — kProbeSharedDriftHoldErrors where the frame before `followed` a drift already — and a gap above
+// kProbeSharedDriftGapFloor.
+bool showsSharedDrift(const ProbeLeaning& leaning, bool followed = false);
 // The history cap a shared drift holds the probes at: about 1/gap updates, between kProbeSharedDriftShortestHistoryCap
 // and kProbeSharedDriftHistoryCap.
 uint32_t sharedDriftHistoryCap(const ProbeLeaning& leaning);
@@ -100,9 +101,8 @@ class ProbeVolume {
   std::vector<gpu::Buffer> tallyReadbacks_;
   shader::ProbeChangeTally lastTally_{};
   uint32_t sharedRecoveryFramesLeft_ = 0;  // frames to come that start a recovery in every probe they update
-  std::vector<shader::ProbeChangeTally> driftWindow_;  // the tallies read back since the last drift followed
+  std::vector<shader::ProbeChangeTally> driftWindow_;  // the last kProbeSharedDriftWindow tallies read back
   ProbeLeaning leaning_;
-  uint32_t sharedDriftFramesLeft_ = 0;     // frames to come whose update holds the history short (a shared drift)
   uint32_t sharedDriftHistoryCap_ = shader::kProbeSharedDriftHistoryCap;  // the cap it holds them at
   bool followsSharedDrift_ = false;
   size_t currentFrame_ = 0;
