@@ -1265,51 +1265,6 @@ TEST_F(VoxelScene, aWallOneVoxelThickTurnedRoundByAViewFromInsideTakesThatViewsL
   EXPECT_GT(turned, outer.size() / 4) << "of " << outer.size() << " voxels, too few turned round to test";
 }
 
-TEST_F(VoxelScene, aFloorOnAVoxelBoundarySeenFromAnEyeNearItTakesTheLightOfItsOwnPart) {
-  // An extra view (a light's, say) with its eye 0.3 m above a floor on the voxel grid, whose first 0.75 m ahead are bright (a light's hot spot) and the rest
-  // dark. Every point of a floor voxel's cube lies below the floor, and the eye's ray through such a point meets the
-  // floor nearer the eye's foot: at 0.75–1 m ahead, as near as 0.41 m, in the bright part. A voxel is looked at on its
-  // plane, so the dark voxels past the edge take the dark light in every frame (QUALITY.md, "A drift followed while it
-  // lasts", the corridor: from random points of the cube they took light from the bright part, and the corridor's light
-  // came out 10–20 % too bright).
-  create(smallSettings());
-  const glm::vec3 brightLight(4.0f), darkLight(0.25f);
-  const TestBox brightPart{{-1000.0f, -1.0f, -0.25f}, {1000.0f, 0.0f, 1000.0f}, brightLight};
-  const TestBox darkPart{{-1000.0f, -1.0f, -1000.0f}, {1000.0f, 0.0f, -0.25f}, darkLight};
-  const HostFrame nearFloor(device(), looking({0.5f, 0.3f, 0.5f}, {0.5f, 0.0f, -3.0f}, 60.0f), {brightPart, darkPart});
-  const HostFrame sky(device(), lookingUp({0.5f, 1.0f, 0.5f}), {});  // the camera sees none of the floor
-  const auto inject = [&](uint32_t frames) {
-    for (uint32_t i = 0; i < frames; ++i) dispatch(sky, nullptr, {extraView(nearFloor)});
-  };
-  inject(48);
-  // Each voxel's light over 16 frames, where it is found: a pixel is a few centimetres of floor there, so a look at
-  // the edge may still take the other side's light now and then.
-  double darkSum = 0.0, brightSum = 0.0;
-  uint32_t darkLooks = 0, brightLooks = 0;
-  for (uint32_t frameIndex = 0; frameIndex < 16; ++frameIndex) {
-    inject(1);
-    const auto occupied = occupiedVoxels(readState());
-    for (int x = 0; x <= 3; ++x) {
-      if (const auto past = occupied.find({x, -1, -2}); past != occupied.end()) {  // 0.75–1 m ahead
-        darkSum += shader::unpackR11G11B10F(past->second.radiance).y;
-        ++darkLooks;
-      }
-      if (const auto before = occupied.find({x, -1, -1}); before != occupied.end()) {  // 0.5–0.75 m ahead
-        brightSum += shader::unpackR11G11B10F(before->second.radiance).y;
-        ++brightLooks;
-      }
-    }
-  }
-  ASSERT_GE(darkLooks, 56u) << "of the 4 voxels past the edge in 16 frames";
-  ASSERT_GE(brightLooks, 56u) << "of the 4 voxels before it in 16 frames";
-  const double darkMean = darkSum / darkLooks, brightMean = brightSum / brightLooks;
-  std::printf("past the edge %.3f (its light %.3f), before it %.3f (%.3f)\n", darkMean, darkLight.y, brightMean,
-              brightLight.y);
-  // An eighth of the looks taking the other side's light at most.
-  EXPECT_LT(darkMean, darkLight.y + (brightLight.y - darkLight.y) / 8.0);
-  EXPECT_GT(brightMean, brightLight.y - (brightLight.y - darkLight.y) / 8.0);
-}
-
 TEST_F(VoxelScene, badExtraViewsAreRefusedWithTheFieldNamed) {
   create(smallSettings());
   const HostFrame frame(device(), lookingDown({0.5f, 6.0f, 0.5f}), {kFloor});

@@ -309,20 +309,8 @@ InjectedVoxel injectVoxel(uint brick, Brick held, uvec3 voxelInBrick) {
       voxelMin + hashToUnitCube(uvec3(ivec3(worldVoxel)) ^ uvec3(0u, 0u, frameIndex * 0x9e3779b9u)) * voxelSize;
   bool samplesShadow = kReflectiveShadowMap && occupied &&
                        (voxel.albedo & kVoxelRelit) != 0u && voxelPlaneCode(voxel) != 0u;
+  if (samplesShadow) samplePoint = ontoVoxelPlane(samplePoint, voxel, voxelMin);
   ViewPoint projected = projectIntoView(samplePoint);
-  // An occupied voxel whose face looks towards an extra view is looked at on its plane. A point off the plane takes
-  // the light where the view's ray through it meets the surface: for a point behind a face (a face on the voxel's
-  // boundary puts every point behind it) that is nearer the foot of the view's eye, and a light's view, its eye a
-  // hand's breadth from a ceiling, gave the voxels around its hot spot the light of points nearer the light
-  // (docs/QUALITY.md, "A light's view near a surface"). A view from behind the face keeps the random point, and so
-  // does the camera's lit frame, whose every frame replaces the voxel's light (on the plane, a fence cut out in
-  // squares overshot while it filled).
-  bool facesView = occupied && voxelPlaneCode(voxel) != 0u && (viewKind & kViewIsExtra) != 0u &&
-                   dot(voxelNormal(voxel), viewRayDirection(litInverseViewProjection, projected.ndc)) < 0.0;
-  if (samplesShadow || facesView) {
-    samplePoint = ontoVoxelPlane(samplePoint, voxel, voxelMin);
-    projected = projectIntoView(samplePoint);
-  }
   vec2 pixel = projected.pixel;
   bool seenThrough = false;
   bool observedNow = false;
